@@ -1,0 +1,17 @@
+//! luxbake: solve the diffuse inter-reflection of light (radiosity) in a photometric glTF/OBJ room
+//! and write the lit result back as glTF.
+//!
+//! Pipeline (each stage a function from one data type to the next; see ARCHITECTURE.md):
+//! `import` → [`scene::Scene`] → `mesh` (patches and receivers) → `visibility` (BVH) →
+//! `direct` (lights and emitters at receivers and patches) → `transport` (links) → `solve`
+//! (radiosity) → gather at receivers → [`result::BakeResult`] → `export`.
+//!
+//! Units are SI and photometric (m, lx, cd, cd/m², lm); axes are glTF's, +Y up.
+
+pub mod error;
+pub mod export;
+pub mod import;
+pub mod result;
+pub mod scene;
+
+pub use error::{Error, Result};

@@ -1,0 +1,47 @@
+//! The bake's results in the shape the exporters and reports consume.
+//!
+//! Invariants: every `BakedSurface` refers to a valid `Scene::surfaces` index; its per-vertex
+//! arrays all have `positions.len()` entries; triangles index into them and are wound
+//! counter-clockwise seen from the side that was baked (for `Side::Back` that is the reverse of the
+//! input winding), in world space. `color` lies in [0, 1].
+
+use glam::{DVec2, DVec3};
+
+/// Which face of a surface a baked mesh carries.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub enum Side {
+    Front,
+    /// The back face of a double-sided material, written as an extra primitive with reversed
+    /// winding so viewers show each face its own light.
+    Back,
+}
+
+/// One surface (one side of it), refined into patches, with the baked values at its vertices.
+#[derive(Debug, Clone)]
+pub struct BakedSurface {
+    /// Index into `Scene::surfaces`.
+    pub surface: usize,
+    pub side: Side,
+    /// World-space positions (m).
+    pub positions: Vec<DVec3>,
+    /// World-space unit normals, pointing out of the baked side.
+    pub normals: Vec<DVec3>,
+    pub uv0: Option<Vec<DVec2>>,
+    pub uv1: Option<Vec<DVec2>>,
+    pub triangles: Vec<[u32; 3]>,
+    /// Illuminance incident on the baked side (lx), photometric (Y).
+    pub illuminance: Vec<f32>,
+    /// Luminance leaving the baked side (cd/m²), photometric (Y): (M_e + ρ·E)/π.
+    pub luminance: Vec<f32>,
+    /// Display colour for `COLOR_0`, linear, each component in [0, 1].
+    pub color: Vec<[f32; 3]>,
+}
+
+/// Everything the bake produced.
+#[derive(Debug, Clone)]
+pub struct BakeResult {
+    pub surfaces: Vec<BakedSurface>,
+    /// The run summary; written as the output scene's `extras.luxbake` and by `--summary-json`.
+    pub summary: serde_json::Value,
+}
