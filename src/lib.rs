@@ -8,10 +8,20 @@
 //!
 //! Units are SI and photometric (m, lx, cd, cd/m², lm); axes are glTF's, +Y up.
 
+pub mod bake;
+pub mod direct;
 pub mod error;
 pub mod export;
+pub mod fixtures;
+pub mod geom;
 pub mod import;
+pub mod patches;
+pub mod progress;
 pub mod result;
 pub mod scene;
+pub mod settings;
+pub mod solve;
+pub mod transport;
+pub mod visibility;
 
 pub use error::{Error, Result};

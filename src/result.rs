@@ -32,6 +32,8 @@ pub struct BakedSurface {
     pub triangles: Vec<[u32; 3]>,
     /// Illuminance incident on the baked side (lx), photometric (Y).
     pub illuminance: Vec<f32>,
+    /// The direct part of `illuminance` (lx): from lights and emitting surfaces, unreflected.
+    pub illuminance_direct: Vec<f32>,
     /// Luminance leaving the baked side (cd/m²), photometric (Y): (M_e + ρ·E)/π.
     pub luminance: Vec<f32>,
     /// Display colour for `COLOR_0`, linear, each component in [0, 1].

@@ -1,0 +1,108 @@
+//! Display colours for `COLOR_0`: what a glTF viewer shows with unlit materials is
+//! baseColor × COLOR_0, so COLOR_0 carries the illumination, tone-mapped into [0, 1]:
+//! COLOR_0 = shoulder(k·E_rgb), with k the exposure scale (k = 1/E_white). The shoulder is linear
+//! up to 0.8 and then eases to 1 (continuous slope), so bright areas keep some gradation.
+//! Emitting surfaces show their own luminance: their colour uses the illuminance that would make
+//! a surface of their base colour as bright, k·π·L/ρ_display.
+//!
+//! Auto exposure: the area-weighted 95th percentile of illuminance over non-emitting receivers
+//! maps to 0.8.
+
+use super::Solution;
+use crate::scene::{Material, Scene, luma};
+use crate::settings::{Exposure, Settings};
+use glam::DVec3;
+
+/// k such that COLOR_0 = shoulder(k·E).
+pub fn exposure_scale(settings: &Settings, s: &Solution, scene: &Scene) -> f64 {
+    match settings.exposure {
+        Exposure::White { lux } => 1.0 / lux,
+        Exposure::Auto => {
+            let p95 = percentile_illuminance(s, scene, 0.95);
+            if p95 > 0.0 { 0.8 / p95 } else { 1.0 }
+        }
+    }
+}
+
+/// What the summary records about the exposure.
+pub fn exposure_note(settings: &Settings, s: &Solution, scene: &Scene) -> serde_json::Value {
+    let k = exposure_scale(settings, s, scene);
+    serde_json::json!({
+        "mode": match settings.exposure { Exposure::Auto => "auto", Exposure::White { .. } => "fixed" },
+        "whiteIlluminanceLx": 1.0 / k,
+        "rule": "COLOR_0 = shoulder(E_rgb / whiteIlluminanceLx); shoulder(x) = x for x <= 0.8, else 0.8 + 0.2*(1 - exp(-(x - 0.8)/0.2))",
+    })
+}
+
+fn percentile_illuminance(s: &Solution, scene: &Scene, q: f64) -> f64 {
+    let mut weighted: Vec<(f64, f64)> = Vec::new();
+    let mut weight = vec![0.0; s.mesh.receivers.len()];
+    for p in &s.mesh.patches {
+        for &v in &p.v {
+            weight[v as usize] += p.area / 3.0;
+        }
+    }
+    for (i, r) in s.mesh.receivers.iter().enumerate() {
+        let g = &s.mesh.groups[r.group as usize];
+        if scene.materials[g.material].emission.is_some() || weight[i] <= 0.0 {
+            continue;
+        }
+        weighted.push((luma(s.direct[i] + s.indirect[i]), weight[i]));
+    }
+    if weighted.is_empty() {
+        return 0.0;
+    }
+    weighted.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let total: f64 = weighted.iter().map(|w| w.1).sum();
+    let mut acc = 0.0;
+    for (e, w) in &weighted {
+        acc += w;
+        if acc >= q * total {
+            return *e;
+        }
+    }
+    weighted.last().map(|w| w.0).unwrap_or(0.0)
+}
+
+/// The display colour at a receiver with illuminance `e` and exitance `m` (both RGB).
+pub fn color(e: DVec3, m: DVec3, material: &Material, k: f64) -> [f32; 3] {
+    let value = if material.emission.is_some() {
+        let base = DVec3::new(
+            material.display.base_color_factor[0],
+            material.display.base_color_factor[1],
+            material.display.base_color_factor[2],
+        );
+        m / luma(base).max(0.05)
+    } else {
+        e
+    };
+    (value * k).to_array().map(|x| shoulder(x) as f32)
+}
+
+fn shoulder(x: f64) -> f64 {
+    if x.is_nan() || x <= 0.0 {
+        0.0
+    } else if x <= 0.8 {
+        x
+    } else {
+        0.8 + 0.2 * (1.0 - (-(x - 0.8) / 0.2).exp())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::shoulder;
+
+    #[test]
+    fn shoulder_is_monotone_continuous_and_bounded() {
+        let mut last = 0.0;
+        for i in 0..10_000 {
+            let x = i as f64 * 0.001;
+            let y = shoulder(x);
+            assert!(y >= last && y < 1.0);
+            last = y;
+        }
+        assert!((shoulder(0.8 + 1e-9) - 0.8).abs() < 1e-8);
+        assert_eq!(shoulder(f64::NAN), 0.0);
+    }
+}

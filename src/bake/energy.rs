@@ -1,0 +1,160 @@
+//! The energy bookkeeping of a bake: emitted = absorbed + escaped, checked, not assumed.
+//!
+//! Each term is measured on its own: emitted flux from the lights' definitions and the emitting
+//! areas; absorbed flux from the solution, (1 − ρ)·E·A summed over patches, plus what lands on the
+//! back faces of single-sided surfaces; escaped flux from a fixed pattern of rays that leave the
+//! scene (stratified over the sphere, for point and spot lights) and, for light leaving surfaces,
+//! from the open part of each receiver's hemisphere. Their difference is the balance error: it
+//! collects the solver's residual, the balancing tolerance and the error of the escape estimates
+//! (in a closed room the transport operator is balanced to conserve flux, see
+//! `transport::operator`).
+
+use super::Solution;
+use crate::direct::punctual;
+use crate::scene::{LightKind, Scene, luma};
+use crate::transport::links::ReceiverLinks;
+use glam::DVec3;
+use rayon::prelude::*;
+use std::f64::consts::PI;
+
+pub struct Inputs<'a> {
+    pub scene: &'a Scene,
+    pub solution: &'a Solution,
+    pub links: &'a ReceiverLinks,
+    /// Direct irradiance of each patch's front (lx, RGB).
+    pub direct_patch: &'a [DVec3],
+    /// Flux of punctual lights onto back faces of single-sided patches (lm, RGB).
+    pub light_back: DVec3,
+    /// Illuminance from inter-reflection averaged over each patch (lx, RGB).
+    pub indirect_patch: &'a [DVec3],
+    pub rho: &'a [DVec3],
+}
+
+/// Photometric fluxes in lm.
+#[derive(Debug, Clone, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct EnergyBalance {
+    pub emitted_lm: f64,
+    pub emitted_by_lights_lm: f64,
+    pub emitted_by_surfaces_lm: f64,
+    pub direct_received_lm: f64,
+    pub reflected_lm: f64,
+    pub absorbed_lm: f64,
+    pub escaped_lm: f64,
+    /// emitted − absorbed − escaped.
+    pub balance_error_lm: f64,
+    /// |balance error| / emitted.
+    pub balance_error_relative: f64,
+}
+
+pub fn balance(i: Inputs) -> EnergyBalance {
+    let s = i.solution;
+    let mesh = &s.mesh;
+    let occ = &s.occluder;
+    let mut lights = 0.0;
+    let mut lights_escaped = 0.0;
+    for light in &i.scene.lights {
+        match light.kind {
+            LightKind::Directional => {
+                // A directional light emits what the scene intercepts.
+                lights += mesh
+                    .patches
+                    .par_iter()
+                    .map(|p| {
+                        let (f, b) = punctual::patch_flux(
+                            light,
+                            occ,
+                            &p.corners(&mesh.receivers),
+                            p.normal,
+                            p.area,
+                            0.0,
+                        );
+                        f + b
+                    })
+                    .collect::<Vec<_>>()
+                    .iter()
+                    .sum::<f64>();
+            }
+            _ => {
+                lights += punctual::emitted_flux(light).unwrap_or(0.0);
+                lights_escaped += light_escape(i.scene, s, light);
+            }
+        }
+    }
+    let surfaces: f64 = mesh
+        .patches
+        .iter()
+        .zip(&s.exitance)
+        .map(|(p, m)| p.area * luma(*m))
+        .sum();
+    let mut direct_received = luma(i.light_back);
+    let mut reflected = 0.0;
+    let mut to_back = 0.0;
+    let mut surfaces_escaped = 0.0;
+    let mut absorbed_front = 0.0;
+    for (k, p) in mesh.patches.iter().enumerate() {
+        let mean = |f: &dyn Fn(usize) -> f64| p.v.iter().map(|&v| f(v as usize)).sum::<f64>() / 3.0;
+        let (back, open) = (
+            mean(&|r| i.links.back[r] as f64),
+            mean(&|r| i.links.open_fraction(r)),
+        );
+        let emitted_here = p.area * luma(s.exitance[k]);
+        let out = emitted_here + p.area * luma(s.reflected[k]);
+        reflected += p.area * luma(s.reflected[k]);
+        to_back += out * back;
+        surfaces_escaped += out * open;
+        direct_received += p.area * luma(i.direct_patch[k]) + emitted_here * back;
+        let e = i.direct_patch[k] + i.indirect_patch[k];
+        absorbed_front += p.area * luma((DVec3::ONE - i.rho[k]) * e);
+    }
+    let emitted = lights + surfaces;
+    let absorbed = absorbed_front + luma(i.light_back) + to_back;
+    let escaped = lights_escaped + surfaces_escaped;
+    let error = emitted - absorbed - escaped;
+    EnergyBalance {
+        emitted_lm: emitted,
+        emitted_by_lights_lm: lights,
+        emitted_by_surfaces_lm: surfaces,
+        direct_received_lm: direct_received,
+        reflected_lm: reflected,
+        absorbed_lm: absorbed,
+        escaped_lm: escaped,
+        balance_error_lm: error,
+        balance_error_relative: if emitted > 0.0 {
+            error.abs() / emitted
+        } else {
+            0.0
+        },
+    }
+}
+
+/// Flux of a point or spot light that leaves the scene: a 64 × 128 grid of equal solid-angle
+/// cells (uniform in cos θ and φ about the light's axis), each weighted by the intensity at its
+/// centre.
+fn light_escape(scene: &Scene, s: &Solution, light: &crate::scene::Light) -> f64 {
+    let _ = scene;
+    let (nu, nv) = (64usize, 128usize);
+    let cell = 4.0 * PI / (nu * nv) as f64;
+    let (t, b) = light.direction.any_orthonormal_pair();
+    (0..nu)
+        .into_par_iter()
+        .map(|iu| {
+            let cos = 1.0 - 2.0 * (iu as f64 + 0.5) / nu as f64;
+            let sin = (1.0 - cos * cos).max(0.0).sqrt();
+            (0..nv)
+                .map(|iv| {
+                    let phi = 2.0 * PI * (iv as f64 + 0.5) / nv as f64;
+                    let d = light.direction * cos + t * (sin * phi.cos()) + b * (sin * phi.sin());
+                    let i = punctual::intensity(light, d);
+                    if i > 0.0 && s.occluder.escapes(light.position, DVec3::ZERO, d) {
+                        i * cell
+                    } else {
+                        0.0
+                    }
+                })
+                .sum::<f64>()
+        })
+        .collect::<Vec<_>>()
+        .iter()
+        .sum()
+}

@@ -1,0 +1,297 @@
+//! The bake pipeline: a [`Scene`] and validated [`Settings`] in, a [`BakeResult`] out.
+//!
+//! Stages (each a function of the previous stage's data):
+//! 1. `patches::build` — surfaces refined into patches, receivers at their vertices;
+//! 2. `visibility::Occluder::build` — the BVH, once;
+//! 3. patch trees (all patches; emitting patches);
+//! 4. direct light — exact at receivers ([`direct_at_receivers`]), as flux into patches;
+//! 5. `transport::links` — every receiver's view of the patch hierarchy;
+//! 6. `solve::gmres` — reflected exitance B of every patch, to a residual tolerance;
+//! 7. gather at receivers — E = E_direct + Σ links·B; luminance, display colours, energy report.
+//!
+//! Invariant: nothing here depends on the thread count (parallel maps over fixed chunks, ordered
+//! reductions), so the same input and settings give the same bytes.
+
+mod display;
+mod energy;
+mod receivers;
+
+use crate::direct::{emitters, punctual};
+use crate::error::{Error, Result};
+use crate::patches::{self, PatchMesh};
+use crate::progress::Progress;
+use crate::result::{BakeResult, BakedSurface};
+use crate::scene::{Scene, luma};
+use crate::settings::Settings;
+use crate::solve;
+use crate::transport::{
+    gather::Gatherer, links::ReceiverLinks, operator::PatchOperator, tree::PatchTree,
+};
+use crate::visibility::{Occluder, OccluderOptions};
+use glam::DVec3;
+use rayon::prelude::*;
+use std::time::Instant;
+
+pub use energy::EnergyBalance;
+
+/// Everything the solve produced, before it is shaped for output. Later stages (probes,
+/// lightmaps) gather from `solution` through the same [`Gatherer`] interface.
+pub struct Solution {
+    pub mesh: PatchMesh,
+    pub occluder: Occluder,
+    pub tree: PatchTree,
+    pub emitter_tree: PatchTree,
+    /// Emitted exitance per patch (lm/m², RGB).
+    pub exitance: Vec<DVec3>,
+    /// Reflected exitance per patch (lm/m², RGB).
+    pub reflected: Vec<DVec3>,
+    /// Illuminance at each receiver: direct and from inter-reflection (lx, RGB).
+    pub direct: Vec<DVec3>,
+    pub indirect: Vec<DVec3>,
+}
+
+/// Run the whole bake.
+pub fn bake(scene: &Scene, settings: &Settings, progress: &dyn Progress) -> Result<BakeResult> {
+    settings.validate()?;
+    let mut timings = Vec::new();
+    let mut clock = Instant::now();
+    let mut lap = |name: &str, timings: &mut Vec<(String, f64)>| {
+        timings.push((name.to_string(), clock.elapsed().as_secs_f64()));
+        clock = Instant::now();
+    };
+    let params = settings.params();
+    let total_area: f64 = scene
+        .surfaces
+        .iter()
+        .flat_map(|s| {
+            s.triangles.iter().map(|t| {
+                let [a, b, c] = t.map(|v| s.positions[v as usize]);
+                (b - a).cross(c - a).length() / 2.0
+            })
+        })
+        .sum();
+    if total_area.is_nan() || total_area <= 0.0 {
+        return Err(Error::input(
+            &scene.source_file,
+            "",
+            "the scene has no surface with area (nothing to bake)",
+        ));
+    }
+    // Patch size = longest patch edge. Uniform subdivision of a triangle whose longest edge is
+    // split into segments of h gives patches of area ≈ h²/4, hence the factor 2.
+    let h = settings
+        .patch_size
+        .unwrap_or(2.0 * (total_area / params.target_patches).sqrt());
+
+    progress.stage("meshing", 0);
+    let mesh = patches::build(scene, h);
+    let occluder = Occluder::build(
+        scene,
+        OccluderOptions {
+            always_trace: settings.always_trace,
+        },
+    );
+    let exitance = emitters::patch_exitance(scene, &mesh);
+    let tree = PatchTree::build(&mesh, (0..mesh.patches.len() as u32).collect());
+    let emitting: Vec<u32> = (0..mesh.patches.len() as u32)
+        .filter(|&p| exitance[p as usize] != DVec3::ZERO)
+        .collect();
+    let emitter_tree = PatchTree::build(&mesh, emitting);
+    if scene.lights.is_empty() && emitter_tree.is_empty() {
+        progress.warn("the scene has no light source (no emitting material, no KHR_lights_punctual light): everything bakes to 0 lx");
+    }
+    lap("mesh", &mut timings);
+
+    progress.stage("direct light", mesh.receivers.len() as u64);
+    let direct = receivers::direct_at_receivers(
+        scene,
+        &mesh,
+        &occluder,
+        &emitter_tree,
+        &exitance,
+        params.tau_direct,
+        progress,
+    );
+    let (light_flux, light_back) = light_patch_flux(scene, &mesh, &occluder, params.tau);
+    lap("direct", &mut timings);
+
+    progress.stage("form factors", mesh.receivers.len() as u64);
+    let gatherer = Gatherer {
+        mesh: &mesh,
+        tree: &tree,
+        occluder: &occluder,
+        tau: params.tau,
+    };
+    let links = ReceiverLinks::build(&gatherer, &mesh.receivers);
+    lap("links", &mut timings);
+
+    progress.stage("solving", 0);
+    let rho: Vec<DVec3> = mesh
+        .patches
+        .iter()
+        .map(|p| scene.materials[mesh.groups[p.group as usize].material].reflectance)
+        .collect();
+    let areas: Vec<f64> = mesh.patches.iter().map(|p| p.area).collect();
+    let mut operator = PatchOperator::new(&mesh, &tree, &links);
+    let balance_stats = operator.balance(50, 1e-6);
+    // Direct irradiance of each patch: punctual lights exactly (solid angle), emitting surfaces
+    // through the balanced operator (so a closed room receives exactly what they emit).
+    let from_emitters = operator.apply(&exitance);
+    let direct_patch: Vec<DVec3> = (0..mesh.patches.len())
+        .map(|i| light_flux[i] / areas[i] + from_emitters[i])
+        .collect();
+    let b: Vec<DVec3> = (0..mesh.patches.len())
+        .map(|i| rho[i] * direct_patch[i])
+        .collect();
+    let apply = |x: &[DVec3], out: &mut [DVec3]| {
+        let e = operator.apply(x);
+        out.par_iter_mut()
+            .enumerate()
+            .for_each(|(i, o)| *o = x[i] - rho[i] * e[i]);
+    };
+    let (reflected, stats) = solve::gmres(apply, &b, &areas, params.tolerance, 2_000, 40);
+    let indirect_patch = operator.apply(&reflected);
+    let indirect = operator.gather_receivers(&reflected);
+    lap("solve", &mut timings);
+    drop(operator);
+
+    let solution = Solution {
+        mesh,
+        occluder,
+        tree,
+        emitter_tree,
+        exitance,
+        reflected,
+        direct,
+        indirect,
+    };
+    let balance = energy::balance(energy::Inputs {
+        scene,
+        solution: &solution,
+        links: &links,
+        direct_patch: &direct_patch,
+        light_back,
+        indirect_patch: &indirect_patch,
+        rho: &rho,
+    });
+    let surfaces = output_surfaces(scene, &solution, settings);
+    let exposure = display::exposure_note(settings, &solution, scene);
+    lap("output", &mut timings);
+
+    let mut summary = serde_json::json!({
+        "tool": format!("luxbake {}", env!("CARGO_PKG_VERSION")),
+        "settings": settings,
+        "quality": params,
+        "patchSize": h,
+        "counts": {
+            "surfaces": scene.surfaces.len(),
+            "patches": solution.mesh.patches.len(),
+            "receivers": solution.mesh.receivers.len(),
+            "links": links.links.len(),
+            "closedReceivers": links.closed.iter().filter(|c| **c).count(),
+            "rays": solution.occluder.rays_traced(),
+            "convexEmptyScene": solution.occluder.convex_empty,
+        },
+        "solver": stats,
+        "balancing": balance_stats,
+        "energy": balance,
+        "exposure": exposure,
+        "units": {"illuminance": "lx", "luminance": "cd/m2", "flux": "lm", "length": "m", "up": "+Y"},
+    });
+    if settings.record_timings {
+        summary["timingsSeconds"] = serde_json::Value::Object(
+            timings
+                .into_iter()
+                .map(|(k, v)| (k, serde_json::json!(v)))
+                .collect(),
+        );
+    }
+    if !stats.converged {
+        progress.warn(&format!(
+            "the solver stopped at {} iterations with relative residual {:.2e} (tolerance {:.0e})",
+            stats.iterations, stats.relative_residual, params.tolerance
+        ));
+    }
+    Ok(BakeResult { surfaces, summary })
+}
+
+/// Flux from every punctual light into each patch (front) and onto back faces (total).
+fn light_patch_flux(
+    scene: &Scene,
+    mesh: &PatchMesh,
+    occ: &Occluder,
+    tau: f64,
+) -> (Vec<DVec3>, DVec3) {
+    let per: Vec<(DVec3, DVec3)> = mesh
+        .patches
+        .par_iter()
+        .map(|p| {
+            let corners = p.corners(&mesh.receivers);
+            let mut front = DVec3::ZERO;
+            let mut back = DVec3::ZERO;
+            for light in &scene.lights {
+                let (f, b) = punctual::patch_flux(light, occ, &corners, p.normal, p.area, tau);
+                front += light.color * f;
+                back += light.color * b;
+            }
+            (front, back)
+        })
+        .collect();
+    let back = per.iter().map(|x| x.1).sum();
+    (per.into_iter().map(|x| x.0).collect(), back)
+}
+
+/// Shape the solution for the exporter: one baked surface per patch group.
+fn output_surfaces(scene: &Scene, s: &Solution, settings: &Settings) -> Vec<BakedSurface> {
+    let scale = display::exposure_scale(settings, s, scene);
+    s.mesh
+        .groups
+        .iter()
+        .map(|g| {
+            let material = &scene.materials[g.material];
+            // Every patch of a group emits alike.
+            let emitted = s
+                .exitance
+                .get(g.patches.start)
+                .copied()
+                .filter(|_| !g.patches.is_empty())
+                .unwrap_or(DVec3::ZERO);
+            let range = g.receivers.clone();
+            let r0 = range.start as u32;
+            let mut illuminance = Vec::with_capacity(range.len());
+            let mut illuminance_direct = Vec::with_capacity(range.len());
+            let mut luminance = Vec::with_capacity(range.len());
+            let mut color = Vec::with_capacity(range.len());
+            for r in range.clone() {
+                let e = s.direct[r] + s.indirect[r];
+                let exitance = emitted + material.reflectance * e;
+                illuminance.push(luma(e) as f32);
+                illuminance_direct.push(luma(s.direct[r]) as f32);
+                luminance.push((luma(exitance) / std::f64::consts::PI) as f32);
+                color.push(display::color(e, exitance, material, scale));
+            }
+            BakedSurface {
+                surface: g.surface,
+                side: g.side,
+                positions: s.mesh.receivers[range.clone()]
+                    .iter()
+                    .map(|r| r.position)
+                    .collect(),
+                normals: s.mesh.receivers[range.clone()]
+                    .iter()
+                    .map(|r| r.normal)
+                    .collect(),
+                uv0: g.uv0.clone(),
+                uv1: g.uv1.clone(),
+                triangles: s.mesh.patches[g.patches.clone()]
+                    .iter()
+                    .map(|p| p.v.map(|v| v - r0))
+                    .collect(),
+                illuminance,
+                illuminance_direct,
+                luminance,
+                color,
+            }
+        })
+        .collect()
+}

@@ -1,0 +1,5 @@
+//! Direct light: from punctual lights and from emitting surfaces, evaluated exactly at every
+//! receiver and as flux into every patch (what the radiosity solution then reflects).
+
+pub mod emitters;
+pub mod punctual;

@@ -1,0 +1,277 @@
+//! Scenes with known answers, built in code: closed boxes, CIE 171 test rooms, a panel over a
+//! floor. The tests compare bakes of these against closed forms (ANALYTIC.md); the benchmark
+//! harness uses them too. Axes: +Y up; lengths in metres.
+
+use crate::scene::{
+    DisplayMaterial, Emission, EmissionAmount, Light, LightKind, LocalTransform, Material, Node,
+    ReflectanceSource, Scene, Surface,
+};
+use glam::{DMat4, DVec3};
+
+/// Builds a [`Scene`] one node per surface.
+#[derive(Default)]
+pub struct SceneBuilder {
+    scene: Scene,
+}
+
+impl SceneBuilder {
+    pub fn new() -> Self {
+        SceneBuilder::default()
+    }
+
+    /// A grey diffuse material with reflectance `rho`; returns its index.
+    pub fn material(&mut self, name: &str, rho: f64) -> usize {
+        self.material_full(name, DVec3::splat(rho), None, false)
+    }
+
+    /// A material that emits luminance `l` (cd/m²) and reflects `rho`.
+    pub fn emitter(&mut self, name: &str, rho: f64, l: f64) -> usize {
+        let e = Emission {
+            amount: EmissionAmount::Luminance(l),
+            color: DVec3::ONE,
+        };
+        self.material_full(name, DVec3::splat(rho), Some(e), false)
+    }
+
+    pub fn material_full(
+        &mut self,
+        name: &str,
+        rho: DVec3,
+        emission: Option<Emission>,
+        double_sided: bool,
+    ) -> usize {
+        self.scene.materials.push(Material {
+            name: Some(name.into()),
+            source_path: format!("/materials/{}", self.scene.materials.len()),
+            reflectance: rho,
+            emission,
+            double_sided,
+            reflectance_source: ReflectanceSource::Extension,
+            display: DisplayMaterial {
+                base_color_factor: [rho.x, rho.y, rho.z, 1.0],
+                metallic_factor: 0.0,
+                ..Default::default()
+            },
+            extras: None,
+        });
+        self.scene.materials.len() - 1
+    }
+
+    /// A planar quad (corners counter-clockwise seen from its front) as its own node.
+    pub fn quad(&mut self, name: &str, corners: [DVec3; 4], material: usize) {
+        let n = (corners[1] - corners[0])
+            .cross(corners[2] - corners[0])
+            .normalize();
+        self.surface(
+            name,
+            corners.to_vec(),
+            vec![n; 4],
+            vec![[0, 1, 2], [0, 2, 3]],
+            material,
+        );
+    }
+
+    /// A triangle mesh as its own node (identity transform).
+    pub fn surface(
+        &mut self,
+        name: &str,
+        positions: Vec<DVec3>,
+        normals: Vec<DVec3>,
+        triangles: Vec<[u32; 3]>,
+        material: usize,
+    ) {
+        let node = self.scene.nodes.len();
+        let surface = self.scene.surfaces.len();
+        self.scene.surfaces.push(Surface {
+            node,
+            primitive: 0,
+            source_path: format!("/meshes/{surface}/primitives/0"),
+            material,
+            positions,
+            normals,
+            uv0: None,
+            uv1: None,
+            triangles,
+        });
+        self.scene.nodes.push(Node {
+            name: Some(name.into()),
+            source_path: format!("/nodes/{node}"),
+            children: Vec::new(),
+            local: LocalTransform::default(),
+            world_from_local: DMat4::IDENTITY,
+            mesh_name: Some(name.into()),
+            surfaces: vec![surface],
+            light: None,
+            camera: None,
+            extras: None,
+        });
+        self.scene.roots.push(node);
+    }
+
+    /// The six faces of an axis-aligned box, facing inward (`inward`) or outward.
+    pub fn axis_box(&mut self, name: &str, lo: DVec3, hi: DVec3, inward: bool, material: usize) {
+        for (face, corners) in box_faces(lo, hi).into_iter().enumerate() {
+            let c = if inward {
+                corners
+            } else {
+                [corners[0], corners[3], corners[2], corners[1]]
+            };
+            self.quad(&format!("{name}_{face}"), c, material);
+        }
+    }
+
+    /// An isotropic point light of `flux` lm at `position`.
+    pub fn point_light(&mut self, name: &str, position: DVec3, flux: f64) {
+        self.light(
+            name,
+            LightKind::Point,
+            position,
+            -DVec3::Y,
+            flux / (4.0 * std::f64::consts::PI),
+        );
+    }
+
+    /// A light of any kind; `intensity` in cd (lx for directional).
+    pub fn light(
+        &mut self,
+        name: &str,
+        kind: LightKind,
+        position: DVec3,
+        direction: DVec3,
+        intensity: f64,
+    ) {
+        let node = self.scene.nodes.len();
+        let index = self.scene.lights.len();
+        self.scene.lights.push(Light {
+            name: Some(name.into()),
+            source_path: format!("/extensions/KHR_lights_punctual/lights/{index}"),
+            node,
+            kind,
+            intensity,
+            color: DVec3::ONE,
+            position,
+            direction: direction.normalize(),
+            range: None,
+        });
+        let rotation = glam::DQuat::from_rotation_arc(-DVec3::Z, direction.normalize());
+        self.scene.nodes.push(Node {
+            name: Some(name.into()),
+            source_path: format!("/nodes/{node}"),
+            children: Vec::new(),
+            local: LocalTransform::Trs {
+                translation: position,
+                rotation,
+                scale: DVec3::ONE,
+            },
+            world_from_local: DMat4::from_rotation_translation(rotation, position),
+            mesh_name: None,
+            surfaces: Vec::new(),
+            light: Some(index),
+            camera: None,
+            extras: None,
+        });
+        self.scene.roots.push(node);
+    }
+
+    pub fn build(self) -> Scene {
+        self.scene
+    }
+}
+
+/// The six faces of a box, each counter-clockwise seen from INSIDE the box.
+pub fn box_faces(lo: DVec3, hi: DVec3) -> [[DVec3; 4]; 6] {
+    let p = |x: f64, y: f64, z: f64| DVec3::new(x, y, z);
+    let (a, b) = (lo, hi);
+    [
+        // floor (normal +Y), ceiling (−Y)
+        [
+            p(a.x, a.y, a.z),
+            p(a.x, a.y, b.z),
+            p(b.x, a.y, b.z),
+            p(b.x, a.y, a.z),
+        ],
+        [
+            p(a.x, b.y, a.z),
+            p(b.x, b.y, a.z),
+            p(b.x, b.y, b.z),
+            p(a.x, b.y, b.z),
+        ],
+        // x = lo (normal +X), x = hi (−X)
+        [
+            p(a.x, a.y, a.z),
+            p(a.x, b.y, a.z),
+            p(a.x, b.y, b.z),
+            p(a.x, a.y, b.z),
+        ],
+        [
+            p(b.x, a.y, a.z),
+            p(b.x, a.y, b.z),
+            p(b.x, b.y, b.z),
+            p(b.x, b.y, a.z),
+        ],
+        // z = lo (normal +Z), z = hi (−Z)
+        [
+            p(a.x, a.y, a.z),
+            p(b.x, a.y, a.z),
+            p(b.x, b.y, a.z),
+            p(a.x, b.y, a.z),
+        ],
+        [
+            p(a.x, a.y, b.z),
+            p(a.x, b.y, b.z),
+            p(b.x, b.y, b.z),
+            p(b.x, a.y, b.z),
+        ],
+    ]
+}
+
+/// CIE 171:2006 test 5.8: a 4 m cube (S = 96 m²) of uniform reflectance `rho` with an isotropic
+/// 10 000 lm point source at its centre.
+pub fn cie_5_8(rho: f64) -> Scene {
+    let mut b = SceneBuilder::new();
+    let m = b.material("walls", rho);
+    b.axis_box("room", DVec3::ZERO, DVec3::splat(4.0), true, m);
+    b.point_light("source", DVec3::splat(2.0), 10_000.0);
+    b.build()
+}
+
+/// A closed box `size` with uniform reflectance `rho`, whose ceiling has an emitting square of
+/// side `panel` (luminance `l`) in its middle, flush with it (the ceiling is cut into 9 quads).
+pub fn closed_box_with_panel(size: DVec3, rho: f64, panel: f64, l: f64) -> Scene {
+    let mut b = SceneBuilder::new();
+    let walls = b.material("walls", rho);
+    let lamp = b.emitter("panel", rho, l);
+    let faces = box_faces(DVec3::ZERO, size);
+    for (i, f) in faces.iter().enumerate().filter(|(i, _)| *i != 1) {
+        b.quad(&format!("face_{i}"), *f, walls);
+    }
+    // Ceiling at y = size.y facing down, cut at the panel's edges.
+    let xs = [0.0, (size.x - panel) / 2.0, (size.x + panel) / 2.0, size.x];
+    let zs = [0.0, (size.z - panel) / 2.0, (size.z + panel) / 2.0, size.z];
+    for i in 0..3 {
+        for j in 0..3 {
+            let y = size.y;
+            let c = [
+                DVec3::new(xs[i], y, zs[j]),
+                DVec3::new(xs[i + 1], y, zs[j]),
+                DVec3::new(xs[i + 1], y, zs[j + 1]),
+                DVec3::new(xs[i], y, zs[j + 1]),
+            ];
+            b.quad(
+                &format!("ceiling_{i}{j}"),
+                c,
+                if i == 1 && j == 1 { lamp } else { walls },
+            );
+        }
+    }
+    b.build()
+}
+
+/// The furnace: a closed box whose every surface emits luminance `l` and reflects `rho`; the
+/// exitance everywhere is π·l/(1 − ρ).
+pub fn furnace(size: DVec3, rho: f64, l: f64) -> Scene {
+    let mut b = SceneBuilder::new();
+    let m = b.emitter("glow", rho, l);
+    b.axis_box("room", DVec3::ZERO, size, true, m);
+    b.build()
+}

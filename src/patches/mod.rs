@@ -1,0 +1,255 @@
+//! Meshing: the scene's surfaces refined into patches, and the receivers at their vertices.
+//!
+//! Input: a [`Scene`] and the patch size `h` (m). Output: a [`PatchMesh`]:
+//! - `groups`: one per (surface, side). Double-sided materials get a `Back` group: the same
+//!   positions with reversed winding and flipped normals, its own patches and receivers.
+//! - `patches`: triangles no longer than about `h` on a side (see [`refine`]), each owned by one
+//!   group, with area, unit geometric normal (the side's front) and vertex receivers.
+//! - `receivers`: one per refined vertex and side. A receiver is where the values users see are
+//!   computed (vertex colours, `_ILLUMINANCE`); the solver also uses receivers as the quadrature
+//!   points of its patches (a patch's irradiance is the mean of its three receivers').
+//!
+//! Invariants: patches have area > 0; every patch's vertices are receivers of the same group;
+//! receiver normals have unit length and face the side's front; `Receiver::point` lies on the
+//! surface, nudged a hair (10⁻⁴·h) into the adjacent patches so that a receiver at a room corner
+//! sees the neighbouring wall as the limit from inside the face, not edge-on.
+
+pub mod refine;
+
+use crate::result::Side;
+use crate::scene::Scene;
+use glam::{DVec2, DVec3};
+
+#[derive(Debug, Clone)]
+pub struct Patch {
+    /// Receiver indices (global), counter-clockwise seen from the front.
+    pub v: [u32; 3],
+    pub group: u32,
+    pub area: f64,
+    pub normal: DVec3,
+}
+
+impl Patch {
+    pub fn corners(&self, receivers: &[Receiver]) -> [DVec3; 3] {
+        self.v.map(|i| receivers[i as usize].position)
+    }
+}
+
+#[derive(Debug, Clone, Copy)]
+pub struct Receiver {
+    /// The vertex position (m, world).
+    pub position: DVec3,
+    /// Unit normal of the receiving side.
+    pub normal: DVec3,
+    /// Where illuminance is evaluated: `position` nudged into the adjacent patches.
+    pub point: DVec3,
+    pub group: u32,
+}
+
+/// One side of one scene surface.
+#[derive(Debug, Clone)]
+pub struct Group {
+    pub surface: usize,
+    pub side: Side,
+    pub material: usize,
+    /// Ranges into `PatchMesh::receivers` and `PatchMesh::patches`.
+    pub receivers: std::ops::Range<usize>,
+    pub patches: std::ops::Range<usize>,
+    pub uv0: Option<Vec<DVec2>>,
+    pub uv1: Option<Vec<DVec2>>,
+    /// Area of this side (m²).
+    pub area: f64,
+}
+
+#[derive(Debug, Default)]
+pub struct PatchMesh {
+    pub groups: Vec<Group>,
+    pub patches: Vec<Patch>,
+    pub receivers: Vec<Receiver>,
+    /// The patch size used (m).
+    pub patch_size: f64,
+}
+
+/// Refine every surface of `scene` into patches of size ≤ `h` (m).
+pub fn build(scene: &Scene, h: f64) -> PatchMesh {
+    let mut mesh = PatchMesh {
+        patch_size: h,
+        ..Default::default()
+    };
+    for (s, surface) in scene.surfaces.iter().enumerate() {
+        let refined = refine::refine(&surface.positions, &surface.triangles, h);
+        if refined.triangles.is_empty() {
+            continue;
+        }
+        let normals: Vec<DVec3> = refined
+            .origin
+            .iter()
+            .map(|b| b.apply(&surface.normals).normalize_or_zero())
+            .collect();
+        let interp = |uv: &Option<Vec<DVec2>>| {
+            uv.as_ref().map(|d| {
+                refined
+                    .origin
+                    .iter()
+                    .map(|b| b.apply(d))
+                    .collect::<Vec<_>>()
+            })
+        };
+        let (uv0, uv1) = (interp(&surface.uv0), interp(&surface.uv1));
+        let (positions, normals, uv0, uv1, triangles) =
+            compact(&refined.positions, &normals, uv0, uv1, &refined.triangles);
+        let material = surface.material;
+        let sides: &[Side] = if scene.materials[material].double_sided {
+            &[Side::Front, Side::Back]
+        } else {
+            &[Side::Front]
+        };
+        for &side in sides {
+            let sign = if side == Side::Front { 1.0 } else { -1.0 };
+            let tris: Vec<[u32; 3]> = triangles
+                .iter()
+                .map(|t| {
+                    if side == Side::Front {
+                        *t
+                    } else {
+                        [t[0], t[2], t[1]]
+                    }
+                })
+                .collect();
+            let shading: Vec<DVec3> = normals.iter().map(|n| *n * sign).collect();
+            add_group(
+                &mut mesh,
+                GroupInput {
+                    surface: s,
+                    side,
+                    material,
+                    positions: &positions,
+                    shading_normals: &shading,
+                    triangles: &tris,
+                    uv0: uv0.clone(),
+                    uv1: uv1.clone(),
+                    h,
+                },
+            );
+        }
+    }
+    mesh
+}
+
+type Compacted = (
+    Vec<DVec3>,
+    Vec<DVec3>,
+    Option<Vec<DVec2>>,
+    Option<Vec<DVec2>>,
+    Vec<[u32; 3]>,
+);
+
+/// Drop vertices no triangle uses (from zero-area input triangles or unused input vertices).
+fn compact(
+    positions: &[DVec3],
+    normals: &[DVec3],
+    uv0: Option<Vec<DVec2>>,
+    uv1: Option<Vec<DVec2>>,
+    triangles: &[[u32; 3]],
+) -> Compacted {
+    let mut map = vec![u32::MAX; positions.len()];
+    let mut order = Vec::new();
+    let triangles = triangles
+        .iter()
+        .map(|t| {
+            t.map(|v| {
+                if map[v as usize] == u32::MAX {
+                    map[v as usize] = order.len() as u32;
+                    order.push(v as usize);
+                }
+                map[v as usize]
+            })
+        })
+        .collect();
+    let pick = |d: &[DVec3]| order.iter().map(|&i| d[i]).collect::<Vec<_>>();
+    let pick_uv =
+        |d: Option<Vec<DVec2>>| d.map(|d| order.iter().map(|&i| d[i]).collect::<Vec<_>>());
+    (
+        pick(positions),
+        pick(normals),
+        pick_uv(uv0),
+        pick_uv(uv1),
+        triangles,
+    )
+}
+
+struct GroupInput<'a> {
+    surface: usize,
+    side: Side,
+    material: usize,
+    positions: &'a [DVec3],
+    shading_normals: &'a [DVec3],
+    triangles: &'a [[u32; 3]],
+    uv0: Option<Vec<DVec2>>,
+    uv1: Option<Vec<DVec2>>,
+    h: f64,
+}
+
+fn add_group(mesh: &mut PatchMesh, g: GroupInput) {
+    let group = mesh.groups.len() as u32;
+    let r0 = mesh.receivers.len();
+    let p0 = mesh.patches.len();
+    let n = g.positions.len();
+    // Per vertex: Σ of adjacent face normals (area-weighted) and of (centroid − vertex).
+    let mut face_sum = vec![DVec3::ZERO; n];
+    let mut inward = vec![DVec3::ZERO; n];
+    let mut area = 0.0;
+    for t in g.triangles {
+        let p = t.map(|v| g.positions[v as usize]);
+        let cross = (p[1] - p[0]).cross(p[2] - p[0]);
+        let a = cross.length() / 2.0;
+        if a <= 0.0 || !a.is_finite() {
+            continue;
+        }
+        let normal = cross / (2.0 * a);
+        let centroid = (p[0] + p[1] + p[2]) / 3.0;
+        for (k, &v) in t.iter().enumerate() {
+            face_sum[v as usize] += cross;
+            inward[v as usize] += (centroid - p[k]).normalize_or_zero();
+        }
+        area += a;
+        mesh.patches.push(Patch {
+            v: t.map(|v| v + r0 as u32),
+            group,
+            area: a,
+            normal,
+        });
+    }
+    let nudge = 1e-4 * g.h;
+    for i in 0..n {
+        let face = face_sum[i].normalize_or_zero();
+        let shading = g.shading_normals[i];
+        // Trust the shading normal unless it disagrees with the faces around the vertex.
+        let normal = if shading.dot(face) > 0.3 || face == DVec3::ZERO {
+            if shading == DVec3::ZERO {
+                DVec3::Y
+            } else {
+                shading
+            }
+        } else {
+            face
+        };
+        let tangent_in = (inward[i] - normal * inward[i].dot(normal)).normalize_or_zero();
+        mesh.receivers.push(Receiver {
+            position: g.positions[i],
+            normal,
+            point: g.positions[i] + tangent_in * nudge,
+            group,
+        });
+    }
+    mesh.groups.push(Group {
+        surface: g.surface,
+        side: g.side,
+        material: g.material,
+        receivers: r0..mesh.receivers.len(),
+        patches: p0..mesh.patches.len(),
+        uv0: g.uv0,
+        uv1: g.uv1,
+        area,
+    });
+}

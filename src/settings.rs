@@ -1,0 +1,145 @@
+//! Validated bake settings. The CLI turns its raw arguments into a [`Settings`] (checking every
+//! value) before any work starts; library users build one directly.
+
+use crate::error::{Error, Result};
+use crate::import::UpAxis;
+
+/// Speed/accuracy trade-off. Each level fixes the patch count target, the far-field acceptance
+/// ratio and the solver tolerance (see [`Quality::params`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub enum Quality {
+    Draft,
+    #[default]
+    Default,
+    High,
+}
+
+/// What a quality level means in numbers.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct QualityParams {
+    /// Patch size is √(total area / this), unless `--patch-size` overrides it.
+    pub target_patches: f64,
+    /// Far-field acceptance: a cluster is one source when radius/distance < tau.
+    pub tau: f64,
+    /// Same for direct light from emitting surfaces.
+    pub tau_direct: f64,
+    /// Relative residual at which the solver stops.
+    pub tolerance: f64,
+}
+
+impl Quality {
+    pub fn params(self) -> QualityParams {
+        match self {
+            Quality::Draft => QualityParams {
+                target_patches: 2_000.0,
+                tau: 0.45,
+                tau_direct: 0.2,
+                tolerance: 1e-5,
+            },
+            Quality::Default => QualityParams {
+                target_patches: 8_000.0,
+                tau: 0.3,
+                tau_direct: 0.1,
+                tolerance: 1e-7,
+            },
+            Quality::High => QualityParams {
+                target_patches: 32_000.0,
+                tau: 0.2,
+                tau_direct: 0.05,
+                tolerance: 1e-9,
+            },
+        }
+    }
+}
+
+/// How baked illuminance maps to the display colour `COLOR_0`.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[serde(rename_all = "camelCase", tag = "mode")]
+pub enum Exposure {
+    /// The area-weighted 95th percentile of illuminance on non-emitting surfaces shows at 0.8.
+    Auto,
+    /// This illuminance (lx) shows as full white (1.0) before the soft shoulder.
+    White { lux: f64 },
+}
+
+#[derive(Debug, Clone, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct Settings {
+    pub quality: Quality,
+    /// Patch edge length in metres; `None` derives it from the quality.
+    pub patch_size: Option<f64>,
+    /// Far-field acceptance ratio (radius/distance) overriding the quality's `tau`.
+    pub far_field: Option<f64>,
+    pub exposure: Exposure,
+    /// Keep the input materials instead of switching them to KHR_materials_unlit.
+    pub keep_lit_materials: bool,
+    #[serde(skip)]
+    pub obj_up: UpAxis,
+    /// Worker threads (`None`: all cores). Never affects the output.
+    #[serde(skip)]
+    pub threads: Option<usize>,
+    /// Record wall-clock timings in the output's extras (they make bakes differ run to run).
+    #[serde(skip)]
+    pub record_timings: bool,
+    /// Trace shadow rays even where the scene is a convex empty enclosure (testing).
+    #[serde(skip)]
+    pub always_trace: bool,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Settings {
+            quality: Quality::Default,
+            patch_size: None,
+            far_field: None,
+            exposure: Exposure::Auto,
+            keep_lit_materials: false,
+            obj_up: UpAxis::Y,
+            threads: None,
+            record_timings: false,
+            always_trace: false,
+        }
+    }
+}
+
+impl Settings {
+    /// The quality's numbers with this settings' overrides applied.
+    pub fn params(&self) -> QualityParams {
+        let mut p = self.quality.params();
+        if let Some(t) = self.far_field {
+            p.tau = t;
+        }
+        p
+    }
+
+    /// Check every value; the bake assumes a validated `Settings`.
+    pub fn validate(&self) -> Result<()> {
+        if let Some(h) = self.patch_size
+            && !(h.is_finite() && h > 0.0)
+        {
+            return Err(Error::Settings(format!(
+                "--patch-size must be a positive length in metres, got {h}"
+            )));
+        }
+        if let Some(t) = self.far_field
+            && !(t.is_finite() && t > 0.0 && t < 1.0)
+        {
+            return Err(Error::Settings(format!(
+                "--far-field must be in (0, 1), got {t}"
+            )));
+        }
+        if let Exposure::White { lux } = self.exposure
+            && !(lux.is_finite() && lux > 0.0)
+        {
+            return Err(Error::Settings(format!(
+                "--exposure must be 'auto' or a positive illuminance in lx, got {lux}"
+            )));
+        }
+        if self.threads == Some(0) {
+            return Err(Error::Settings("--threads must be at least 1".into()));
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,182 @@
+//! Gathering at one receiver point: the list of sources it sees, with exact or far-field form
+//! factors and sampled visibility. This is the one interface through which every receiver —
+//! vertices now, lightmap texels and probe faces later — reads light from a patch field.
+//!
+//! Input: a point `p` with unit normal `n`, a [`PatchTree`], the [`Occluder`].
+//! Output: links `(tree node, coefficient)` such that E(p) = Σ coefficient × (area-mean exitance of
+//! the node's patches), and the total coverage (the fraction of the cosine-weighted hemisphere that
+//! geometry covers, counting back faces, which reflect nothing).
+//!
+//! Traversal from the root: nodes entirely behind the receiver's plane are skipped; a leaf patch
+//! gets Lambert's exact point-to-polygon form factor (clipped to the hemisphere); an inner node is
+//! accepted as one far-field source when its bounding radius over its distance is below `tau`,
+//! it lies wholly above the receiver's plane, and its normal cone shows the receiver only front
+//! faces or only back faces; it then gets the second-order expansion of `geom::farfield`.
+//! Visibility is the only sampled part: a fixed pattern of points on the patch (1, 4 or 16 by
+//! its angular size) or two representative patches of a node, one shadow ray each.
+
+use super::tree::PatchTree;
+use crate::geom::lambert;
+use crate::patches::PatchMesh;
+use crate::visibility::Occluder;
+use glam::DVec3;
+
+/// How much of a receiver's cosine-weighted hemisphere geometry covers (after visibility).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Coverage {
+    /// All geometry, front and back faces.
+    pub total: f64,
+    /// Back faces of single-sided patches (they absorb what reaches them).
+    pub back: f64,
+}
+
+/// One source seen by a receiver.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Link {
+    pub node: u32,
+    /// Form factor × visible fraction.
+    pub coeff: f32,
+    /// Far-field links: the form-factor density's gradient × visible fraction, applied to the
+    /// node's first moment of exitance (zero for leaf patches, where exitance is uniform).
+    pub grad: [f32; 3],
+}
+
+pub struct Gatherer<'a> {
+    pub mesh: &'a PatchMesh,
+    pub tree: &'a PatchTree,
+    pub occluder: &'a Occluder,
+    /// Far-field acceptance: bounding radius / distance below which a node is one source.
+    pub tau: f64,
+}
+
+impl Gatherer<'_> {
+    /// Append the links seen from `p` (normal `n`) to `out`; return the covered fractions.
+    pub fn links(&self, p: DVec3, n: DVec3, out: &mut Vec<Link>) -> Coverage {
+        let mut coverage = Coverage::default();
+        if self.tree.is_empty() {
+            return coverage;
+        }
+        let mut stack = vec![0u32];
+        while let Some(i) = stack.pop() {
+            let node = &self.tree.nodes[i as usize];
+            let (below, above) = node.height_range(p, n);
+            if above <= 0.0 {
+                continue; // wholly behind the receiver
+            }
+            let dist = (node.center - p).length();
+            if node.is_leaf() {
+                let patch_index = self.tree.order[node.start as usize] as usize;
+                let patch = &self.mesh.patches[patch_index];
+                let corners = patch.corners(&self.mesh.receivers);
+                let f = lambert::form_factor(p, n, &corners);
+                if f <= 0.0 {
+                    continue;
+                }
+                let level = sample_level(node.radius, dist, self.tau);
+                let vis = self.patch_visibility(p, n, patch_index, level);
+                let front = patch.normal.dot(p - node.moments.centroid) > 0.0;
+                coverage.total += f * vis;
+                if !front {
+                    coverage.back += f * vis;
+                }
+                if front && vis > 0.0 {
+                    out.push(Link {
+                        node: i,
+                        coeff: (f * vis) as f32,
+                        grad: [0.0; 3],
+                    });
+                }
+                continue;
+            }
+            if let Some(front) = self.accept(node, p, below, dist) {
+                let f = node.moments.form_factor(p, n).abs();
+                let vis = self.node_visibility(p, n, node);
+                coverage.total += f * vis;
+                if !front {
+                    coverage.back += f * vis;
+                }
+                if front && vis > 0.0 && f > 0.0 {
+                    let g = node.moments.density_gradient(p, n) * vis;
+                    out.push(Link {
+                        node: i,
+                        coeff: (f * vis) as f32,
+                        grad: [g.x as f32, g.y as f32, g.z as f32],
+                    });
+                }
+                continue;
+            }
+            stack.extend(node.children);
+        }
+        coverage
+    }
+
+    /// `Some(front_facing)` when `node` may be treated as one far-field source seen from `p`:
+    /// small enough for its distance, wholly above the receiver's plane, seen from one side.
+    fn accept(
+        &self,
+        node: &super::tree::TreeNode,
+        p: DVec3,
+        below: f64,
+        dist: f64,
+    ) -> Option<bool> {
+        if node.radius >= self.tau * dist || below < 0.0 {
+            return None;
+        }
+        node.facing(p)
+    }
+
+    /// Fraction of the fixed sample points on patch `patch_index` visible from `p`.
+    fn patch_visibility(&self, p: DVec3, n: DVec3, patch_index: usize, level: u32) -> f64 {
+        if self.occluder.convex_empty {
+            return 1.0;
+        }
+        let patch = &self.mesh.patches[patch_index];
+        let corners = patch.corners(&self.mesh.receivers);
+        let pts = crate::geom::samples::triangle_points(level);
+        let visible = pts
+            .iter()
+            .filter(|b| {
+                let q = corners[0] * b[0] + corners[1] * b[1] + corners[2] * b[2];
+                self.occluder.clear(p, n, q, patch.normal)
+            })
+            .count();
+        visible as f64 / pts.len() as f64
+    }
+
+    /// Visible fraction of two representative patches (at the node's area quartiles).
+    fn node_visibility(&self, p: DVec3, n: DVec3, node: &super::tree::TreeNode) -> f64 {
+        if self.occluder.convex_empty {
+            return 1.0;
+        }
+        let (a0, a1) = (
+            self.tree.area_prefix[node.start as usize],
+            self.tree.area_prefix[node.end as usize],
+        );
+        let mut visible = 0;
+        for q in [0.25, 0.75] {
+            let target = a0 + (a1 - a0) * q;
+            let k = self.tree.area_prefix[node.start as usize..=node.end as usize]
+                .partition_point(|&a| a <= target)
+                .saturating_sub(1)
+                .min((node.end - node.start - 1) as usize);
+            let patch = &self.mesh.patches[self.tree.order[node.start as usize + k] as usize];
+            let c = patch.corners(&self.mesh.receivers);
+            let centroid = (c[0] + c[1] + c[2]) / 3.0;
+            if self.occluder.clear(p, n, centroid, patch.normal) {
+                visible += 1;
+            }
+        }
+        visible as f64 / 2.0
+    }
+}
+
+/// How finely to sample a patch's visibility: by its angular size radius/distance.
+fn sample_level(radius: f64, dist: f64, tau: f64) -> u32 {
+    if radius < tau * dist {
+        0
+    } else if radius < 4.0 * tau * dist {
+        1
+    } else {
+        2
+    }
+}

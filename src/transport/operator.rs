@@ -1,0 +1,211 @@
+//! The patch-to-patch transport operator the solver iterates, made energy-conserving.
+//!
+//! Input: the receiver rows ([`ReceiverLinks`]) over the patch tree. Output: a
+//! [`PatchOperator`] G with E_i = rᵢ·Σ_j G_ij·c_j·B_j: patch irradiance from patch exitance, where
+//! G = (mean over a patch's three receivers) ∘ (receiver rows) ∘ (area-mean over tree nodes).
+//!
+//! Why the scalings r and c: receivers are the patches' vertices, and the vertex (trapezoid)
+//! quadrature of a patch's irradiance is poor for the sharply peaked transfer between patches
+//! that meet at a corner. Rows (everything one patch receives) are exact for a closed receiver —
+//! they are normalised to 1 — but columns (where one patch's light goes, Σ_i A_i·G_ij / A_j) then
+//! scatter by tens of percent near corners. Any correlation between that scatter and exitance
+//! loses or creates light every bounce, and at ρ = 0.99 a 0.1 % loss per bounce costs 10 %. For
+//! a closed space the exact operator has unit rows and unit area-weighted columns, so [`balance`]
+//! finds diagonal scalings that restore both (Sinkhorn–Knopp iteration) on the closed patches,
+//! leaving open ones as computed. The values users see are gathered at receivers without these
+//! scalings; only the solver's energy bookkeeping uses them.
+
+use super::links::ReceiverLinks;
+use super::tree::PatchTree;
+use crate::patches::PatchMesh;
+use glam::DVec3;
+use rayon::prelude::*;
+
+pub struct PatchOperator<'a> {
+    pub mesh: &'a PatchMesh,
+    pub tree: &'a PatchTree,
+    pub links: &'a ReceiverLinks,
+    /// Row and column scalings (1 until [`PatchOperator::balance`]).
+    pub row: Vec<f64>,
+    pub col: Vec<f64>,
+}
+
+/// How well the balancing went.
+#[derive(Debug, Clone, Copy, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct BalanceStats {
+    pub iterations: usize,
+    /// Largest |row sum − 1| and |column sum − 1| over closed patches before balancing.
+    pub row_error_before: f64,
+    pub column_error_before: f64,
+    /// The same after.
+    pub row_error_after: f64,
+    pub column_error_after: f64,
+    pub closed_patches: usize,
+}
+
+impl<'a> PatchOperator<'a> {
+    pub fn new(mesh: &'a PatchMesh, tree: &'a PatchTree, links: &'a ReceiverLinks) -> Self {
+        let n = mesh.patches.len();
+        PatchOperator {
+            mesh,
+            tree,
+            links,
+            row: vec![1.0; n],
+            col: vec![1.0; n],
+        }
+    }
+
+    /// Irradiance per receiver from per-patch exitance (unscaled: what users see).
+    pub fn gather_receivers(&self, b: &[DVec3]) -> Vec<DVec3> {
+        let field = self.tree.node_field(b);
+        let mut out = vec![DVec3::ZERO; self.mesh.receivers.len()];
+        self.links.apply(&field, &mut out);
+        out
+    }
+
+    /// Irradiance per patch from per-patch exitance, with the balancing scalings.
+    pub fn apply(&self, b: &[DVec3]) -> Vec<DVec3> {
+        let scaled: Vec<DVec3> = b.iter().zip(&self.col).map(|(v, c)| *v * *c).collect();
+        let at = self.gather_receivers(&scaled);
+        self.mesh
+            .patches
+            .par_iter()
+            .zip(&self.row)
+            .map(|(p, r)| p.v.iter().map(|&v| at[v as usize]).sum::<DVec3>() * (r / 3.0))
+            .collect()
+    }
+
+    /// Scalar version of `apply` (for the balancing).
+    fn apply_scalar(&self, b: &[f64]) -> Vec<f64> {
+        let v: Vec<DVec3> = b.iter().map(|x| DVec3::splat(*x)).collect();
+        self.apply(&v).iter().map(|e| e.x).collect()
+    }
+
+    /// zⱼ = Σᵢ yᵢ·G_ij·c_j·rᵢ (the transpose of `apply`, scalar).
+    fn apply_transpose(&self, y: &[f64]) -> Vec<f64> {
+        let mesh = self.mesh;
+        // Patch → receiver (each patch gives a third of its scaled value to each vertex).
+        let mut at = vec![0.0; mesh.receivers.len()];
+        for (i, p) in mesh.patches.iter().enumerate() {
+            for &v in &p.v {
+                at[v as usize] += y[i] * self.row[i] / 3.0;
+            }
+        }
+        // Receiver → node (scatter along the links), in fixed chunks summed in order.
+        let nodes = self.tree.nodes.len();
+        let mut node_acc = vec![0.0; nodes];
+        let mut node_grad = vec![DVec3::ZERO; nodes];
+        const CHUNK: usize = 4096;
+        let receivers: Vec<usize> = (0..mesh.receivers.len()).collect();
+        for batch in receivers.chunks(CHUNK * 8) {
+            let parts: Vec<(Vec<f64>, Vec<DVec3>)> = batch
+                .par_chunks(CHUNK)
+                .map(|chunk| {
+                    let mut acc = vec![0.0; nodes];
+                    let mut grad = vec![DVec3::ZERO; nodes];
+                    for &r in chunk {
+                        if at[r] == 0.0 {
+                            continue;
+                        }
+                        for l in &self.links.links[self.links.offsets[r]..self.links.offsets[r + 1]]
+                        {
+                            acc[l.node as usize] += at[r] * l.coeff as f64;
+                            let g =
+                                DVec3::new(l.grad[0] as f64, l.grad[1] as f64, l.grad[2] as f64);
+                            grad[l.node as usize] += g * at[r];
+                        }
+                    }
+                    (acc, grad)
+                })
+                .collect();
+            for (acc, grad) in parts {
+                for (a, b) in node_acc.iter_mut().zip(acc) {
+                    *a += b;
+                }
+                for (a, b) in node_grad.iter_mut().zip(grad) {
+                    *a += b;
+                }
+            }
+        }
+        // Node → patches (top-down push). A node's mean is Σ Aⱼ·Bⱼ / A and its dipole
+        // Σ Aⱼ·Bⱼ·(cⱼ − c), so patch j collects Aⱼ·Σ_ancestors [acc/A + grad·(cⱼ − c)].
+        let mut down = vec![(0.0, DVec3::ZERO, 0.0); nodes];
+        let mut z = vec![0.0; mesh.patches.len()];
+        for i in 0..nodes {
+            let node = &self.tree.nodes[i];
+            let (s0, g0, k0) = down[i];
+            let here = (
+                s0 + node_acc[i] / node.moments.area,
+                g0 + node_grad[i],
+                k0 + node_grad[i].dot(node.moments.centroid),
+            );
+            if node.is_leaf() {
+                let p = self.tree.order[node.start as usize] as usize;
+                let cj = node.moments.centroid;
+                z[p] = (here.0 + here.1.dot(cj) - here.2) * mesh.patches[p].area * self.col[p];
+            } else {
+                for c in node.children {
+                    down[c as usize] = here;
+                }
+            }
+        }
+        z
+    }
+
+    /// Scale rows and columns of the closed patches so both sum to one (area-weighted columns).
+    pub fn balance(&mut self, max_iterations: usize, tolerance: f64) -> BalanceStats {
+        let mesh = self.mesh;
+        let closed: Vec<bool> = mesh
+            .patches
+            .iter()
+            .map(|p| p.v.iter().all(|&v| self.links.closed[v as usize]))
+            .collect();
+        let areas: Vec<f64> = mesh.patches.iter().map(|p| p.area).collect();
+        let ones = vec![1.0; mesh.patches.len()];
+        let error = |sums: &[f64]| -> f64 {
+            sums.iter()
+                .zip(&closed)
+                .filter(|(_, c)| **c)
+                .map(|(s, _)| (s - 1.0).abs())
+                .fold(0.0, f64::max)
+        };
+        let column_sums = |op: &Self| -> Vec<f64> {
+            op.apply_transpose(&areas)
+                .iter()
+                .zip(&areas)
+                .map(|(z, a)| z / a)
+                .collect()
+        };
+        let mut stats = BalanceStats {
+            iterations: 0,
+            row_error_before: error(&self.apply_scalar(&ones)),
+            column_error_before: error(&column_sums(self)),
+            row_error_after: 0.0,
+            column_error_after: 0.0,
+            closed_patches: closed.iter().filter(|c| **c).count(),
+        };
+        for _ in 0..max_iterations {
+            let cols = column_sums(self);
+            let rows = self.apply_scalar(&ones);
+            stats.row_error_after = error(&rows);
+            stats.column_error_after = error(&cols);
+            if stats.row_error_after < tolerance && stats.column_error_after < tolerance {
+                break;
+            }
+            stats.iterations += 1;
+            for j in 0..cols.len() {
+                if closed[j] && cols[j] > 0.0 {
+                    self.col[j] /= cols[j];
+                }
+            }
+            let rows = self.apply_scalar(&ones);
+            for i in 0..rows.len() {
+                if closed[i] && rows[i] > 0.0 {
+                    self.row[i] /= rows[i];
+                }
+            }
+        }
+        stats
+    }
+}

@@ -1,0 +1,286 @@
+//! The patch hierarchy: a binary tree over a set of patches whose nodes carry what a far-away
+//! receiver needs to treat the node as one source (area moments, bounding sphere, normal cone).
+//!
+//! Input: the patch mesh and the subset of patches to organise (all of them for inter-reflection,
+//! the emitting ones for direct light). Output: a [`PatchTree`].
+//!
+//! Construction is top-down and deterministic: a node whose normals spread over more than
+//! [`SPLIT_CONE`] is split by normal (so far-field nodes are nearly coplanar), otherwise at the
+//! median centroid along its longest axis; ties are broken by patch index. Leaves hold one patch.
+//! Invariants: `nodes[0]` is the root; children have larger indices than their parent (so a
+//! reverse sweep visits children first); a node's patches are `order[range]`.
+
+use crate::geom::farfield::AreaMoments;
+use crate::patches::PatchMesh;
+use glam::DVec3;
+
+/// Normal-cone half-angle above which a node is split by normal rather than by position.
+const SPLIT_CONE: f64 = 0.35; // ≈ 20°
+
+pub const NO_CHILD: u32 = u32::MAX;
+
+#[derive(Debug, Clone)]
+pub struct TreeNode {
+    pub moments: AreaMoments,
+    /// Bounding box of the node's patches, and the sphere around it (centre = box centre).
+    pub lo: DVec3,
+    pub hi: DVec3,
+    pub center: DVec3,
+    pub radius: f64,
+    /// Unit axis and half-angle (rad) of a cone containing every patch normal.
+    pub cone_axis: DVec3,
+    pub cone_angle: f64,
+    pub children: [u32; 2],
+    /// Range into `PatchTree::order`.
+    pub start: u32,
+    pub end: u32,
+}
+
+impl TreeNode {
+    pub fn is_leaf(&self) -> bool {
+        self.children[0] == NO_CHILD
+    }
+
+    /// Range of n·(x − p) over the node's bounding box: how far below/above the plane through
+    /// `p` with normal `n` the node reaches.
+    pub fn height_range(&self, p: DVec3, n: DVec3) -> (f64, f64) {
+        let mid = n.dot(self.center - p);
+        let half = n.abs().dot((self.hi - self.lo) * 0.5);
+        (mid - half, mid + half)
+    }
+
+    /// `Some(true)` when every patch of the node faces point `p` (p is in front of each), `Some(false)`
+    /// when every patch turns its back to it, `None` when mixed or too close to tell.
+    pub fn facing(&self, p: DVec3) -> Option<bool> {
+        let a = self.cone_axis;
+        let (lo, hi) = self.height_range(p, a);
+        // n·(p − x) for normals n within the cone around a: a·(p − x) ± |n − a|·|p − x|.
+        let slack =
+            2.0 * (self.cone_angle / 2.0).sin() * ((p - self.center).length() + self.radius);
+        if self.cone_angle >= std::f64::consts::FRAC_PI_2 {
+            None
+        } else if -hi - slack > 0.0 {
+            Some(true)
+        } else if -lo + slack < 0.0 {
+            Some(false)
+        } else {
+            None
+        }
+    }
+}
+
+#[derive(Debug, Clone, Default)]
+pub struct PatchTree {
+    pub nodes: Vec<TreeNode>,
+    /// Patch indices in leaf order.
+    pub order: Vec<u32>,
+    /// Prefix sums of patch area in leaf order (`len = order.len() + 1`).
+    pub area_prefix: Vec<f64>,
+}
+
+impl PatchTree {
+    /// Build the hierarchy over `subset` (patch indices) of `mesh`.
+    pub fn build(mesh: &PatchMesh, subset: Vec<u32>) -> Self {
+        let mut tree = PatchTree {
+            nodes: Vec::with_capacity(2 * subset.len()),
+            order: subset,
+            area_prefix: Vec::new(),
+        };
+        if tree.order.is_empty() {
+            return tree;
+        }
+        let leaf: Vec<AreaMoments> = mesh
+            .patches
+            .iter()
+            .map(|p| AreaMoments::triangle(&p.corners(&mesh.receivers), p.area, p.normal))
+            .collect();
+        let n = tree.order.len() as u32;
+        tree.split(mesh, &leaf, 0, n);
+        tree.finish(mesh, &leaf);
+        let mut acc = 0.0;
+        tree.area_prefix.push(0.0);
+        for &p in &tree.order {
+            acc += mesh.patches[p as usize].area;
+            tree.area_prefix.push(acc);
+        }
+        tree
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.nodes.is_empty()
+    }
+
+    /// Create the node for `order[start..end]` and its subtree (pre-order); returns its index.
+    fn split(&mut self, mesh: &PatchMesh, leaf: &[AreaMoments], start: u32, end: u32) -> u32 {
+        let index = self.nodes.len() as u32;
+        self.nodes.push(TreeNode {
+            moments: AreaMoments::ZERO,
+            lo: DVec3::ZERO,
+            hi: DVec3::ZERO,
+            center: DVec3::ZERO,
+            radius: 0.0,
+            cone_axis: DVec3::Y,
+            cone_angle: 0.0,
+            children: [NO_CHILD; 2],
+            start,
+            end,
+        });
+        if end - start <= 1 {
+            return index;
+        }
+        let slice = &mut self.order[start as usize..end as usize];
+        let key = split_key(mesh, leaf, slice);
+        let mid = slice.len() / 2;
+        slice.select_nth_unstable_by(mid, |&a, &b| key(a).total_cmp(&key(b)).then(a.cmp(&b)));
+        let m = start + mid as u32;
+        let left = self.split(mesh, leaf, start, m);
+        let right = self.split(mesh, leaf, m, end);
+        self.nodes[index as usize].children = [left, right];
+        index
+    }
+
+    /// Fill in moments, bounds and cones bottom-up.
+    fn finish(&mut self, mesh: &PatchMesh, leaf: &[AreaMoments]) {
+        for i in (0..self.nodes.len()).rev() {
+            let node = &self.nodes[i];
+            if node.is_leaf() {
+                let p = self.order[node.start as usize] as usize;
+                let patch = &mesh.patches[p];
+                let corners = patch.corners(&mesh.receivers);
+                let (lo, hi) = bounds(corners.iter().copied());
+                let node = &mut self.nodes[i];
+                node.moments = leaf[p];
+                node.lo = lo;
+                node.hi = hi;
+                node.center = (lo + hi) * 0.5;
+                node.radius = (hi - lo).length() * 0.5;
+                node.cone_axis = patch.normal;
+                node.cone_angle = 0.0;
+            } else {
+                let [a, b] = node.children.map(|c| &self.nodes[c as usize]);
+                let moments = a.moments.combine(&b.moments);
+                let (lo, hi) = (a.lo.min(b.lo), a.hi.max(b.hi));
+                let center = (lo + hi) * 0.5;
+                let radius = (hi - lo).length() * 0.5;
+                let axis = moments.normal_sum.try_normalize().unwrap_or(a.cone_axis);
+                let spread =
+                    |c: &TreeNode| c.cone_axis.dot(axis).clamp(-1.0, 1.0).acos() + c.cone_angle;
+                let cone_angle = spread(a).max(spread(b)).min(std::f64::consts::PI);
+                let node = &mut self.nodes[i];
+                node.moments = moments;
+                node.lo = lo;
+                node.hi = hi;
+                node.center = center;
+                node.radius = radius;
+                node.cone_axis = axis;
+                node.cone_angle = cone_angle;
+            }
+        }
+    }
+}
+
+fn bounds(points: impl Iterator<Item = DVec3>) -> (DVec3, DVec3) {
+    points.fold(
+        (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+        |(lo, hi), p| (lo.min(p), hi.max(p)),
+    )
+}
+
+/// The sort key that splits `patches`: a normal component when the normals spread widely, else
+/// the centroid coordinate along the longest axis of the centroids' bounds.
+fn split_key<'a>(
+    mesh: &'a PatchMesh,
+    leaf: &'a [AreaMoments],
+    patches: &[u32],
+) -> impl Fn(u32) -> f64 + 'a {
+    let normal = |p: u32| mesh.patches[p as usize].normal;
+    let centroid = |p: u32| leaf[p as usize].centroid;
+    let (nlo, nhi) = bounds(patches.iter().map(|&p| normal(p)));
+    let mean = patches
+        .iter()
+        .map(|&p| normal(p))
+        .sum::<DVec3>()
+        .normalize_or_zero();
+    let spread = patches
+        .iter()
+        .map(|&p| normal(p).dot(mean).clamp(-1.0, 1.0).acos())
+        .fold(0.0, f64::max);
+    let (by_normal, axis) = if spread > SPLIT_CONE || mean == DVec3::ZERO {
+        (true, longest_axis(nhi - nlo))
+    } else {
+        let (lo, hi) = bounds(patches.iter().map(|&p| centroid(p)));
+        (false, longest_axis(hi - lo))
+    };
+    move |p: u32| {
+        let v = if by_normal { normal(p) } else { centroid(p) };
+        v[axis]
+    }
+}
+
+fn longest_axis(extent: DVec3) -> usize {
+    if extent.x >= extent.y && extent.x >= extent.z {
+        0
+    } else if extent.y >= extent.z {
+        1
+    } else {
+        2
+    }
+}
+
+/// A per-patch RGB field summarised on every node: its area-mean and its first moment
+/// (`dipole[channel]` = Σₖ Aₖ·Bₖ·(cₖ − c_node)), which far-field links use to first order.
+pub struct NodeField {
+    pub mean: Vec<DVec3>,
+    pub dipole: Vec<[DVec3; 3]>,
+}
+
+impl NodeField {
+    /// Σ over `links` of coefficient × mean + gradient · dipole (per channel).
+    pub fn gather(&self, links: &[super::gather::Link]) -> DVec3 {
+        let mut sum = DVec3::ZERO;
+        for l in links {
+            let i = l.node as usize;
+            sum += self.mean[i] * l.coeff as f64;
+            if l.grad != [0.0; 3] {
+                let g = DVec3::new(l.grad[0] as f64, l.grad[1] as f64, l.grad[2] as f64);
+                let d = &self.dipole[i];
+                sum += DVec3::new(g.dot(d[0]), g.dot(d[1]), g.dot(d[2]));
+            }
+        }
+        sum
+    }
+}
+
+impl PatchTree {
+    /// Summarise a per-patch quantity on every node (bottom-up).
+    pub fn node_field(&self, patch_values: &[DVec3]) -> NodeField {
+        let n = self.nodes.len();
+        let mut mean = vec![DVec3::ZERO; n];
+        let mut dipole = vec![[DVec3::ZERO; 3]; n];
+        for i in (0..n).rev() {
+            let node = &self.nodes[i];
+            if node.is_leaf() {
+                mean[i] = patch_values[self.order[node.start as usize] as usize];
+                continue;
+            }
+            let [a, b] = node.children.map(|c| c as usize);
+            let (wa, wb) = (self.nodes[a].moments.area, self.nodes[b].moments.area);
+            if wa + wb <= 0.0 {
+                continue;
+            }
+            mean[i] = (mean[a] * wa + mean[b] * wb) / (wa + wb);
+            let c = node.moments.centroid;
+            let (da, db) = (
+                self.nodes[a].moments.centroid - c,
+                self.nodes[b].moments.centroid - c,
+            );
+            for ch in 0..3 {
+                dipole[i][ch] = dipole[a][ch]
+                    + dipole[b][ch]
+                    + da * (mean[a][ch] * wa)
+                    + db * (mean[b][ch] * wb);
+            }
+        }
+        NodeField { mean, dipole }
+    }
+}

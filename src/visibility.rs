@@ -1,0 +1,343 @@
+//! Visibility: shadow-ray queries against the scene's triangles, answered by an `obvhs` BVH
+//! that is built once and shared by every stage.
+//!
+//! Input: every surface triangle of the scene (world space, m). Output: an [`Occluder`] answering
+//! "is the segment between two surface points clear?" and "does a ray escape the scene?".
+//!
+//! Robustness: the BVH works in f32 on coordinates re-centred on the scene's bounding box, so a
+//! room far from the origin keeps its precision. Segment ends are pulled off their surfaces by
+//! ε = 10⁻⁵ × the scene's diagonal (along the normals, towards each other), so a scene in
+//! millimetres and one in kilometres behave alike. Single-sided triangles block light from both
+//! sides. Answers do not depend on the BVH's layout, so they are deterministic.
+//!
+//! When every triangle has the whole scene (and every light) in front of or on its plane, the
+//! scene is a convex enclosure with nothing inside: no segment between two of its points can be
+//! blocked, and the occluder answers "clear" without tracing (the visible flag says so).
+
+use crate::scene::Scene;
+use glam::{DVec3, Vec3A};
+use obvhs::{
+    BvhBuildParams, cwbvh::CwBvh, cwbvh::builder::build_cwbvh_from_tris, ray::Ray,
+    triangle::Triangle,
+};
+use std::time::Duration;
+
+pub struct Occluder {
+    bvh: Option<CwBvh>,
+    /// Triangles in BVH primitive order, re-centred on `center`.
+    triangles: Vec<Triangle>,
+    center: DVec3,
+    /// Offset that pulls segment ends off their surfaces (m).
+    pub epsilon: f64,
+    /// True when no segment between surface points can be blocked (convex empty enclosure or a
+    /// single plane); queries between surface points then skip tracing.
+    pub convex_empty: bool,
+    /// Scene bounding-box diagonal (m).
+    pub diagonal: f64,
+    rays: std::sync::atomic::AtomicU64,
+}
+
+/// Options for building the occluder.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct OccluderOptions {
+    /// Trace every query even in a convex empty enclosure (for tests of the tracing itself).
+    pub always_trace: bool,
+}
+
+impl Occluder {
+    pub fn build(scene: &Scene, options: OccluderOptions) -> Self {
+        let mut lo = DVec3::splat(f64::INFINITY);
+        let mut hi = DVec3::splat(f64::NEG_INFINITY);
+        for s in &scene.surfaces {
+            for p in &s.positions {
+                lo = lo.min(*p);
+                hi = hi.max(*p);
+            }
+        }
+        if lo.x > hi.x {
+            lo = DVec3::ZERO;
+            hi = DVec3::ZERO;
+        }
+        let center = (lo + hi) * 0.5;
+        let diagonal = (hi - lo).length();
+        let mut tris = Vec::new();
+        for s in &scene.surfaces {
+            for t in &s.triangles {
+                let [a, b, c] = t.map(|v| s.positions[v as usize]);
+                if (b - a).cross(c - a).length_squared() > 0.0 {
+                    let f = |p: DVec3| {
+                        let q = p - center;
+                        Vec3A::new(q.x as f32, q.y as f32, q.z as f32)
+                    };
+                    tris.push(Triangle {
+                        v0: f(a),
+                        v1: f(b),
+                        v2: f(c),
+                    });
+                }
+            }
+        }
+        let convex_empty = !options.always_trace && is_convex_empty(scene);
+        let bvh = (!tris.is_empty()).then(|| {
+            build_cwbvh_from_tris(
+                &tris,
+                BvhBuildParams::medium_build(),
+                &mut Duration::default(),
+            )
+        });
+        let triangles = match &bvh {
+            Some(b) => b
+                .primitive_indices
+                .iter()
+                .map(|&i| tris[i as usize])
+                .collect(),
+            None => Vec::new(),
+        };
+        Occluder {
+            bvh,
+            triangles,
+            center,
+            epsilon: 1e-5 * diagonal.max(1e-9),
+            convex_empty,
+            diagonal,
+            rays: Default::default(),
+        }
+    }
+
+    /// Number of rays traced so far.
+    pub fn rays_traced(&self) -> u64 {
+        self.rays.load(std::sync::atomic::Ordering::Relaxed)
+    }
+
+    /// Is the segment from surface point `a` (normal `na`) to surface point `b` (normal `nb`)
+    /// free of blockers? Either normal may be zero (a point in free space, e.g. a light).
+    pub fn clear(&self, a: DVec3, na: DVec3, b: DVec3, nb: DVec3) -> bool {
+        if self.convex_empty {
+            return true;
+        }
+        self.trace_segment(a, na, b, nb)
+    }
+
+    /// Like [`Occluder::clear`] but always traces (for lights, which may sit outside a convex room).
+    pub fn trace_segment(&self, a: DVec3, na: DVec3, b: DVec3, nb: DVec3) -> bool {
+        let d = b - a;
+        let side_a = if na.dot(d) >= 0.0 { 1.0 } else { -1.0 };
+        let side_b = if nb.dot(d) <= 0.0 { 1.0 } else { -1.0 };
+        let from = a + na * (self.epsilon * side_a);
+        let to = b + nb * (self.epsilon * side_b);
+        let dir = to - from;
+        let len = dir.length();
+        if len <= self.epsilon {
+            return true;
+        }
+        let tmax = len - self.epsilon;
+        self.miss(from, dir / len, tmax)
+    }
+
+    /// Does a ray from surface point `a` (normal `na`) in direction `dir` leave the scene?
+    pub fn escapes(&self, a: DVec3, na: DVec3, dir: DVec3) -> bool {
+        let side = if na.dot(dir) >= 0.0 { 1.0 } else { -1.0 };
+        self.miss(
+            a + na * (self.epsilon * side),
+            dir.normalize(),
+            f64::INFINITY,
+        )
+    }
+
+    fn miss(&self, origin: DVec3, dir: DVec3, tmax: f64) -> bool {
+        let Some(bvh) = &self.bvh else { return true };
+        self.rays.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        let o = origin - self.center;
+        let ray = Ray::new(
+            Vec3A::new(o.x as f32, o.y as f32, o.z as f32),
+            Vec3A::new(dir.x as f32, dir.y as f32, dir.z as f32),
+            0.0,
+            if tmax.is_finite() {
+                tmax as f32
+            } else {
+                f32::INFINITY
+            },
+        );
+        bvh.ray_traverse_miss(ray, |r, id| intersect(&self.triangles[id], r))
+    }
+}
+
+/// Ray–triangle distance (∞ for a miss), Möller–Trumbore evaluated in f64 with barycentric
+/// coordinates allowed a hair (10⁻⁷) outside [0, 1], so a ray through the edge shared by two
+/// triangles cannot slip between them. For shadow rays a blocker grown by 10⁻⁷ of its size is
+/// harmless; a crack is a light leak.
+fn intersect(t: &Triangle, ray: &Ray) -> f32 {
+    const SLACK: f64 = 1e-7;
+    let v = |a: Vec3A| DVec3::new(a.x as f64, a.y as f64, a.z as f64);
+    let (v0, v1, v2) = (v(t.v0), v(t.v1), v(t.v2));
+    let (o, d) = (v(ray.origin), v(ray.direction));
+    let e1 = v1 - v0;
+    let e2 = v2 - v0;
+    let pv = d.cross(e2);
+    let det = e1.dot(pv);
+    if det == 0.0 {
+        return f32::INFINITY;
+    }
+    let inv = 1.0 / det;
+    let tv = o - v0;
+    let u = tv.dot(pv) * inv;
+    if !(-SLACK..=1.0 + SLACK).contains(&u) {
+        return f32::INFINITY;
+    }
+    let qv = tv.cross(e1);
+    let w = d.dot(qv) * inv;
+    if w < -SLACK || u + w > 1.0 + SLACK {
+        return f32::INFINITY;
+    }
+    let dist = e2.dot(qv) * inv;
+    if dist >= ray.tmin as f64 && dist <= ray.tmax as f64 {
+        dist as f32
+    } else {
+        f32::INFINITY
+    }
+}
+
+/// True when every triangle's plane has all scene vertices and all point/spot lights on its front
+/// side (within tolerance): a convex enclosure with nothing inside, an open convex shell, or a
+/// single plane. Gives up (false) when the check would be too costly.
+fn is_convex_empty(scene: &Scene) -> bool {
+    let mut points: Vec<DVec3> = scene
+        .surfaces
+        .iter()
+        .flat_map(|s| s.positions.iter().copied())
+        .collect();
+    points.extend(
+        scene
+            .lights
+            .iter()
+            .filter(|l| l.kind != crate::scene::LightKind::Directional)
+            .map(|l| l.position),
+    );
+    let mut planes: Vec<(DVec3, f64)> = Vec::new();
+    let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+    for p in &points {
+        lo = lo.min(*p);
+        hi = hi.max(*p);
+    }
+    let tol = 1e-7 * (hi - lo).length().max(1e-12);
+    for s in &scene.surfaces {
+        for t in &s.triangles {
+            let [a, b, c] = t.map(|v| s.positions[v as usize]);
+            let n = (b - a).cross(c - a).normalize_or_zero();
+            if n == DVec3::ZERO {
+                continue;
+            }
+            let d = n.dot(a);
+            if !planes
+                .iter()
+                .any(|(m, e)| (m.dot(n) > 1.0 - 1e-12) && (e - d).abs() <= tol)
+            {
+                planes.push((n, d));
+                if planes.len() * points.len() > 50_000_000 {
+                    return false;
+                }
+            }
+        }
+    }
+    let double_sided = scene
+        .surfaces
+        .iter()
+        .any(|s| scene.materials[s.material].double_sided);
+    if double_sided && planes.len() > 1 {
+        // A double-sided surface inside a shell is seen from both sides; keep it simple.
+        return false;
+    }
+    planes
+        .iter()
+        .all(|(n, d)| points.iter().all(|p| n.dot(*p) - d >= -tol))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{Material, Surface};
+
+    fn quad_surface(corners: [DVec3; 4]) -> Surface {
+        let n = (corners[1] - corners[0])
+            .cross(corners[2] - corners[0])
+            .normalize();
+        Surface {
+            node: 0,
+            primitive: 0,
+            source_path: String::new(),
+            material: 0,
+            positions: corners.to_vec(),
+            normals: vec![n; 4],
+            uv0: None,
+            uv1: None,
+            triangles: vec![[0, 1, 2], [0, 2, 3]],
+        }
+    }
+
+    fn scene_with(surfaces: Vec<Surface>) -> Scene {
+        Scene {
+            surfaces,
+            materials: vec![Material::default_material()],
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn blocker_between_points_is_seen_and_convexity_detected() {
+        let floor = quad_surface([
+            DVec3::new(-5.0, 0.0, 5.0),
+            DVec3::new(5.0, 0.0, 5.0),
+            DVec3::new(5.0, 0.0, -5.0),
+            DVec3::new(-5.0, 0.0, -5.0),
+        ]);
+        let open = Occluder::build(&scene_with(vec![floor.clone()]), OccluderOptions::default());
+        assert!(open.convex_empty, "a single plane cannot occlude itself");
+        let blocker = quad_surface([
+            DVec3::new(-1.0, 1.0, 1.0),
+            DVec3::new(1.0, 1.0, 1.0),
+            DVec3::new(1.0, 1.0, -1.0),
+            DVec3::new(-1.0, 1.0, -1.0),
+        ]);
+        let occ = Occluder::build(
+            &scene_with(vec![floor, blocker]),
+            OccluderOptions::default(),
+        );
+        assert!(!occ.convex_empty);
+        let light = DVec3::new(0.0, 2.0, 0.0);
+        assert!(!occ.clear(DVec3::ZERO, DVec3::Y, light, DVec3::ZERO));
+        assert!(occ.clear(DVec3::new(4.0, 0.0, 0.0), DVec3::Y, light, DVec3::ZERO));
+        assert!(!occ.escapes(DVec3::ZERO, DVec3::Y, DVec3::Y));
+        assert!(occ.escapes(DVec3::new(4.0, 0.0, 0.0), DVec3::Y, DVec3::Y));
+    }
+
+    #[test]
+    fn far_from_origin_and_tiny_scales_keep_precision() {
+        for &(offset, scale) in &[
+            (DVec3::new(1e6, 0.0, -2e6), 1.0),
+            (DVec3::ZERO, 1e-3),
+            (DVec3::ZERO, 1e3),
+        ] {
+            let q = |x: f64, y: f64, z: f64| offset + DVec3::new(x, y, z) * scale;
+            let floor = quad_surface([
+                q(-5., 0., 5.),
+                q(5., 0., 5.),
+                q(5., 0., -5.),
+                q(-5., 0., -5.),
+            ]);
+            let blocker = quad_surface([
+                q(-1., 1., 1.),
+                q(1., 1., 1.),
+                q(1., 1., -1.),
+                q(-1., 1., -1.),
+            ]);
+            let occ = Occluder::build(
+                &scene_with(vec![floor, blocker]),
+                OccluderOptions::default(),
+            );
+            assert!(!occ.clear(q(0., 0., 0.), DVec3::Y, q(0., 2., 0.), DVec3::ZERO));
+            assert!(occ.clear(q(3., 0., 0.), DVec3::Y, q(0., 2., 0.), DVec3::ZERO));
+            // A grazing segment along the floor stays clear of the floor itself.
+            assert!(occ.clear(q(-4., 0., 4.), DVec3::Y, q(4., 0., -4.), DVec3::Y));
+        }
+    }
+}
