@@ -1,0 +1,405 @@
+#!/usr/bin/env python3
+"""Write office.gltf + office.bin: the sample room of the seed paper
+"Three-dimensional Illuminance: a tool for lighting design?" (see README.md).
+
+Python 3 standard library only; the output is byte-for-byte deterministic.
+Run from anywhere:  python3 samples/office/make_office.py
+
+Units are SI (metres, lm, cd, cd/m^2); glTF axes: right-handed, +Y up.
+The room spans x 0..5 m (width), y 0..3.2 m (height), z 0..8 m (length).
+"""
+
+import json
+import math
+import os
+import struct
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+GLTF_NAME = "office.gltf"
+BIN_NAME = "office.bin"
+
+# ---------------------------------------------------------------- room data
+ROOM_W, ROOM_H, ROOM_L = 5.0, 3.2, 8.0      # x, y, z extents (m)
+WORKING_PLANE = 0.80                          # desk top height (m)
+
+# desks: top 1.5 m (x) x 1.0 m (z), 0.03 m thick, tops at 0.80 m
+DESK_TOP_X, DESK_TOP_Z, DESK_TOP_T = 1.5, 1.0, 0.03
+LEG_X, LEG_Y, LEG_Z = 0.04, WORKING_PLANE - DESK_TOP_T, 0.04   # 0.04 x 0.77 x 0.04
+LEG_INSET = 0.05          # leg centre 0.05 m in from each edge of the top
+DESKS = [                 # (name, reflectance, centre x, centre z)
+    ("desk_dark", 0.2, 1.5, 3.0),
+    ("desk_light", 0.6, 3.5, 5.0),
+]
+
+# picture on the back short wall (z = 8), facing -z
+PIC_SIZE = 0.5
+PIC_CENTRE = (2.5, 1.6, ROOM_L - 0.005)
+
+# luminaires: surface mounted, 1.5 m (z) x 0.2 m (x) x 0.08 m (y)
+LUM_X, LUM_Y, LUM_Z = 0.2, 0.08, 1.5
+LUM_ROWS_X = (1.25, 3.75)
+LUM_ZS = (4.0 / 3.0, 4.0, 20.0 / 3.0)
+LAMP_FLUX = 5200.0                 # lm per luminaire
+N_LUM = len(LUM_ROWS_X) * len(LUM_ZS)
+DIFFUSER_FLUX = LAMP_FLUX * N_LUM  # 31200 lm shared by all diffuser faces
+
+# spotlight aimed at the picture
+SPOT_POS = (2.5, 3.1, 6.0)
+SPOT_TARGET = (2.5, 1.6, ROOM_L)
+SPOT_FLUX = 990.0                  # lm inside the outer cone
+SPOT_INNER, SPOT_OUTER = 0.15, 0.2  # rad
+
+# --------------------------------------------------------------- vector math
+
+
+def sub(a, b):
+    return tuple(x - y for x, y in zip(a, b))
+
+
+def add(*vs):
+    return tuple(sum(c) for c in zip(*vs))
+
+
+def scale(a, s):
+    return tuple(x * s for x in a)
+
+
+def cross(a, b):
+    return (a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0])
+
+
+def dot(a, b):
+    return sum(x * y for x, y in zip(a, b))
+
+
+def norm(a):
+    n = math.sqrt(dot(a, a))
+    return tuple(x / n for x in a)
+
+
+def r6(x):
+    """Round to 1 um / 1e-6 so float noise never reaches the file; -0 -> 0."""
+    v = round(x, 6)
+    return 0.0 if v == 0 else v
+
+
+# ------------------------------------------------------------- geometry kit
+# A "face" is (corners[4], normal). Corners go counter-clockwise seen from
+# the side the normal points to (glTF front face), triangles (0,1,2),(0,2,3).
+
+
+def quad(p, u, v, expect_normal):
+    """Rectangle p, p+u, p+u+v, p+v; its normal u x v must be expect_normal."""
+    n = norm(cross(u, v))
+    assert all(abs(a - b) < 1e-12 for a, b in zip(n, expect_normal)), (n, expect_normal)
+    return ([p, add(p, u), add(p, u, v), add(p, v)], expect_normal)
+
+
+def box_faces(centre, size):
+    """Closed box, outward normals, flat shaded. Returns {'+x': face, ...}."""
+    half = [s / 2.0 for s in size]
+    faces = {}
+    for a in range(3):
+        for sgn in (1, -1):
+            b, c = (a + 1) % 3, (a + 2) % 3
+            if sgn < 0:
+                b, c = c, b          # swap so that e_b x e_c = -e_a
+            n = [0.0, 0.0, 0.0]
+            n[a] = float(sgn)
+            p = list(centre)
+            p[a] += sgn * half[a]
+            p[b] -= half[b]
+            p[c] -= half[c]
+            u = [0.0, 0.0, 0.0]
+            u[b] = size[b]
+            v = [0.0, 0.0, 0.0]
+            v[c] = size[c]
+            key = ("+" if sgn > 0 else "-") + "xyz"[a]
+            faces[key] = quad(tuple(p), tuple(u), tuple(v), tuple(n))
+    return faces
+
+
+def face_area(face):
+    c, _ = face
+    return math.sqrt(dot(*(2 * [cross(sub(c[1], c[0]), sub(c[3], c[0]))])))
+
+
+# ----------------------------------------------------------- buffer builder
+
+
+class Builder:
+    def __init__(self):
+        self.bin = bytearray()
+        self.buffer_views = []
+        self.accessors = []
+
+    def _view(self, data, target):
+        while len(self.bin) % 4:
+            self.bin.append(0)
+        self.buffer_views.append({"buffer": 0, "byteOffset": len(self.bin),
+                                  "byteLength": len(data), "target": target})
+        self.bin += data
+        return len(self.buffer_views) - 1
+
+    def add_faces(self, faces):
+        """POSITION, NORMAL and uint16 indices for a list of faces.
+        Returns the attributes dict and the indices accessor index."""
+        pos, nrm, idx = [], [], []
+        for corners, n in faces:
+            base = len(pos)
+            for c in corners:
+                pos.append(tuple(r6(x) for x in c))
+                nrm.append(n)
+            idx += [base, base + 1, base + 2, base, base + 2, base + 3]
+        fpos = b"".join(struct.pack("<3f", *p) for p in pos)
+        fnrm = b"".join(struct.pack("<3f", *n) for n in nrm)
+        fidx = struct.pack("<%dH" % len(idx), *idx)
+        # min/max must be those of the float32 values actually stored
+        f32 = [struct.unpack("<3f", struct.pack("<3f", *p)) for p in pos]
+        a_pos = self._accessor(self._view(fpos, 34962), 5126, len(pos), "VEC3",
+                               [min(p[i] for p in f32) for i in range(3)],
+                               [max(p[i] for p in f32) for i in range(3)])
+        a_nrm = self._accessor(self._view(fnrm, 34962), 5126, len(nrm), "VEC3")
+        a_idx = self._accessor(self._view(fidx, 34963), 5123, len(idx), "SCALAR")
+        return {"POSITION": a_pos, "NORMAL": a_nrm}, a_idx
+
+    def _accessor(self, view, ctype, count, typ, mn=None, mx=None):
+        acc = {"bufferView": view, "componentType": ctype, "count": count, "type": typ}
+        if mn is not None:
+            acc["min"] = mn
+            acc["max"] = mx
+        self.accessors.append(acc)
+        return len(self.accessors) - 1
+
+
+# --------------------------------------------------------------- photometry
+
+
+def spot_falloff(theta, inner, outer):
+    """KHR_lights_punctual reference angular attenuation (spec sample code):
+    t = saturate((cos(theta) - cos(outer)) / max(0.001, cos(inner) - cos(outer)))
+    attenuation = t * t."""
+    scale_ = 1.0 / max(0.001, math.cos(inner) - math.cos(outer))
+    offset = -math.cos(outer) * scale_
+    t = min(1.0, max(0.0, math.cos(theta) * scale_ + offset))
+    return t * t
+
+
+def spot_flux_per_cd(inner, outer, n=200000):
+    """Phi / I = 2 pi * integral_0^outer f(theta) sin(theta) dtheta,
+    composite Simpson's rule over [0, inner] and [inner, outer]."""
+    def simpson(a, b, m):
+        h = (b - a) / m
+        s = 0.0
+        for k in range(m + 1):
+            t = a + k * h
+            w = 1 if k in (0, m) else (4 if k % 2 else 2)
+            s += w * spot_falloff(t, inner, outer) * math.sin(t)
+        return s * h / 3.0
+    return 2.0 * math.pi * (simpson(0.0, inner, n) + simpson(inner, outer, n))
+
+
+def spot_flux_per_cd_closed(inner, outer):
+    """Same integral in closed form (mu = cos theta): 2 pi [(1 - ci) + (ci - co)/3]."""
+    ci, co = math.cos(inner), math.cos(outer)
+    return 2.0 * math.pi * ((1.0 - ci) + (ci - co) / 3.0)
+
+
+def look_rotation_minus_z(direction):
+    """Unit quaternion [x,y,z,w] turning local -Z onto `direction`
+    (shortest arc from (0,0,-1))."""
+    d = norm(direction)
+    f = (0.0, 0.0, -1.0)
+    axis = cross(f, d)
+    c = dot(f, d)
+    s = math.sqrt(dot(axis, axis))
+    if s < 1e-12:
+        raise ValueError("direction parallel to -Z: pick an axis by hand")
+    axis = scale(axis, 1.0 / s)
+    ang = math.atan2(s, c)
+    h = math.sin(ang / 2.0)
+    return [axis[0] * h, axis[1] * h, axis[2] * h, math.cos(ang / 2.0)]
+
+
+def rotate(q, v):
+    x, y, z, w = q
+    u = (x, y, z)
+    t = scale(cross(u, v), 2.0)
+    return add(v, scale(t, w), cross(u, t))
+
+
+# ----------------------------------------------------------------- materials
+
+
+def material(name, refl, emission=None, core_emissive_strength=None):
+    m = {"name": name,
+         "pbrMetallicRoughness": {"baseColorFactor": [refl, refl, refl, 1.0],
+                                  "metallicFactor": 0.0, "roughnessFactor": 1.0},
+         "extensions": {"LUXBAKE_material": {"reflectance": refl}}}
+    if emission is not None:
+        m["extensions"]["LUXBAKE_material"]["emission"] = emission
+        m["emissiveFactor"] = [1.0, 1.0, 1.0]
+        m["extensions"]["KHR_materials_emissive_strength"] = {
+            "emissiveStrength": core_emissive_strength}
+    return m
+
+
+def build():
+    b = Builder()
+    materials, meshes, nodes = [], [], []
+    mat_idx = {}
+
+    def add_material(m):
+        materials.append(m)
+        mat_idx[m["name"]] = len(materials) - 1
+
+    # diffuser: each panel gets LAMP_FLUX over its own area (flux shared by area)
+    diffuser_area = LUM_X * LUM_Z
+    diffuser_luminance = LAMP_FLUX / (math.pi * diffuser_area)
+
+    add_material(material("floor", 0.3))
+    add_material(material("ceiling", 0.7))
+    add_material(material("wall", 0.5))        # both long side walls + front wall
+    add_material(material("wall_back", 0.6))   # back short wall, z = 8
+    add_material(material("desk_dark", 0.2))
+    add_material(material("desk_light", 0.6))
+    add_material(material("picture", 0.5))
+    add_material(material("luminaire_housing", 0.7))
+    add_material(material("luminaire_diffuser", 0.5,
+                          emission={"luminousFlux": DIFFUSER_FLUX},
+                          core_emissive_strength=r6(diffuser_luminance)))
+
+    def add_mesh(name, prims):
+        """prims: list of (faces, material name)."""
+        ps = []
+        for faces, mname in prims:
+            attrs, ind = b.add_faces(faces)
+            ps.append({"attributes": attrs, "indices": ind,
+                       "material": mat_idx[mname], "mode": 4})
+        meshes.append({"name": name, "primitives": ps})
+        return len(meshes) - 1
+
+    def add_node(node):
+        nodes.append(node)
+        return len(nodes) - 1
+
+    W, H, L = ROOM_W, ROOM_H, ROOM_L
+    X, Y, Z = (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0)
+    # ---- room: world coordinates, single-sided, normals into the room
+    room = [
+        ("floor", "floor", quad((0, 0, 0), (0, 0, L), (W, 0, 0), Y)),
+        ("ceiling", "ceiling", quad((0, H, 0), (W, 0, 0), (0, 0, L), scale(Y, -1))),
+        ("wall_left", "wall", quad((0, 0, 0), (0, H, 0), (0, 0, L), X)),
+        ("wall_right", "wall", quad((W, 0, 0), (0, 0, L), (0, H, 0), scale(X, -1))),
+        ("wall_front", "wall", quad((0, 0, 0), (W, 0, 0), (0, H, 0), Z)),
+        ("wall_back", "wall_back", quad((0, 0, L), (0, H, 0), (W, 0, 0), scale(Z, -1))),
+    ]
+    scene_nodes = []
+    for name, mname, face in room:
+        scene_nodes.append(add_node({"name": name, "mesh": add_mesh(name, [([face], mname)])}))
+
+    # ---- desks: parent node with translation, children top and leg_1..4
+    # Top slab geometry, local to the `top` node (centre of the slab).
+    top_faces = list(box_faces((0.0, 0.0, 0.0), (DESK_TOP_X, DESK_TOP_T, DESK_TOP_Z)).values())
+    leg_faces = list(box_faces((0.0, 0.0, 0.0), (LEG_X, LEG_Y, LEG_Z)).values())
+    top_y = WORKING_PLANE - DESK_TOP_T / 2.0          # slab centre 0.785
+    leg_y = LEG_Y / 2.0                               # leg centre 0.385
+    lx = DESK_TOP_X / 2.0 - LEG_INSET                 # 0.70
+    lz = DESK_TOP_Z / 2.0 - LEG_INSET                 # 0.45
+    leg_pos = [(-lx, -lz), (lx, -lz), (lx, lz), (-lx, lz)]
+    for dname, _refl, cx, cz in DESKS:
+        m_top = add_mesh(dname + "_top", [(top_faces, dname)])
+        m_leg = add_mesh(dname + "_leg", [(leg_faces, dname)])
+        children = [add_node({"name": "top", "mesh": m_top,
+                              "translation": [0.0, r6(top_y), 0.0]})]
+        for i, (px, pz) in enumerate(leg_pos, 1):
+            children.append(add_node({"name": "leg_%d" % i, "mesh": m_leg,
+                                      "translation": [r6(px), r6(leg_y), r6(pz)]}))
+        scene_nodes.append(add_node({"name": dname, "translation": [cx, 0.0, cz],
+                                     "children": children}))
+
+    # ---- picture: single-sided quad facing -z, local to its node
+    hp = PIC_SIZE / 2.0
+    pic = quad((hp, -hp, 0.0), (-PIC_SIZE, 0.0, 0.0), (0.0, PIC_SIZE, 0.0), scale(Z, -1))
+    scene_nodes.append(add_node({"name": "picture",
+                                 "mesh": add_mesh("picture", [([pic], "picture")]),
+                                 "translation": [r6(c) for c in PIC_CENTRE]}))
+
+    # ---- luminaires: ONE mesh, origin at the centre of the box's top face
+    # (the ceiling mounting point); box spans local y -0.08..0.
+    lf = box_faces((0.0, -LUM_Y / 2.0, 0.0), (LUM_X, LUM_Y, LUM_Z))
+    housing = [lf[k] for k in ("+x", "-x", "+y", "+z", "-z")]
+    diffuser = [lf["-y"]]
+    assert abs(face_area(lf["-y"]) - diffuser_area) < 1e-12
+    m_lum = add_mesh("luminaire", [(housing, "luminaire_housing"),
+                                   (diffuser, "luminaire_diffuser")])
+    k = 0
+    for x in LUM_ROWS_X:
+        for z in LUM_ZS:
+            k += 1
+            scene_nodes.append(add_node({"name": "luminaire_%d" % k, "mesh": m_lum,
+                                         "translation": [x, ROOM_H, r6(z)]}))
+
+    # ---- spotlight (KHR_lights_punctual), -Z aimed at the picture centre
+    aim = norm(sub(SPOT_TARGET, SPOT_POS))
+    q = look_rotation_minus_z(aim)
+    got = rotate(q, (0.0, 0.0, -1.0))
+    assert all(abs(a - b_) < 1e-12 for a, b_ in zip(got, aim)), (got, aim)
+    k_num = spot_flux_per_cd(SPOT_INNER, SPOT_OUTER)
+    k_closed = spot_flux_per_cd_closed(SPOT_INNER, SPOT_OUTER)
+    assert abs(k_num - k_closed) < 1e-12 * 1e3, (k_num, k_closed)
+    spot_cd = SPOT_FLUX / k_num
+    light = {"name": "spotlight", "type": "spot", "color": [1.0, 1.0, 1.0],
+             "intensity": round(spot_cd, 3),
+             "spot": {"innerConeAngle": SPOT_INNER, "outerConeAngle": SPOT_OUTER}}
+    scene_nodes.append(add_node({"name": "spotlight",
+                                 "translation": list(SPOT_POS),
+                                 "rotation": [c if abs(c) > 1e-15 else 0.0 for c in q],
+                                 "extensions": {"KHR_lights_punctual": {"light": 0}}}))
+
+    while len(b.bin) % 4:
+        b.bin.append(0)
+    gltf = {
+        "asset": {"version": "2.0", "generator": "luxbake samples/office/make_office.py",
+                  "extras": {"units": "SI: m, lm, cd, cd/m^2",
+                             "source": "Sample room of 'Three-dimensional Illuminance: "
+                                       "a tool for lighting design?' (layout chosen, see README)"}},
+        "extensionsUsed": ["KHR_lights_punctual", "KHR_materials_emissive_strength",
+                           "LUXBAKE_material"],
+        "extensions": {"KHR_lights_punctual": {"lights": [light]}},
+        "scene": 0,
+        "scenes": [{"name": "office", "nodes": scene_nodes}],
+        "nodes": nodes,
+        "meshes": meshes,
+        "materials": materials,
+        "accessors": b.accessors,
+        "bufferViews": b.buffer_views,
+        "buffers": [{"uri": BIN_NAME, "byteLength": len(b.bin)}],
+    }
+    info = {"spot_cd": spot_cd, "spot_flux_per_cd": k_num, "spot_rotation": q,
+            "spot_aim": aim, "diffuser_luminance": diffuser_luminance}
+    return gltf, bytes(b.bin), info
+
+
+def main():
+    gltf, binary, info = build()
+    with open(os.path.join(HERE, BIN_NAME), "wb") as f:
+        f.write(binary)
+    with open(os.path.join(HERE, GLTF_NAME), "w", encoding="utf-8", newline="\n") as f:
+        json.dump(gltf, f, indent=1)
+        f.write("\n")
+    print("wrote %s (%d nodes, %d meshes, %d materials) and %s (%d bytes)" % (
+        GLTF_NAME, len(gltf["nodes"]), len(gltf["meshes"]), len(gltf["materials"]),
+        BIN_NAME, len(binary)))
+    print("spot: Phi/I = %.9f lm/cd -> I = %.3f cd for %.0f lm" % (
+        info["spot_flux_per_cd"], info["spot_cd"], SPOT_FLUX))
+    print("spot rotation [x,y,z,w] = %s, aim = %s" % (
+        ["%.6f" % c for c in info["spot_rotation"]], ["%.6f" % c for c in info["spot_aim"]]))
+    print("diffuser luminance = %.3f cd/m^2 (%.0f lm over %.2f m^2 each)" % (
+        info["diffuser_luminance"], LAMP_FLUX, LUM_X * LUM_Z))
+
+
+if __name__ == "__main__":
+    main()
