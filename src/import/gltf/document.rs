@@ -29,7 +29,7 @@ pub(super) struct Parsed {
     pub bin: Option<Vec<u8>>,
 }
 
-pub(super) fn parse(ctx: &Ctx, bytes: &[u8]) -> Result<Parsed> {
+pub(super) fn parse(ctx: &mut Ctx, bytes: &[u8]) -> Result<Parsed> {
     let (json, bin) = if glb::is_glb(bytes) {
         let g = glb::parse(bytes).map_err(|m| ctx.err("", m))?;
         (g.json, g.bin.map(<[u8]>::to_vec))
@@ -46,10 +46,26 @@ pub(super) fn parse(ctx: &Ctx, bytes: &[u8]) -> Result<Parsed> {
     let mut root = ::gltf::json::Root::from_slice(json)
         .map_err(|e| ctx.err("", format!("not valid glTF 2.0 JSON: {e}")))?;
     root.extensions_required.retain(|e| e != LUXBAKE_MATERIAL);
-    let doc = ::gltf::Document::from_json(root).map_err(|e| match e {
-        ::gltf::Error::Validation(errors) => validation_error(ctx, &errors),
-        other => ctx.err("", format!("invalid glTF: {other}")),
-    })?;
+    let doc = match ::gltf::Document::from_json(root.clone()) {
+        Ok(doc) => doc,
+        Err(::gltf::Error::Validation(errors)) => {
+            let (tolerated, fatal): (Vec<_>, Vec<_>) = errors.into_iter().partition(tolerated);
+            if !fatal.is_empty() {
+                return Err(validation_error(ctx, &fatal));
+            }
+            for (path, _) in &tolerated {
+                let (pointer, _) = json_pointer(path.as_str());
+                ctx.warn_once(
+                    "POSITION min/max",
+                    format!(
+                        "{pointer}: missing (the spec requires min and max on POSITION                          accessors); ignored"
+                    ),
+                );
+            }
+            ::gltf::Document::from_json_without_validation(root)
+        }
+        Err(other) => return Err(ctx.err("", format!("invalid glTF: {other}"))),
+    };
     Ok(Parsed { doc, raw, bin })
 }
 
@@ -92,6 +108,14 @@ fn check_required_extensions(ctx: &Ctx, raw: &Value) -> Result<()> {
         ));
     }
     Ok(())
+}
+
+/// Validation findings we accept: POSITION accessors without `min`/`max` (common in the wild and
+/// harmless here, as bounds are recomputed).
+fn tolerated(finding: &(::gltf::json::Path, ::gltf::json::validation::Error)) -> bool {
+    let path = finding.0.as_str();
+    matches!(finding.1, ::gltf::json::validation::Error::Missing)
+        && (path.ends_with("[\"POSITION\"].min") || path.ends_with("[\"POSITION\"].max"))
 }
 
 fn validation_error(
