@@ -5,41 +5,10 @@ mod common;
 
 use common::*;
 use glam::{DMat4, DQuat, DVec3};
-use luxbake::import::{ImportOptions, load};
-use luxbake::scene::{EmissionAmount, LightKind, LocalTransform, ReflectanceSource, Scene};
+use luxbake::scene::{LocalTransform, ReflectanceSource};
 use serde_json::json;
-use std::f64::consts::{FRAC_PI_2, FRAC_PI_4};
+use std::f64::consts::FRAC_PI_2;
 use std::path::Path;
-
-const TRIANGLE: [[f32; 3]; 3] = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
-
-fn load_ok(path: &Path) -> Scene {
-    load(path, &ImportOptions::default()).unwrap_or_else(|e| panic!("{e}"))
-}
-
-/// Load expecting an input error; returns (JSON pointer, full message).
-fn load_err(path: &Path) -> (String, String) {
-    match load(path, &ImportOptions::default()) {
-        Err(e @ luxbake::Error::Input { .. }) => {
-            let shown = e.to_string();
-            let luxbake::Error::Input { at, .. } = e else {
-                unreachable!()
-            };
-            (at, shown)
-        }
-        Err(e) => panic!("unexpected error kind: {e}"),
-        Ok(_) => panic!("{} loaded but should have failed", path.display()),
-    }
-}
-
-/// A one-node scene with a single triangle mesh.
-fn triangle_builder() -> Builder {
-    let mut b = Builder::new();
-    let mesh = b.simple_mesh(&TRIANGLE, None, None, None);
-    b.node(json!({"mesh": mesh}));
-    b.set("scenes", json!([{"nodes": [0]}]));
-    b
-}
 
 #[test]
 fn nested_trs_and_matrix_compose_to_world_space() {

@@ -3,6 +3,8 @@
 #![allow(dead_code)]
 
 use glam::DVec3;
+use luxbake::import::{ImportOptions, load};
+use luxbake::scene::Scene;
 use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
 
@@ -253,4 +255,34 @@ pub fn png(w: u32, h: u32, f: impl Fn(u32, u32) -> [u8; 3]) -> Vec<u8> {
     )
     .unwrap();
     bytes
+}
+
+pub const TRIANGLE: [[f32; 3]; 3] = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+
+pub fn load_ok(path: &Path) -> Scene {
+    load(path, &ImportOptions::default()).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// Load expecting an input error; returns (JSON pointer, full message).
+pub fn load_err(path: &Path) -> (String, String) {
+    match load(path, &ImportOptions::default()) {
+        Err(e @ luxbake::Error::Input { .. }) => {
+            let shown = e.to_string();
+            let luxbake::Error::Input { at, .. } = e else {
+                unreachable!()
+            };
+            (at, shown)
+        }
+        Err(e) => panic!("unexpected error kind: {e}"),
+        Ok(_) => panic!("{} loaded but should have failed", path.display()),
+    }
+}
+
+/// A one-node scene with a single triangle mesh.
+pub fn triangle_builder() -> Builder {
+    let mut b = Builder::new();
+    let mesh = b.simple_mesh(&TRIANGLE, None, None, None);
+    b.node(json!({"mesh": mesh}));
+    b.set("scenes", json!([{"nodes": [0]}]));
+    b
 }

@@ -126,9 +126,17 @@ fn validation_error(
         .iter()
         .map(|(path, error)| {
             let (pointer, value) = json_pointer(path.as_str());
+            use ::gltf::json::validation::Error as V;
+            let error = match error {
+                V::IndexOutOfBounds => "the index refers to an element that does not exist",
+                V::Invalid => "invalid value",
+                V::Missing => "a required member is missing",
+                V::Oversize => "a size or offset exceeds the system limits",
+                V::Unsupported => "unsupported extension",
+            };
             let what = match value {
-                Some(v) => format!("{error} (value {v})"),
-                None => error.to_string(),
+                Some(v) => format!("{error} ('{v}')"),
+                None => error.to_owned(),
             };
             (pointer, what)
         })
@@ -162,7 +170,7 @@ pub(super) fn json_pointer(path: &str) -> (String, Option<String>) {
     let flush = |out: &mut String, segment: &mut String| {
         if !segment.is_empty() {
             out.push('/');
-            let s = segment.trim_matches('"');
+            let s = extension_name(segment.trim_matches('"'));
             out.push_str(&s.replace('~', "~0").replace('/', "~1"));
             segment.clear();
         }
@@ -185,6 +193,26 @@ pub(super) fn json_pointer(path: &str) -> (String, Option<String>) {
     (out, value)
 }
 
+/// The `gltf` crate names extension fields in camel case (`khrLightsPunctual`); JSON pointers
+/// need the real names (`KHR_lights_punctual`).
+fn extension_name(segment: &str) -> String {
+    match segment.strip_prefix("khr") {
+        Some(rest) if rest.starts_with(|c: char| c.is_ascii_uppercase()) => {
+            let mut name = String::from("KHR");
+            for c in rest.chars() {
+                if c.is_ascii_uppercase() {
+                    name.push('_');
+                    name.push(c.to_ascii_lowercase());
+                } else {
+                    name.push(c);
+                }
+            }
+            name
+        }
+        _ => segment.to_owned(),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::json_pointer;
@@ -200,5 +228,9 @@ mod tests {
             ("/extensionsRequired/1".to_owned(), Some("KHR_x".to_owned()))
         );
         assert_eq!(json_pointer("asset").0, "/asset");
+        assert_eq!(
+            json_pointer("extensions.khrLightsPunctual.lights[1].spot").0,
+            "/extensions/KHR_lights_punctual/lights/1/spot"
+        );
     }
 }
