@@ -52,51 +52,50 @@ pub(crate) fn read_confined(
     Ok(bytes)
 }
 
-/// True when `reference` is relative and its `..` steps never climb above its start.
-pub(crate) fn lexically_inside(reference: &Path) -> bool {
-    let mut depth = 0usize;
+/// `dir.join(reference)` with `.` and `..` resolved lexically; `None` if `reference` is absolute.
+fn lexical_join(dir: &Path, reference: &Path) -> Option<PathBuf> {
+    let mut path = dir.to_path_buf();
     for component in reference.components() {
         match component {
-            Component::Normal(_) => depth += 1,
+            Component::Normal(name) => path.push(name),
             Component::CurDir => {}
-            Component::ParentDir if depth > 0 => depth -= 1,
-            _ => return false,
+            Component::ParentDir => {
+                path.pop();
+            }
+            Component::RootDir | Component::Prefix(_) => return None,
         }
     }
-    true
+    Some(path)
+}
+
+/// True when `reference` is relative and, with its `..` steps resolved, stays inside `dir`.
+pub(crate) fn lexically_inside(dir: &Path, reference: &Path) -> bool {
+    lexical_join(dir, reference).is_some_and(|p| p.starts_with(dir) && p != dir)
 }
 
 /// Resolve `reference` against `Ctx::dir` to a canonical path inside it.
 pub(crate) fn confine(ctx: &Ctx, reference: &Path, at: &str, what: &str) -> Result<PathBuf> {
     let shown = reference.display();
-    let mut depth = 0usize;
-    for component in reference.components() {
-        match component {
-            Component::Normal(_) => depth += 1,
-            Component::CurDir => {}
-            Component::ParentDir if depth > 0 => depth -= 1,
-            Component::ParentDir => {
-                return Err(ctx.err(
-                    at,
-                    format!(
-                        "{what} '{shown}' lies outside the folder of the input file; \
-                         resources must be inside {}",
-                        ctx.dir.display()
-                    ),
-                ));
-            }
-            Component::RootDir | Component::Prefix(_) => {
-                return Err(ctx.err(
-                    at,
-                    format!(
-                        "{what} '{shown}' is an absolute path; use a path relative to the \
-                         input file's folder"
-                    ),
-                ));
-            }
-        }
+    let Some(lexical) = lexical_join(&ctx.dir, reference) else {
+        return Err(ctx.err(
+            at,
+            format!(
+                "{what} '{shown}' is an absolute path; use a path relative to the input \
+                 file's folder"
+            ),
+        ));
+    };
+    if !lexical.starts_with(&ctx.dir) {
+        return Err(ctx.err(
+            at,
+            format!(
+                "{what} '{shown}' lies outside the folder of the input file; resources must be \
+                 inside {}",
+                ctx.dir.display()
+            ),
+        ));
     }
-    if depth == 0 {
+    if lexical == ctx.dir {
         return Err(ctx.err(at, format!("{what} '{shown}' does not name a file")));
     }
     let joined = ctx.dir.join(reference);

@@ -140,7 +140,7 @@ impl Builder {
         self.json[key] = value;
     }
 
-    fn finished_json(&self, uri: Option<String>) -> Value {
+    pub fn finished_json(&self, uri: Option<String>) -> Value {
         let mut json = self.json.clone();
         if !self.bin.is_empty() {
             let mut buffer = json!({"byteLength": self.bin.len()});
@@ -178,29 +178,34 @@ impl Builder {
     }
 
     pub fn glb_bytes(&self) -> Vec<u8> {
-        let mut json = serde_json::to_vec(&self.finished_json(None)).unwrap();
-        while json.len() % 4 != 0 {
-            json.push(b' ');
-        }
-        let mut bin = self.bin.clone();
-        while bin.len() % 4 != 0 {
-            bin.push(0);
-        }
-        let mut out = Vec::new();
-        out.extend_from_slice(b"glTF");
-        out.extend_from_slice(&2u32.to_le_bytes());
-        let total = 12 + 8 + json.len() + if bin.is_empty() { 0 } else { 8 + bin.len() };
-        out.extend_from_slice(&(total as u32).to_le_bytes());
-        out.extend_from_slice(&(json.len() as u32).to_le_bytes());
-        out.extend_from_slice(b"JSON");
-        out.extend_from_slice(&json);
-        if !bin.is_empty() {
-            out.extend_from_slice(&(bin.len() as u32).to_le_bytes());
-            out.extend_from_slice(b"BIN\0");
-            out.extend_from_slice(&bin);
-        }
-        out
+        glb_from(&self.finished_json(None), &self.bin)
     }
+}
+
+/// A GLB container holding `json` and (if not empty) `bin`.
+pub fn glb_from(json: &Value, bin: &[u8]) -> Vec<u8> {
+    let mut json = serde_json::to_vec(json).unwrap();
+    while json.len() % 4 != 0 {
+        json.push(b' ');
+    }
+    let mut bin = bin.to_vec();
+    while bin.len() % 4 != 0 {
+        bin.push(0);
+    }
+    let mut out = Vec::new();
+    out.extend_from_slice(b"glTF");
+    out.extend_from_slice(&2u32.to_le_bytes());
+    let total = 12 + 8 + json.len() + if bin.is_empty() { 0 } else { 8 + bin.len() };
+    out.extend_from_slice(&(total as u32).to_le_bytes());
+    out.extend_from_slice(&(json.len() as u32).to_le_bytes());
+    out.extend_from_slice(b"JSON");
+    out.extend_from_slice(&json);
+    if !bin.is_empty() {
+        out.extend_from_slice(&(bin.len() as u32).to_le_bytes());
+        out.extend_from_slice(b"BIN\0");
+        out.extend_from_slice(&bin);
+    }
+    out
 }
 
 /// Standard base64 with padding (tests must not depend on the crate's internals).
