@@ -3,7 +3,7 @@
 //! Input: the OBJ file's bytes, the [`Ctx`] and the file's up axis. Output: a [`Scene`] whose
 //! nodes are the OBJ objects/groups (consecutive parts with the same name form one node, with
 //! identity transforms) and whose surfaces are one per (node, material used).
-//! Conventions: units are metres. With `UpAxis::Z`, (x, y, z) ↦ (x, z, −y) (a rotation, so
+//! Conventions: units are metres; numbers are parsed as f64 (tobj's `use_f64`). With `UpAxis::Z`, (x, y, z) ↦ (x, z, −y) (a rotation, so
 //! windings are kept); `UpAxis::Y` keeps coordinates. Faces are counter-clockwise from the front
 //! (the OBJ convention) and triangulated as fans. Normals come from the file when every vertex has
 //! one, else flat face normals. Texture coordinates become glTF's (u, 1 − v).
@@ -50,6 +50,9 @@ pub(crate) fn load(ctx: &mut Ctx, bytes: &[u8], up: UpAxis) -> Result<Scene> {
     }
     for w in loads.warnings {
         ctx.warn(w);
+    }
+    for source in &loads.sources {
+        ctx.record(source.path.clone());
     }
     let tobj_materials = materials.unwrap_or_default();
 
@@ -217,7 +220,7 @@ fn merge_parts(ctx: &Ctx, parts: &[&tobj::Mesh], up: UpAxis, at: &str) -> Result
         let base = mesh.positions.len() as u32;
         let count = part.positions.len() / 3;
         for p in part.positions.chunks_exact(3) {
-            let p = DVec3::new(p[0] as f64, p[1] as f64, p[2] as f64);
+            let p = DVec3::new(p[0], p[1], p[2]);
             if !p.is_finite() {
                 return Err(ctx.err(at, format!("vertex position {p} is not finite")));
             }
@@ -227,14 +230,14 @@ fn merge_parts(ctx: &Ctx, parts: &[&tobj::Mesh], up: UpAxis, at: &str) -> Result
             normals.extend(
                 part.normals
                     .chunks_exact(3)
-                    .map(|n| to_y_up(up, DVec3::new(n[0] as f64, n[1] as f64, n[2] as f64))),
+                    .map(|n| to_y_up(up, DVec3::new(n[0], n[1], n[2]))),
             );
         }
         if let Some(uvs) = mesh.uv0.as_mut() {
             uvs.extend(
                 part.texcoords
                     .chunks_exact(2)
-                    .map(|t| DVec2::new(t[0] as f64, 1.0 - t[1] as f64)),
+                    .map(|t| DVec2::new(t[0], 1.0 - t[1])),
             );
         }
         for t in part.indices.chunks_exact(3) {

@@ -68,7 +68,7 @@ pub(super) fn material(
         None => None,
     };
     let kd = match m.diffuse {
-        Some(kd) => DVec3::from_array(kd.map(f64::from)),
+        Some(kd) => DVec3::from_array(kd),
         None if texture.is_some() => DVec3::ONE,
         None => {
             ctx.warn(format!(
@@ -87,7 +87,7 @@ pub(super) fn material(
         "lower Kd (or use a darker map_Kd) in the MTL file so every channel is below 1",
     )
     .map_err(err)?;
-    let ke = DVec3::from_array(m.emissive.unwrap_or([0.0; 3]).map(f64::from));
+    let ke = DVec3::from_array(m.emissive.unwrap_or([0.0; 3]));
     let emission = emission_from_rgb(ke, 1.0).map_err(|msg| err(format!("Ke: {msg}")))?;
     let peak = ke.max_element();
     let (emissive_factor, emissive_strength) = if peak > 1.0 {
