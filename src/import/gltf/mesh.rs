@@ -86,21 +86,18 @@ fn surface(
         .map(|p| world.transform_point3(DVec3::new(p[0], p[1], p[2])))
         .collect();
 
-    let normals = match primitive.get(&Semantic::Normals) {
-        Some(a) => {
+    // Under a singular transform normals cannot be mapped: flat face normals replace them.
+    let normals = match (primitive.get(&Semantic::Normals), normal_matrix(world)) {
+        (Some(a), Some(m)) => {
             let values = read_per_vertex(ctx, buffers, &a, 3, &attr("NORMAL"), count)?;
-            let normal_matrix = normal_matrix(world);
             Some(
                 values
                     .chunks_exact(3)
-                    .map(|n| match normal_matrix {
-                        Some(m) => m * DVec3::new(n[0], n[1], n[2]),
-                        None => DVec3::ZERO, // singular transform: replaced by face normals
-                    })
+                    .map(|n| m * DVec3::new(n[0], n[1], n[2]))
                     .collect(),
             )
         }
-        None => None,
+        _ => None,
     };
     let mut uvs = [None, None];
     for (set, uv) in uvs.iter_mut().enumerate() {
@@ -141,8 +138,6 @@ fn surface(
             t.swap(1, 2);
         }
     }
-    // Normals under a singular transform cannot be mapped: use the face normals instead.
-    let normals = normals.filter(|_| normal_matrix(world).is_some());
     let mesh = RawMesh {
         positions,
         normals,
