@@ -268,3 +268,50 @@ fn not_gltf_at_all() {
     let missing = load(&dir.path().join("nope.glb"), &ImportOptions::default());
     assert!(missing.unwrap_err().to_string().contains("nope.glb"));
 }
+
+#[test]
+fn hostile_numbers_never_panic() {
+    // Every size/offset/count of a valid file replaced by awkward values: load must return
+    // (Ok or a typed error), never panic or read out of bounds.
+    let dir = tempfile::tempdir().unwrap();
+    let mut base = Builder::new();
+    let position = base.vec3s(&TRIANGLE);
+    let idx = base.indices(&[0, 1, 2]);
+    let iv = base.view(&0u16.to_le_bytes());
+    let vv = base.view(&[0u8; 12]);
+    base.json["accessors"][position]["sparse"] = json!({"count": 1,
+        "indices": {"bufferView": iv, "componentType": UNSIGNED_SHORT},
+        "values": {"bufferView": vv}});
+    let mesh = base.mesh(vec![
+        json!({"attributes": {"POSITION": position}, "indices": idx}),
+    ]);
+    base.node(json!({"mesh": mesh}));
+    let fields = [
+        "/accessors/0/count",
+        "/accessors/0/byteOffset",
+        "/accessors/1/count",
+        "/accessors/0/sparse/count",
+        "/accessors/0/sparse/indices/byteOffset",
+        "/bufferViews/0/byteOffset",
+        "/bufferViews/0/byteLength",
+        "/bufferViews/0/byteStride",
+        "/bufferViews/1/byteLength",
+        "/bufferViews/2/byteLength",
+    ];
+    for (f, field) in fields.iter().enumerate() {
+        for (v, value) in [0u64, 1, 3, 4, 1 << 31, u32::MAX as u64, u64::MAX / 2]
+            .iter()
+            .enumerate()
+        {
+            let mut b = Builder {
+                bin: base.bin.clone(),
+                json: base.json.clone(),
+            };
+            let (parent, key) = field.rsplit_once('/').unwrap();
+            b.json.pointer_mut(parent).unwrap()[key] = json!(value);
+            let path = b.write_gltf(dir.path(), &format!("h{f}_{v}.gltf"), Bin::DataUri);
+            let result = std::panic::catch_unwind(|| load(&path, &ImportOptions::default()));
+            assert!(result.is_ok(), "{field} = {value} panicked");
+        }
+    }
+}
