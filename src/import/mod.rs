@@ -1,7 +1,22 @@
 //! Importers: glTF 2.0 (`.gltf`, `.glb`) and OBJ+MTL into the format-neutral [`Scene`].
-//! All file-format crates (`gltf`, `tobj`, image decoders) are used only below this module.
+//! All file-format crates (`gltf`, `tobj`, image decoders, base64) are used only below this module.
+//!
+//! Input: a path and [`ImportOptions`]. Output: a [`Scene`] meeting the invariants documented in
+//! `crate::scene`, or an [`crate::Error::Input`] naming the file and the element (a JSON pointer
+//! for glTF). Every file read is listed, canonicalised, in `Scene::input_files`; no file outside
+//! the input file's folder is ever read.
 
-use crate::{Result, scene::Scene};
+mod context;
+mod geometry;
+mod glb;
+mod gltf;
+mod images;
+mod obj;
+mod obj_mtl;
+mod photometry;
+mod resources;
+
+use crate::{Error, Result, scene::Scene};
 use std::path::Path;
 
 /// Which input axis is "up" in an OBJ file (glTF is always +Y up).
@@ -19,8 +34,28 @@ pub struct ImportOptions {
     pub obj_up: UpAxis,
 }
 
-/// Read a scene from `path`, choosing the importer by extension (`.gltf`, `.glb`, `.obj`).
+/// Read a scene from `path`, choosing the importer by extension (`.gltf`, `.glb`, `.obj`; case
+/// does not matter).
 pub fn load(path: &Path, options: &ImportOptions) -> Result<Scene> {
-    let _ = (path, options);
-    todo!("import::load")
+    let extension = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    match extension.as_deref() {
+        Some("gltf" | "glb") => {
+            let mut ctx = context::Ctx::new(path)?;
+            let bytes = ctx.read_input()?;
+            gltf::load(&mut ctx, &bytes)
+        }
+        Some("obj") => {
+            let mut ctx = context::Ctx::new(path)?;
+            let bytes = ctx.read_input()?;
+            obj::load(&mut ctx, &bytes, options.obj_up)
+        }
+        _ => Err(Error::input(
+            path,
+            "",
+            "unsupported file type: luxbake reads .gltf, .glb and .obj files",
+        )),
+    }
 }

@@ -1,0 +1,173 @@
+//! glTF materials → [`Material`]s: photometry for the bake, display data for the output.
+//!
+//! Inputs: the validated document, its raw JSON (factors at f64 precision, `LUXBAKE_material`,
+//! `extras`) and the loaded images (for the mean of base colour textures). Output: one
+//! [`Material`] per glTF material, same indices.
+//! Rules: `LUXBAKE_material` sets reflectance and/or emission explicitly. Otherwise reflectance =
+//! `baseColorFactor.rgb` × mean linear colour of `baseColorTexture` × (1 − `metallicFactor`)
+//! (a warning says when the material is black only because `metallicFactor` defaulted to 1), and
+//! emission luminance (cd/m²) = Y(`emissiveFactor`) × `KHR_materials_emissive_strength`, coloured
+//! like `emissiveFactor` (zero = no emission; `emissiveTexture` does not change the amount).
+//! Invariants: every reflectance is in [0, 1) (else an error at `/materials/N` saying how to fix
+//! it); emission amounts are finite and ≥ 0. Texture means are computed once per image.
+
+use super::luxbake_ext;
+use super::{document::LUXBAKE_MATERIAL, raw};
+use crate::Result;
+use crate::import::context::Ctx;
+use crate::import::images::mean_linear_rgb;
+use crate::import::photometry::{check_reflectance, emission_from_rgb};
+use crate::scene::{AlphaMode, DisplayMaterial, Image, Material, ReflectanceSource, TextureRef};
+use glam::DVec3;
+use serde_json::Value;
+use std::collections::HashMap;
+
+pub(super) fn materials(
+    ctx: &mut Ctx,
+    doc: &::gltf::Document,
+    raw: &Value,
+    images: &[Image],
+) -> Result<Vec<Material>> {
+    let mut means = HashMap::new();
+    doc.materials()
+        .map(|m| material(ctx, &m, raw, images, &mut means))
+        .collect()
+}
+
+fn material(
+    ctx: &mut Ctx,
+    m: &::gltf::Material,
+    raw: &Value,
+    images: &[Image],
+    means: &mut HashMap<usize, DVec3>,
+) -> Result<Material> {
+    let index = m.index().unwrap_or_default();
+    let at = format!("/materials/{index}");
+    let ext_at = format!("{at}/extensions/{LUXBAKE_MATERIAL}");
+    let extension = raw::cloned(raw, &ext_at);
+    let ext = match &extension {
+        Some(v) => Some(luxbake_ext::parse(v).map_err(|msg| ctx.err(&ext_at, msg))?),
+        None => None,
+    };
+    let display = display(m, raw, &at, extension);
+
+    let (reflectance, source, hint) = match ext.as_ref().and_then(|e| e.reflectance) {
+        Some(rho) => (
+            rho,
+            ReflectanceSource::Extension,
+            format!("set {LUXBAKE_MATERIAL}.reflectance below 1 (typical walls: 0.5–0.8)"),
+        ),
+        None => {
+            let [r, g, b, _] = display.base_color_factor;
+            let mut color = DVec3::new(r, g, b);
+            if let Some(t) = &m.pbr_metallic_roughness().base_color_texture() {
+                let image = t.texture().source().index();
+                let mean = match means.get(&image) {
+                    Some(&mean) => mean,
+                    None => {
+                        let mean = mean_linear_rgb(&images[image].bytes).map_err(|msg| {
+                            ctx.err(
+                                format!("{at}/pbrMetallicRoughness/baseColorTexture"),
+                                format!("cannot average /images/{image}: {msg}"),
+                            )
+                        })?;
+                        *means.entry(image).or_insert(mean)
+                    }
+                };
+                color *= mean;
+            }
+            let metallic = display.metallic_factor;
+            let metallic_given =
+                raw::number(raw, &format!("{at}/pbrMetallicRoughness/metallicFactor")).is_some();
+            if !metallic_given && color.max_element() > 0.0 {
+                ctx.warn(format!(
+                    "{at}: metallicFactor is not given and defaults to 1 (pure metal), so the \
+                     diffuse reflectance is 0 and the material is black in the bake; set \
+                     metallicFactor to 0 or give {LUXBAKE_MATERIAL}.reflectance"
+                ));
+            }
+            (
+                color * (1.0 - metallic),
+                ReflectanceSource::BaseColor,
+                format!(
+                    "the reflectance is baseColorFactor × mean of baseColorTexture × \
+                     (1 − metallicFactor); lower baseColorFactor or give \
+                     {LUXBAKE_MATERIAL}.reflectance explicitly (below 1)"
+                ),
+            )
+        }
+    };
+    check_reflectance(reflectance, &hint).map_err(|msg| ctx.err(&at, msg))?;
+
+    let emission = match ext.and_then(|e| e.emission) {
+        Some(emission) => emission,
+        None => {
+            let strength = display.emissive_strength.unwrap_or(1.0);
+            let emission = emission_from_rgb(DVec3::from_array(display.emissive_factor), strength)
+                .map_err(|msg| ctx.err(&at, msg))?;
+            if emission.is_some() && display.emissive_texture.is_some() {
+                ctx.warn_once(
+                    "emissive texture",
+                    format!(
+                        "{at}: emissiveTexture does not change the emitted luminance, which \
+                         comes from emissiveFactor × emissiveStrength only"
+                    ),
+                );
+            }
+            emission
+        }
+    };
+    Ok(Material {
+        name: m.name().map(str::to_owned),
+        source_path: at.clone(),
+        reflectance,
+        emission,
+        double_sided: m.double_sided(),
+        reflectance_source: source,
+        display,
+        extras: raw::cloned(raw, &format!("{at}/extras")),
+    })
+}
+
+fn display(m: &::gltf::Material, raw: &Value, at: &str, ext: Option<Value>) -> DisplayMaterial {
+    let pbr = m.pbr_metallic_roughness();
+    let pbr_at = format!("{at}/pbrMetallicRoughness");
+    let texture = |info: Option<::gltf::texture::Info>| {
+        info.map(|i| TextureRef {
+            texture: i.texture().index(),
+            tex_coord: i.tex_coord(),
+            scale: 1.0,
+        })
+    };
+    DisplayMaterial {
+        base_color_factor: raw::numbers(raw, &format!("{pbr_at}/baseColorFactor"))
+            .unwrap_or([1.0; 4]),
+        base_color_texture: texture(pbr.base_color_texture()),
+        metallic_factor: raw::number_or(raw, &format!("{pbr_at}/metallicFactor"), 1.0),
+        roughness_factor: raw::number_or(raw, &format!("{pbr_at}/roughnessFactor"), 1.0),
+        metallic_roughness_texture: texture(pbr.metallic_roughness_texture()),
+        normal_texture: m.normal_texture().map(|t| TextureRef {
+            texture: t.texture().index(),
+            tex_coord: t.tex_coord(),
+            scale: raw::number_or(raw, &format!("{at}/normalTexture/scale"), 1.0),
+        }),
+        occlusion_texture: m.occlusion_texture().map(|t| TextureRef {
+            texture: t.texture().index(),
+            tex_coord: t.tex_coord(),
+            scale: raw::number_or(raw, &format!("{at}/occlusionTexture/strength"), 1.0),
+        }),
+        emissive_texture: texture(m.emissive_texture()),
+        emissive_factor: raw::numbers(raw, &format!("{at}/emissiveFactor")).unwrap_or([0.0; 3]),
+        emissive_strength: raw::number(
+            raw,
+            &format!("{at}/extensions/KHR_materials_emissive_strength/emissiveStrength"),
+        ),
+        alpha_mode: match m.alpha_mode() {
+            ::gltf::material::AlphaMode::Opaque => AlphaMode::Opaque,
+            ::gltf::material::AlphaMode::Mask => AlphaMode::Mask,
+            ::gltf::material::AlphaMode::Blend => AlphaMode::Blend,
+        },
+        alpha_cutoff: raw::number(raw, &format!("{at}/alphaCutoff")),
+        luxbake_extension: ext,
+    }
+}
