@@ -93,7 +93,7 @@ pub fn to_local(baked: &BakedSurface, frame: &LocalFrame, what: &str) -> Result<
             "positions or normals are not finite in local space".into()
         ));
     }
-    if normals.iter().any(|v| *v == [0.0; 3]) {
+    if normals.contains(&[0.0; 3]) {
         return Err(bad("a normal has zero length".into()));
     }
     let finite = |name: &str, v: &[f32]| match v.iter().position(|x| !x.is_finite()) {

@@ -78,7 +78,7 @@ impl Target {
         }
         for file in self.files(has_binary) {
             let resolved = resolve_output(file)?;
-            if inputs.iter().any(|i| *i == resolved) {
+            if inputs.contains(&resolved) {
                 return Err(Error::output(
                     file,
                     "refusing to overwrite an input file of the scene; choose another output name",
