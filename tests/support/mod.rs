@@ -7,11 +7,12 @@ pub mod fixture;
 pub mod gltf_read;
 pub mod tools;
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
-/// A fresh, empty directory for one test's files (under the system temp directory).
+/// A fresh, empty directory for one test's files, under cargo's temporary directory for
+/// integration tests (emptied again by the next run of the same test).
 pub fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("luxbake-test-{}-{name}", std::process::id()));
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!("luxbake-{name}"));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     dir
