@@ -138,7 +138,10 @@ mod tests {
         assert_eq!(accessors[i]["componentType"], UNSIGNED_SHORT);
         assert_eq!(accessors[p]["min"][0], f64::from(0.1f32));
         assert_eq!(accessors[p]["max"][1], 0.5);
-        let big = Binary::default().indices(&[[0, 1, 70000]], 70001);
-        assert_eq!(big, 0);
+        let mut b = Binary::default();
+        let big = b.indices(&[[0, 1, 70000]], 70001);
+        let (data, _, accessors) = b.finish();
+        assert_eq!(accessors[big]["componentType"], UNSIGNED_INT);
+        assert_eq!(&data[8..12], &70000u32.to_le_bytes());
     }
 }
