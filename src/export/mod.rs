@@ -1,7 +1,28 @@
 //! Exporters: the baked scene as glTF 2.0 (`.gltf` + `.bin`, or `.glb`).
+//!
+//! Input: the [`Scene`], its [`BakeResult`] and [`ExportOptions`]. Output: the file(s) at the
+//! requested path. Invariants: the output is byte-deterministic (same inputs, same bytes); it is
+//! written atomically (the `.bin` first, then the `.gltf`), and nothing is written when any check
+//! fails (unknown extension, missing directory, an output that would replace an input file,
+//! inconsistent bake results). Layout of the output (one concern per module):
+//! [`target`] (paths and the input-overwrite guard), [`document`] (the root JSON) built from
+//! [`mesh`] (+ [`geometry`], [`buffer`]), [`material`], [`nodes`] and [`extras`], packed by
+//! [`container`] and written by [`atomic`].
+
+pub mod atomic;
+mod buffer;
+mod container;
+mod document;
+mod extras;
+mod geometry;
+mod material;
+mod mesh;
+mod nodes;
+mod target;
 
 use crate::{Result, result::BakeResult, scene::Scene};
 use std::path::Path;
+use target::{Format, Target};
 
 /// Options for writing the output.
 #[derive(Debug, Clone, Copy)]
@@ -23,6 +44,19 @@ pub fn write(
     result: &BakeResult,
     options: &ExportOptions,
 ) -> Result<()> {
-    let _ = (path, scene, result, options);
-    todo!("export::write")
+    let target = Target::for_path(path)?;
+    let doc = document::build(scene, result, options)?;
+    let has_binary = !doc.bin.is_empty();
+    target.check_not_input(scene, has_binary)?;
+    match target.format {
+        Format::Glb => atomic::write_atomic(&target.main, &container::glb(&doc, path)?),
+        Format::Gltf => {
+            let json = container::gltf(&doc, &target.bin_uri);
+            if has_binary {
+                atomic::write_atomic_all(&[(&target.bin, &doc.bin), (&target.main, &json)])
+            } else {
+                atomic::write_atomic(&target.main, &json)
+            }
+        }
+    }
 }

@@ -1,0 +1,113 @@
+//! Assembling the glTF document: the root JSON object and its binary buffer.
+//!
+//! Input: the [`Scene`], the [`BakeResult`] and the [`ExportOptions`]. Output: a [`Document`]:
+//! the root JSON (without `buffers`, whose URI depends on the container) and the buffer bytes.
+//! Invariants: fields are inserted in one fixed order and arrays follow scene order, so equal
+//! inputs give equal documents; empty arrays are omitted (glTF forbids them); `extensionsUsed`
+//! lists exactly the extension names that occur in the document (outside `extras`), sorted;
+//! `extensionsRequired` is never written.
+
+use super::{ExportOptions, buffer::Binary, material, mesh, nodes};
+use crate::{Result, result::BakeResult, scene::Scene};
+use serde_json::{Map, Value, json};
+use std::collections::BTreeSet;
+
+/// The document before it is packed into `.gltf` + `.bin` or `.glb`.
+#[derive(Debug)]
+pub struct Document {
+    /// The root object; the container adds `buffers`.
+    pub root: Map<String, Value>,
+    /// The binary buffer (empty when there is no geometry and no image).
+    pub bin: Vec<u8>,
+}
+
+/// Build the document for `scene` baked as `result`.
+pub fn build(scene: &Scene, result: &BakeResult, options: &ExportOptions) -> Result<Document> {
+    let mut binary = Binary::default();
+    let meshes = mesh::build(scene, result, &mut binary)?;
+    let materials = material::materials(scene, &meshes.back_baked, options);
+    let (textures, images, samplers) = material::textures(scene, &mut binary);
+    let nodes = nodes::nodes(scene, &meshes.node_mesh);
+    let scenes = vec![nodes::scene(scene, &result.summary)];
+    let lights = nodes::lights(scene);
+    let (bin, views, accessors) = binary.finish();
+
+    let mut root = Map::new();
+    root.insert(
+        "asset".into(),
+        json!({
+            "generator": concat!("luxbake ", env!("CARGO_PKG_VERSION")),
+            "version": "2.0",
+        }),
+    );
+    root.insert("extensionsUsed".into(), json!([]));
+    root.insert("scene".into(), json!(0));
+    let arrays = [
+        ("scenes", scenes),
+        ("nodes", nodes),
+        ("cameras", scene.cameras.clone()),
+        ("meshes", meshes.json),
+        ("materials", materials),
+        ("textures", textures),
+        ("images", images),
+        ("samplers", samplers),
+        ("accessors", accessors),
+        ("bufferViews", views),
+    ];
+    for (key, array) in arrays {
+        if !array.is_empty() {
+            root.insert(key.into(), Value::Array(array));
+        }
+    }
+    if let Some(lights) = lights {
+        root.insert("extensions".into(), json!({ nodes::LIGHTS: lights }));
+    }
+
+    let mut used = BTreeSet::new();
+    collect_extensions(&Value::Object(root.clone()), &mut used);
+    if used.is_empty() {
+        root.remove("extensionsUsed");
+    } else {
+        root.insert("extensionsUsed".into(), json!(used));
+    }
+    Ok(Document { root, bin })
+}
+
+/// Every key of every `extensions` object in `value`, not looking inside `extras`.
+fn collect_extensions(value: &Value, used: &mut BTreeSet<String>) {
+    match value {
+        Value::Object(map) => {
+            for (key, v) in map {
+                match key.as_str() {
+                    "extras" => {}
+                    "extensions" => {
+                        if let Value::Object(ext) = v {
+                            used.extend(ext.keys().cloned());
+                        }
+                        collect_extensions(v, used);
+                    }
+                    _ => collect_extensions(v, used),
+                }
+            }
+        }
+        Value::Array(items) => items.iter().for_each(|v| collect_extensions(v, used)),
+        _ => {}
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn extensions_are_found_outside_extras_only() {
+        let doc = json!({
+            "extensions": {"B": {}},
+            "materials": [{"extensions": {"A": {"extensions": {"C": 1}}}}],
+            "nodes": [{"extras": {"extensions": {"X": {}}}}],
+        });
+        let mut used = BTreeSet::new();
+        collect_extensions(&doc, &mut used);
+        assert_eq!(used.into_iter().collect::<Vec<_>>(), ["A", "B", "C"]);
+    }
+}

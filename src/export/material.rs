@@ -1,0 +1,186 @@
+//! The output's materials, textures, images and samplers.
+//!
+//! Input: the [`Scene`]'s materials and texture data, which materials were baked with a back
+//! side, and the [`ExportOptions`]. Output: the `materials`, `textures`, `images` and `samplers`
+//! JSON arrays (images embedded in the [`Binary`] with their mimeType, whatever the input did).
+//! Invariants: every scene material is written, in order, with its name and extras; the input's
+//! `LUXBAKE_material` object is kept under `extensions`. With `unlit` (default) a material gets
+//! `KHR_materials_unlit`, the spec's fallback metallic 0 / roughness 1, emissive zeroed and
+//! `KHR_materials_emissive_strength` dropped (it is forbidden with unlit); a material baked with a
+//! back side is written single-sided (each face has its own primitive). Every changed value is
+//! kept in `extras.luxbake.original`; `extras.luxbake` also records the reflectance used.
+
+use super::{ExportOptions, buffer::Binary, extras::with_luxbake};
+use crate::scene::{AlphaMode, Material, Scene, TextureRef};
+use serde_json::{Map, Value, json};
+
+pub const UNLIT: &str = "KHR_materials_unlit";
+pub const EMISSIVE_STRENGTH: &str = "KHR_materials_emissive_strength";
+pub const LUXBAKE_MATERIAL: &str = "LUXBAKE_material";
+
+/// The `materials` array; `back_baked[i]` tells whether material `i` got back-side primitives.
+pub fn materials(scene: &Scene, back_baked: &[bool], options: &ExportOptions) -> Vec<Value> {
+    scene
+        .materials
+        .iter()
+        .enumerate()
+        .map(|(i, m)| material(m, back_baked.get(i).copied().unwrap_or(false), options))
+        .collect()
+}
+
+fn material(m: &Material, back_baked: bool, options: &ExportOptions) -> Value {
+    let d = &m.display;
+    let (metallic, roughness, emissive, strength) = if options.unlit {
+        (0.0, 1.0, [0.0; 3], None)
+    } else {
+        (
+            d.metallic_factor,
+            d.roughness_factor,
+            d.emissive_factor,
+            d.emissive_strength,
+        )
+    };
+    let double_sided = m.double_sided && !back_baked;
+
+    let mut out = Map::new();
+    if let Some(name) = &m.name {
+        out.insert("name".into(), json!(name));
+    }
+    let mut pbr = Map::new();
+    pbr.insert("baseColorFactor".into(), json!(d.base_color_factor));
+    if let Some(t) = &d.base_color_texture {
+        pbr.insert("baseColorTexture".into(), texture_info(t, None));
+    }
+    pbr.insert("metallicFactor".into(), json!(metallic));
+    pbr.insert("roughnessFactor".into(), json!(roughness));
+    if let Some(t) = &d.metallic_roughness_texture {
+        pbr.insert("metallicRoughnessTexture".into(), texture_info(t, None));
+    }
+    out.insert("pbrMetallicRoughness".into(), Value::Object(pbr));
+    if let Some(t) = &d.normal_texture {
+        out.insert("normalTexture".into(), texture_info(t, Some("scale")));
+    }
+    if let Some(t) = &d.occlusion_texture {
+        out.insert("occlusionTexture".into(), texture_info(t, Some("strength")));
+    }
+    if let Some(t) = &d.emissive_texture {
+        out.insert("emissiveTexture".into(), texture_info(t, None));
+    }
+    out.insert("emissiveFactor".into(), json!(emissive));
+    match d.alpha_mode {
+        AlphaMode::Opaque => {}
+        AlphaMode::Mask => {
+            out.insert("alphaMode".into(), json!("MASK"));
+            if let Some(c) = d.alpha_cutoff {
+                out.insert("alphaCutoff".into(), json!(c));
+            }
+        }
+        AlphaMode::Blend => {
+            out.insert("alphaMode".into(), json!("BLEND"));
+        }
+    }
+    out.insert("doubleSided".into(), json!(double_sided));
+
+    // Extension names are inserted in sorted order.
+    let mut extensions = Map::new();
+    if let Some(s) = strength {
+        extensions.insert(EMISSIVE_STRENGTH.into(), json!({ "emissiveStrength": s }));
+    }
+    if options.unlit {
+        extensions.insert(UNLIT.into(), json!({}));
+    }
+    if let Some(ext) = &d.luxbake_extension {
+        extensions.insert(LUXBAKE_MATERIAL.into(), ext.clone());
+    }
+    if !extensions.is_empty() {
+        out.insert("extensions".into(), Value::Object(extensions));
+    }
+
+    let mut luxbake = Map::new();
+    luxbake.insert("reflectance".into(), json!(m.reflectance.to_array()));
+    luxbake.insert("reflectanceSource".into(), json!(m.reflectance_source));
+    let mut original = Map::new();
+    if options.unlit {
+        original.insert("baseColorFactor".into(), json!(d.base_color_factor));
+        original.insert("metallicFactor".into(), json!(d.metallic_factor));
+        original.insert("roughnessFactor".into(), json!(d.roughness_factor));
+        original.insert("emissiveFactor".into(), json!(d.emissive_factor));
+        if let Some(s) = d.emissive_strength {
+            original.insert("emissiveStrength".into(), json!(s));
+        }
+    }
+    if options.unlit || double_sided != m.double_sided {
+        original.insert("doubleSided".into(), json!(m.double_sided));
+    }
+    if !original.is_empty() {
+        luxbake.insert("original".into(), Value::Object(original));
+    }
+    out.insert(
+        "extras".into(),
+        with_luxbake(m.extras.as_ref(), Value::Object(luxbake)),
+    );
+    Value::Object(out)
+}
+
+/// A textureInfo object; `scale_key` is `"scale"` (normal) or `"strength"` (occlusion).
+fn texture_info(t: &TextureRef, scale_key: Option<&str>) -> Value {
+    let mut info = Map::new();
+    info.insert("index".into(), json!(t.texture));
+    info.insert("texCoord".into(), json!(t.tex_coord));
+    if let Some(key) = scale_key {
+        info.insert(key.into(), json!(t.scale));
+    }
+    Value::Object(info)
+}
+
+/// The `textures`, `images` (embedded into `binary`) and `samplers` arrays, in scene order.
+pub fn textures(scene: &Scene, binary: &mut Binary) -> (Vec<Value>, Vec<Value>, Vec<Value>) {
+    let textures = scene
+        .textures
+        .iter()
+        .map(|t| {
+            let mut out = Map::new();
+            if let Some(name) = &t.name {
+                out.insert("name".into(), json!(name));
+            }
+            if let Some(s) = t.sampler {
+                out.insert("sampler".into(), json!(s));
+            }
+            out.insert("source".into(), json!(t.image));
+            Value::Object(out)
+        })
+        .collect();
+    let images = scene
+        .images
+        .iter()
+        .map(|img| {
+            let mut out = Map::new();
+            if let Some(name) = &img.name {
+                out.insert("name".into(), json!(name));
+            }
+            out.insert("mimeType".into(), json!(img.mime_type));
+            out.insert("bufferView".into(), json!(binary.image(&img.bytes)));
+            Value::Object(out)
+        })
+        .collect();
+    let samplers = scene
+        .samplers
+        .iter()
+        .map(|s| {
+            let mut out = Map::new();
+            let fields = [
+                ("magFilter", s.mag_filter),
+                ("minFilter", s.min_filter),
+                ("wrapS", s.wrap_s),
+                ("wrapT", s.wrap_t),
+            ];
+            for (key, value) in fields {
+                if let Some(v) = value {
+                    out.insert(key.into(), json!(v));
+                }
+            }
+            Value::Object(out)
+        })
+        .collect();
+    (textures, images, samplers)
+}

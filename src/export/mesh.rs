@@ -1,0 +1,134 @@
+//! The output's meshes: one new mesh per node that has surfaces (lighting differs per instance,
+//! so meshes are never shared), with the baked attributes.
+//!
+//! Input: the [`Scene`] (nodes, surfaces), the [`BakeResult`] and the [`Binary`] being filled.
+//! Output: [`Meshes`]: the `meshes` JSON array, each node's mesh index, and which materials were
+//! baked with a back side. Invariants: a node's primitives follow its `surfaces` order, each
+//! surface giving its `Side::Front` primitive and then, if baked, its `Side::Back` one; every
+//! surface of a node must have a front result (else [`Error::Bake`]); baked sides without
+//! triangles are left out, and a node left with no primitive gets no mesh. Attributes: POSITION
+//! (with min/max), NORMAL, TEXCOORD_0/1 when present, COLOR_0 (float VEC3), `_ILLUMINANCE` (lx)
+//! and `_LUMINANCE` (cd/m²), float SCALAR; indices u16 or u32; mode TRIANGLES.
+
+use super::buffer::Binary;
+use super::geometry::{LocalFrame, LocalPrimitive, to_local};
+use crate::{
+    Error, Result,
+    result::{BakeResult, BakedSurface, Side},
+    scene::Scene,
+};
+use serde_json::{Map, Value, json};
+
+const TRIANGLES: u32 = 4;
+
+/// The meshes written for the scene's nodes.
+#[derive(Debug, Default)]
+pub struct Meshes {
+    pub json: Vec<Value>,
+    /// `node_mesh[node]`: the mesh index of each node, if it has one.
+    pub node_mesh: Vec<Option<usize>>,
+    /// `back_baked[material]`: some surface with this material was baked with a back side.
+    pub back_baked: Vec<bool>,
+}
+
+/// Front and back results of each scene surface.
+fn index_results(scene: &Scene, result: &BakeResult) -> Result<Vec<[Option<usize>; 2]>> {
+    let mut sides = vec![[None, None]; scene.surfaces.len()];
+    for (i, b) in result.surfaces.iter().enumerate() {
+        let slot = sides.get_mut(b.surface).ok_or_else(|| {
+            Error::Bake(format!(
+                "baked surface {i} names missing surface {}",
+                b.surface
+            ))
+        })?;
+        let side = match b.side {
+            Side::Front => 0,
+            Side::Back => 1,
+        };
+        if slot[side].replace(i).is_some() {
+            return Err(Error::Bake(format!(
+                "surface {} was baked twice on the {:?} side",
+                b.surface, b.side
+            )));
+        }
+    }
+    Ok(sides)
+}
+
+/// Build every node's mesh, writing the vertex data into `binary`.
+pub fn build(scene: &Scene, result: &BakeResult, binary: &mut Binary) -> Result<Meshes> {
+    let sides = index_results(scene, result)?;
+    let mut meshes = Meshes {
+        json: Vec::new(),
+        node_mesh: vec![None; scene.nodes.len()],
+        back_baked: vec![false; scene.materials.len()],
+    };
+    for (n, node) in scene.nodes.iter().enumerate() {
+        if node.surfaces.is_empty() {
+            continue;
+        }
+        let frame = LocalFrame::new(node.world_from_local).ok_or_else(|| {
+            Error::Bake(format!(
+                "{}: the node's transform is singular; its baked mesh cannot be expressed in its \
+                 local space",
+                node.source_path
+            ))
+        })?;
+        let mut primitives = Vec::new();
+        for &s in &node.surfaces {
+            let surface = &scene.surfaces[s];
+            let [front, back] = sides[s];
+            let front = front.ok_or_else(|| {
+                Error::Bake(format!(
+                    "{}: no baked result for its front side",
+                    surface.source_path
+                ))
+            })?;
+            if back.is_some() {
+                meshes.back_baked[surface.material] = true;
+            }
+            for b in [Some(front), back].into_iter().flatten() {
+                let baked: &BakedSurface = &result.surfaces[b];
+                if baked.triangles.is_empty() {
+                    continue;
+                }
+                let what = format!("{} ({:?} side)", surface.source_path, baked.side);
+                let local = to_local(baked, &frame, &what)?;
+                primitives.push(primitive(&local, surface.material, binary));
+            }
+        }
+        if primitives.is_empty() {
+            continue;
+        }
+        let mut mesh = Map::new();
+        if let Some(name) = &node.mesh_name {
+            mesh.insert("name".into(), json!(name));
+        }
+        mesh.insert("primitives".into(), Value::Array(primitives));
+        meshes.node_mesh[n] = Some(meshes.json.len());
+        meshes.json.push(Value::Object(mesh));
+    }
+    Ok(meshes)
+}
+
+fn primitive(p: &LocalPrimitive, material: usize, binary: &mut Binary) -> Value {
+    let mut attributes = Map::new();
+    attributes.insert("POSITION".into(), json!(binary.vec3(&p.positions, true)));
+    attributes.insert("NORMAL".into(), json!(binary.vec3(&p.normals, false)));
+    if let Some(uv) = &p.uv0 {
+        attributes.insert("TEXCOORD_0".into(), json!(binary.vec2(uv)));
+    }
+    if let Some(uv) = &p.uv1 {
+        attributes.insert("TEXCOORD_1".into(), json!(binary.vec2(uv)));
+    }
+    attributes.insert("COLOR_0".into(), json!(binary.vec3(&p.color, false)));
+    attributes.insert("_ILLUMINANCE".into(), json!(binary.scalar(&p.illuminance)));
+    attributes.insert("_LUMINANCE".into(), json!(binary.scalar(&p.luminance)));
+    let indices = binary.indices(&p.triangles, p.positions.len());
+    json!({
+        "attributes": attributes,
+        "indices": indices,
+        "material": material,
+        "mode": TRIANGLES,
+    })
+}

@@ -1,0 +1,371 @@
+//! The glTF exporter on a hand-built scene (see `support/fixture.rs`): validity (Khronos
+//! glTF-Validator: no errors, no warnings), JSON structure, geometry back in local space,
+//! winding, determinism, and the refusal / atomicity rules.
+
+mod support;
+
+use glam::DVec3;
+use luxbake::{Error, export, export::ExportOptions};
+use serde_json::{Value, json};
+use std::path::Path;
+use support::{fixture, gltf_read, scratch, tools};
+
+fn write(path: &Path, options: &ExportOptions) {
+    let (scene, result) = fixture::scene();
+    export::write(path, &scene, &result, options).unwrap();
+}
+
+/// The one warning the output cannot avoid: the validator flags any other extension next to the
+/// "standalone" `KHR_materials_unlit` (`MULTIPLE_EXTENSIONS`), and unlit materials keep their
+/// `LUXBAKE_material` object. Anything else at warning level or above fails.
+fn is_unlit_with_luxbake_material(message: &Value) -> bool {
+    let pointer = message["pointer"].as_str().unwrap_or("");
+    message["code"] == "MULTIPLE_EXTENSIONS"
+        && pointer.starts_with("/materials/")
+        && pointer.ends_with("/extensions/KHR_materials_unlit")
+}
+
+#[test]
+fn validator_finds_no_errors_or_warnings() {
+    if !tools::have_validator() {
+        return;
+    }
+    let dir = scratch("validate");
+    for (name, unlit) in [("lit.gltf", true), ("lit.glb", true), ("pbr.gltf", false)] {
+        let path = dir.join(name);
+        write(&path, &ExportOptions { unlit });
+        let report = tools::validate(&path);
+        let expected_warnings = report
+            .messages
+            .iter()
+            .filter(|m| m["severity"] == 1 && is_unlit_with_luxbake_material(m))
+            .count() as u64;
+        // The fixture's material 0 is the only one with a LUXBAKE_material object.
+        assert_eq!(
+            expected_warnings,
+            u64::from(unlit),
+            "{name}:\n{}",
+            report.listing()
+        );
+        assert_eq!(
+            (report.errors, report.warnings - expected_warnings),
+            (0, 0),
+            "{name}:\n{}",
+            report.listing()
+        );
+        let codes: Vec<&str> = report
+            .messages
+            .iter()
+            .filter_map(|m| m["code"].as_str())
+            .collect();
+        assert!(codes.contains(&"UNSUPPORTED_EXTENSION"), "{codes:?}"); // LUXBAKE_material
+    }
+}
+
+#[test]
+fn json_structure() {
+    let dir = scratch("structure");
+    let path = dir.join("room.gltf");
+    write(&path, &ExportOptions::default());
+    let j = gltf_read::read(&path).json;
+
+    assert_eq!(j["asset"]["version"], "2.0");
+    assert_eq!(
+        j["asset"]["generator"],
+        format!("luxbake {}", env!("CARGO_PKG_VERSION"))
+    );
+    assert_eq!(
+        j["extensionsUsed"],
+        json!([
+            "KHR_lights_punctual",
+            "KHR_materials_unlit",
+            "LUXBAKE_material"
+        ])
+    );
+    assert!(j.get("extensionsRequired").is_none());
+    assert_eq!(j["buffers"][0]["uri"], "room.bin");
+
+    let scene = &j["scenes"][j["scene"].as_u64().unwrap() as usize];
+    assert_eq!(scene["name"], "Lit room");
+    assert_eq!(scene["nodes"], json!([0]));
+    assert_eq!(scene["extras"]["project"], "test room");
+    assert_eq!(scene["extras"]["luxbake"]["patches"], 12);
+
+    let m0 = &j["materials"][0];
+    assert_eq!(m0["name"], "Textured");
+    assert_eq!(m0["extensions"]["KHR_materials_unlit"], json!({}));
+    assert!(
+        m0["extensions"]
+            .get("KHR_materials_emissive_strength")
+            .is_none()
+    );
+    assert_eq!(
+        m0["extensions"]["LUXBAKE_material"]["reflectance"],
+        json!([0.4, 0.4, 0.4])
+    );
+    let pbr = &m0["pbrMetallicRoughness"];
+    assert_eq!(
+        (
+            pbr["metallicFactor"].as_f64(),
+            pbr["roughnessFactor"].as_f64()
+        ),
+        (Some(0.0), Some(1.0))
+    );
+    assert_eq!(pbr["baseColorTexture"], json!({"index": 0, "texCoord": 0}));
+    assert_eq!(m0["emissiveFactor"], json!([0.0, 0.0, 0.0]));
+    assert_eq!(m0["extras"]["author"], "fixture");
+    let original = &m0["extras"]["luxbake"]["original"];
+    assert_eq!(original["metallicFactor"], 0.2);
+    assert_eq!(original["roughnessFactor"], 0.6);
+    assert_eq!(original["emissiveFactor"], json!([0.1, 0.0, 0.0]));
+    assert_eq!(original["emissiveStrength"], 2.0);
+    assert_eq!(original["baseColorFactor"], json!([0.8, 0.7, 0.6, 1.0]));
+    assert_eq!(m0["extras"]["luxbake"]["reflectanceSource"], "extension");
+    let m1 = &j["materials"][1];
+    assert_eq!(m1["doubleSided"], false);
+    assert_eq!(m1["extras"]["luxbake"]["original"]["doubleSided"], true);
+
+    assert_eq!(j["images"][0]["mimeType"], "image/png");
+    assert!(j["images"][0]["bufferView"].is_u64());
+    assert_eq!(
+        j["samplers"][0],
+        json!({"magFilter": 9729, "minFilter": 9987, "wrapS": 10497, "wrapT": 33648})
+    );
+
+    let nodes = j["nodes"].as_array().unwrap();
+    assert_eq!(nodes[0]["children"], json!([1, 2, 3, 4]));
+    assert_eq!(nodes[1]["extras"]["nested"]["k"], 1);
+    assert_eq!(nodes[1]["scale"], json!([-1.5, 1.0, 2.0]));
+    assert_eq!(nodes[2]["matrix"].as_array().unwrap().len(), 16);
+    assert_eq!(nodes[3]["extensions"]["KHR_lights_punctual"]["light"], 0);
+    assert_eq!(nodes[4]["camera"], 0);
+    assert_eq!(j["cameras"][0]["name"], "Eye");
+    let light = &j["extensions"]["KHR_lights_punctual"]["lights"][0];
+    assert_eq!(
+        (light["type"].as_str(), light["intensity"].as_f64()),
+        (Some("spot"), Some(990.0))
+    );
+    assert_eq!(
+        light["spot"],
+        json!({"innerConeAngle": 0.2, "outerConeAngle": 0.4})
+    );
+    let c: Vec<f64> = light["color"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|v| v.as_f64().unwrap())
+        .collect();
+    assert!(
+        (c[0] - 1.0).abs() < 1e-12 && (c[1] - 0.9).abs() < 1e-12 && (c[2] - 0.8).abs() < 1e-12,
+        "{c:?}"
+    );
+
+    // One mesh per node with surfaces; the double-sided divider has a front and a back primitive.
+    assert_eq!(
+        (nodes[1]["mesh"].as_u64(), nodes[2]["mesh"].as_u64()),
+        (Some(0), Some(1))
+    );
+    assert_eq!(j["meshes"][0]["name"], "PanelMesh");
+    assert_eq!(j["meshes"][1]["primitives"].as_array().unwrap().len(), 2);
+    let prim = &j["meshes"][0]["primitives"][0];
+    assert_eq!(
+        (prim["mode"].as_u64(), prim["material"].as_u64()),
+        (Some(4), Some(0))
+    );
+    let types = [
+        ("POSITION", "VEC3"),
+        ("NORMAL", "VEC3"),
+        ("TEXCOORD_0", "VEC2"),
+        ("COLOR_0", "VEC3"),
+        ("_ILLUMINANCE", "SCALAR"),
+        ("_LUMINANCE", "SCALAR"),
+    ];
+    let attributes = prim["attributes"].as_object().unwrap();
+    assert_eq!(attributes.len(), types.len());
+    for (name, kind) in types {
+        let acc = &j["accessors"][attributes[name].as_u64().unwrap() as usize];
+        assert_eq!(
+            (acc["type"].as_str(), acc["componentType"].as_u64()),
+            (Some(kind), Some(5126)),
+            "{name}"
+        );
+    }
+    assert!(j["accessors"][attributes["POSITION"].as_u64().unwrap() as usize]["min"].is_array());
+    assert_eq!(
+        j["accessors"][prim["indices"].as_u64().unwrap() as usize]["componentType"],
+        5123
+    );
+    for view in j["bufferViews"].as_array().unwrap() {
+        assert_eq!(view["byteOffset"].as_u64().unwrap() % 4, 0);
+        assert!(view.get("byteStride").is_none());
+    }
+}
+
+#[test]
+fn geometry_returns_to_local_space_with_mirrored_winding() {
+    let (scene, result) = fixture::scene();
+    let dir = scratch("geometry");
+    let path = dir.join("room.glb");
+    export::write(&path, &scene, &result, &ExportOptions::default()).unwrap();
+    let g = gltf_read::read(&path);
+    // Panel (mesh 0, det < 0) and the divider's two sides (mesh 1, det > 0).
+    let cases = [(1, 0, 0, 0), (2, 1, 0, 1), (2, 1, 1, 2)];
+    for (node, mesh, prim, baked) in cases {
+        let m = scene.nodes[node].world_from_local;
+        let mirrored = m.determinant() < 0.0;
+        let b = &result.surfaces[baked];
+        let p = &g.json["meshes"][mesh]["primitives"][prim];
+        let attr = |name: &str| p["attributes"][name].as_u64().unwrap() as usize;
+        let positions = g.floats(attr("POSITION"));
+        let normals = g.floats(attr("NORMAL"));
+        for (i, local) in positions.iter().enumerate() {
+            let world = m.transform_point3(DVec3::new(
+                local[0].into(),
+                local[1].into(),
+                local[2].into(),
+            ));
+            assert!(
+                (world - b.positions[i]).length() < 1e-5,
+                "node {node} vertex {i}"
+            );
+            let n = DVec3::new(
+                normals[i][0].into(),
+                normals[i][1].into(),
+                normals[i][2].into(),
+            );
+            let n_world = m.inverse().transpose().transform_vector3(n).normalize();
+            assert!(
+                (n_world - b.normals[i]).length() < 1e-5,
+                "node {node} normal {i}"
+            );
+        }
+        let indices = g.indices(p["indices"].as_u64().unwrap() as usize);
+        let expected: Vec<u32> = b
+            .triangles
+            .iter()
+            .flat_map(|&[a, c, d]| if mirrored { [a, d, c] } else { [a, c, d] })
+            .collect();
+        assert_eq!(
+            indices, expected,
+            "node {node} winding (mirrored: {mirrored})"
+        );
+        let e: Vec<f32> = g.floats(attr("_ILLUMINANCE")).concat();
+        assert_eq!(e, b.illuminance);
+        assert_eq!(g.floats(attr("_LUMINANCE")).concat(), b.luminance);
+        assert_eq!(
+            g.floats(attr("COLOR_0")),
+            b.color.iter().map(|c| c.to_vec()).collect::<Vec<_>>()
+        );
+    }
+}
+
+#[test]
+fn output_is_byte_identical_on_a_second_write() {
+    let dir = scratch("determinism");
+    for name in ["a.gltf", "a.glb"] {
+        let path = dir.join(name);
+        write(&path, &ExportOptions::default());
+        let first = std::fs::read(&path).unwrap();
+        let first_bin = std::fs::read(dir.join("a.bin")).unwrap();
+        write(&path, &ExportOptions::default());
+        assert_eq!(first, std::fs::read(&path).unwrap(), "{name}");
+        assert_eq!(first_bin, std::fs::read(dir.join("a.bin")).unwrap());
+    }
+    let names: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(names.len(), 3, "temporary files left behind: {names:?}");
+}
+
+#[test]
+fn lit_materials_are_kept_when_unlit_is_off() {
+    let dir = scratch("lit");
+    let path = dir.join("room.gltf");
+    write(&path, &ExportOptions { unlit: false });
+    let j = gltf_read::read(&path).json;
+    let m0 = &j["materials"][0];
+    assert!(m0["extensions"].get("KHR_materials_unlit").is_none());
+    assert_eq!(
+        m0["extensions"]["KHR_materials_emissive_strength"]["emissiveStrength"],
+        2.0
+    );
+    assert_eq!(m0["pbrMetallicRoughness"]["metallicFactor"], 0.2);
+    assert_eq!(m0["emissiveFactor"], json!([0.1, 0.0, 0.0]));
+    assert!(m0["extras"]["luxbake"].get("original").is_none());
+    assert_eq!(
+        j["materials"][1]["extras"]["luxbake"]["original"],
+        json!({"doubleSided": true})
+    );
+    let used: Vec<Value> = j["extensionsUsed"].as_array().unwrap().clone();
+    assert_eq!(
+        used,
+        vec![
+            json!("KHR_lights_punctual"),
+            json!("KHR_materials_emissive_strength"),
+            json!("LUXBAKE_material")
+        ]
+    );
+}
+
+fn assert_output_error(r: luxbake::Result<()>) {
+    match r {
+        Err(Error::Output { .. }) => {}
+        other => panic!("expected an output error, got {other:?}"),
+    }
+}
+
+#[test]
+fn refuses_to_overwrite_an_input_file() {
+    let dir = scratch("refuse");
+    let (mut scene, result) = fixture::scene();
+    let input = dir.join("in.gltf");
+    std::fs::write(&input, b"input").unwrap();
+    scene.source_file = input.clone();
+    let opts = ExportOptions::default();
+    // The same file through another spelling of its path.
+    let sub = dir.join("sub");
+    std::fs::create_dir(&sub).unwrap();
+    assert_output_error(export::write(
+        &sub.join("../in.gltf"),
+        &scene,
+        &result,
+        &opts,
+    ));
+    assert_eq!(std::fs::read(&input).unwrap(), b"input");
+    // The side buffer of `out.gltf` would replace an input buffer: nothing is written.
+    let buffer = dir.join("out.bin");
+    std::fs::write(&buffer, b"buffer").unwrap();
+    scene.input_files = vec![buffer.canonicalize().unwrap()];
+    assert_output_error(export::write(&dir.join("out.gltf"), &scene, &result, &opts));
+    assert_eq!(std::fs::read(&buffer).unwrap(), b"buffer");
+    assert!(!dir.join("out.gltf").exists());
+    assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 3);
+}
+
+#[test]
+fn failed_writes_leave_nothing_behind() {
+    let dir = scratch("atomic");
+    let (scene, result) = fixture::scene();
+    let opts = ExportOptions::default();
+    assert_output_error(export::write(
+        &dir.join("missing/room.glb"),
+        &scene,
+        &result,
+        &opts,
+    ));
+    assert_output_error(export::write(&dir.join("room.obj"), &scene, &result, &opts));
+    // The .gltf cannot replace a directory: its .bin, renamed first, is removed again.
+    std::fs::create_dir(dir.join("room.gltf")).unwrap();
+    assert_output_error(export::write(
+        &dir.join("room.gltf"),
+        &scene,
+        &result,
+        &opts,
+    ));
+    let names: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(names, ["room.gltf"], "left behind: {names:?}");
+}

@@ -1,0 +1,143 @@
+//! External tools run by the tests: the Khronos glTF-Validator (npm `gltf-validator` in
+//! `tests/tools/node_modules`, after `npm ci --prefix tests/tools`) and Blender's glTF importer
+//! (a Python with PyPI `bpy` 5.0.1: `$LUXBAKE_BPY_PYTHON`, else `<repo>/.venv-bpy/bin/python`).
+//!
+//! Call `have_validator()` / `have_blender()` first: when the tool is absent they print
+//! `skipping: ...` to stderr and return false, except under `CI=true`, where they panic with what
+//! to install. `.ci/run` installs both.
+
+use serde_json::Value;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+const SETUP: &str = "run .ci/run or npm ci in tests/tools";
+
+fn repo() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn tools_dir() -> PathBuf {
+    repo().join("tests").join("tools")
+}
+
+/// Absent tool: fail under CI, otherwise say the test is skipped.
+fn missing(what: &str, install: &str) -> bool {
+    if std::env::var("CI").is_ok_and(|v| v == "true") {
+        panic!("{what} is required under CI=true but was not found: {install}");
+    }
+    eprintln!("skipping: {what} not found ({SETUP}; {install})");
+    false
+}
+
+/// The glTF-Validator's report on one file.
+#[derive(Debug, Clone)]
+pub struct Report {
+    pub errors: u64,
+    pub warnings: u64,
+    pub infos: u64,
+    /// `issues.messages`: `{code, message, severity, pointer?}`.
+    pub messages: Vec<Value>,
+    pub json: Value,
+}
+
+impl Report {
+    /// One line per message: `severity code pointer: message`.
+    pub fn listing(&self) -> String {
+        let severity = ["error", "warning", "info", "hint"];
+        self.messages
+            .iter()
+            .map(|m| {
+                let s = m["severity"].as_u64().unwrap_or(0) as usize;
+                format!(
+                    "{} {} {}: {}",
+                    severity.get(s).unwrap_or(&"?"),
+                    m["code"].as_str().unwrap_or("?"),
+                    m["pointer"].as_str().unwrap_or(""),
+                    m["message"].as_str().unwrap_or("")
+                )
+            })
+            .collect::<Vec<_>>()
+            .join("\n")
+    }
+}
+
+/// Whether the validator can run (see the module docs for what happens when it cannot).
+pub fn have_validator() -> bool {
+    let installed = tools_dir()
+        .join("node_modules/gltf-validator/package.json")
+        .is_file();
+    let node = Command::new("node")
+        .arg("--version")
+        .output()
+        .is_ok_and(|o| o.status.success());
+    (installed && node)
+        || missing(
+            "the glTF-Validator",
+            "needs node and `npm ci --prefix tests/tools`",
+        )
+}
+
+/// Validate `path` (`.gltf` with side files, or `.glb`) with the Khronos glTF-Validator.
+pub fn validate(path: &Path) -> Report {
+    let out = Command::new("node")
+        .arg(tools_dir().join("validate.mjs"))
+        .arg(path)
+        .output()
+        .expect("cannot run node");
+    assert!(
+        out.status.success(),
+        "validate.mjs failed on {}: {}",
+        path.display(),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let json: Value = serde_json::from_slice(&out.stdout).expect("validator report is JSON");
+    let issues = &json["issues"];
+    let count = |k: &str| issues[k].as_u64().expect("issue count");
+    Report {
+        errors: count("numErrors"),
+        warnings: count("numWarnings"),
+        infos: count("numInfos"),
+        messages: issues["messages"].as_array().cloned().unwrap_or_default(),
+        json,
+    }
+}
+
+/// The Python that has `bpy`, if present.
+fn bpy_python() -> Option<PathBuf> {
+    let path = match std::env::var_os("LUXBAKE_BPY_PYTHON") {
+        Some(p) => PathBuf::from(p),
+        None => repo().join(".venv-bpy/bin/python"),
+    };
+    path.exists().then_some(path)
+}
+
+/// Whether Blender's importer can run (see the module docs for what happens when it cannot).
+pub fn have_blender() -> bool {
+    bpy_python().is_some()
+        || missing(
+            "a Python with bpy 5.0.1",
+            "set LUXBAKE_BPY_PYTHON or create .venv-bpy with `pip install bpy==5.0.1`",
+        )
+}
+
+/// Import `path` with Blender's glTF importer; the JSON printed by `tests/tools/blender_import.py`.
+pub fn blender_import(path: &Path) -> Value {
+    let python = bpy_python().expect("no Python with bpy; call have_blender() first");
+    let out = Command::new(&python)
+        .arg(tools_dir().join("blender_import.py"))
+        .arg(path)
+        .output()
+        .unwrap_or_else(|e| panic!("cannot run {}: {e}", python.display()));
+    assert!(
+        out.status.success(),
+        "blender_import.py failed on {}:\n{}",
+        path.display(),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).unwrap_or_else(|e| {
+        panic!(
+            "blender_import.py printed no JSON ({e}):\n{}",
+            String::from_utf8_lossy(&out.stdout)
+        )
+    })
+}
