@@ -46,4 +46,7 @@ pub struct BakeResult {
     pub surfaces: Vec<BakedSurface>,
     /// The run summary; written as the output scene's `extras.luxbake` and by `--summary-json`.
     pub summary: serde_json::Value,
+    /// Wall-clock seconds per stage (not part of `summary` unless asked for: they differ run to
+    /// run, and bakes must be byte-identical).
+    pub timings: Vec<(String, f64)>,
 }

@@ -99,7 +99,7 @@ mod tests {
         for i in 0..10_000 {
             let x = i as f64 * 0.001;
             let y = shoulder(x);
-            assert!(y >= last && y < 1.0);
+            assert!(y >= last && y <= 1.0);
             last = y;
         }
         assert!((shoulder(0.8 + 1e-9) - 0.8).abs() < 1e-8);

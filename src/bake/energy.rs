@@ -11,7 +11,7 @@
 
 use super::Solution;
 use crate::direct::punctual;
-use crate::scene::{LightKind, Scene, luma};
+use crate::scene::{Scene, luma};
 use crate::transport::links::ReceiverLinks;
 use glam::DVec3;
 use rayon::prelude::*;
@@ -25,6 +25,8 @@ pub struct Inputs<'a> {
     pub direct_patch: &'a [DVec3],
     /// Flux of punctual lights onto back faces of single-sided patches (lm, RGB).
     pub light_back: DVec3,
+    /// Flux each punctual light sends onto surfaces, front and back (lm).
+    pub light_received: &'a [f64],
     /// Illuminance from inter-reflection averaged over each patch (lx, RGB).
     pub indirect_patch: &'a [DVec3],
     pub rho: &'a [DVec3],
@@ -50,34 +52,15 @@ pub struct EnergyBalance {
 pub fn balance(i: Inputs) -> EnergyBalance {
     let s = i.solution;
     let mesh = &s.mesh;
-    let occ = &s.occluder;
     let mut lights = 0.0;
     let mut lights_escaped = 0.0;
-    for light in &i.scene.lights {
-        match light.kind {
-            LightKind::Directional => {
-                // A directional light emits what the scene intercepts.
-                lights += mesh
-                    .patches
-                    .par_iter()
-                    .map(|p| {
-                        let (f, b) = punctual::patch_flux(
-                            light,
-                            occ,
-                            &p.corners(&mesh.receivers),
-                            p.normal,
-                            p.area,
-                            0.0,
-                        );
-                        f + b
-                    })
-                    .collect::<Vec<_>>()
-                    .iter()
-                    .sum::<f64>();
-            }
-            _ => {
-                lights += punctual::emitted_flux(light).unwrap_or(0.0);
-                lights_escaped += light_escape(i.scene, s, light);
+    for (light, received) in i.scene.lights.iter().zip(i.light_received) {
+        match punctual::emitted_flux(light) {
+            // A directional light emits what the scene intercepts.
+            None => lights += received,
+            Some(flux) => {
+                lights += flux;
+                lights_escaped += light_escape(s, light);
             }
         }
     }
@@ -131,8 +114,7 @@ pub fn balance(i: Inputs) -> EnergyBalance {
 /// Flux of a point or spot light that leaves the scene: a 64 × 128 grid of equal solid-angle
 /// cells (uniform in cos θ and φ about the light's axis), each weighted by the intensity at its
 /// centre.
-fn light_escape(scene: &Scene, s: &Solution, light: &crate::scene::Light) -> f64 {
-    let _ = scene;
+fn light_escape(s: &Solution, light: &crate::scene::Light) -> f64 {
     let (nu, nv) = (64usize, 128usize);
     let cell = 4.0 * PI / (nu * nv) as f64;
     let (t, b) = light.direction.any_orthonormal_pair();

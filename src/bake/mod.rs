@@ -112,7 +112,7 @@ pub fn bake(scene: &Scene, settings: &Settings, progress: &dyn Progress) -> Resu
         params.tau_direct,
         progress,
     );
-    let (light_flux, light_back) = light_patch_flux(scene, &mesh, &occluder, params.tau);
+    let lights = light_patch_flux(scene, &mesh, &occluder);
     lap("direct", &mut timings);
 
     progress.stage("form factors", mesh.receivers.len() as u64);
@@ -138,7 +138,7 @@ pub fn bake(scene: &Scene, settings: &Settings, progress: &dyn Progress) -> Resu
     // through the balanced operator (so a closed room receives exactly what they emit).
     let from_emitters = operator.apply(&exitance);
     let direct_patch: Vec<DVec3> = (0..mesh.patches.len())
-        .map(|i| light_flux[i] / areas[i] + from_emitters[i])
+        .map(|i| lights.per_patch[i] / areas[i] + from_emitters[i])
         .collect();
     let b: Vec<DVec3> = (0..mesh.patches.len())
         .map(|i| rho[i] * direct_patch[i])
@@ -170,7 +170,8 @@ pub fn bake(scene: &Scene, settings: &Settings, progress: &dyn Progress) -> Resu
         solution: &solution,
         links: &links,
         direct_patch: &direct_patch,
-        light_back,
+        light_back: lights.back,
+        light_received: &lights.per_light,
         indirect_patch: &indirect_patch,
         rho: &rho,
     });
@@ -199,12 +200,7 @@ pub fn bake(scene: &Scene, settings: &Settings, progress: &dyn Progress) -> Resu
         "units": {"illuminance": "lx", "luminance": "cd/m2", "flux": "lm", "length": "m", "up": "+Y"},
     });
     if settings.record_timings {
-        summary["timingsSeconds"] = serde_json::Value::Object(
-            timings
-                .into_iter()
-                .map(|(k, v)| (k, serde_json::json!(v)))
-                .collect(),
-        );
+        summary["timingsSeconds"] = timings_json(&timings);
     }
     if !stats.converged {
         progress.warn(&format!(
@@ -212,33 +208,68 @@ pub fn bake(scene: &Scene, settings: &Settings, progress: &dyn Progress) -> Resu
             stats.iterations, stats.relative_residual, params.tolerance
         ));
     }
-    Ok(BakeResult { surfaces, summary })
+    Ok(BakeResult {
+        surfaces,
+        summary,
+        timings,
+    })
 }
 
-/// Flux from every punctual light into each patch (front) and onto back faces (total).
-fn light_patch_flux(
-    scene: &Scene,
-    mesh: &PatchMesh,
-    occ: &Occluder,
-    tau: f64,
-) -> (Vec<DVec3>, DVec3) {
-    let per: Vec<(DVec3, DVec3)> = mesh
+/// Stage timings as a JSON object.
+pub fn timings_json(timings: &[(String, f64)]) -> serde_json::Value {
+    serde_json::Value::Object(
+        timings
+            .iter()
+            .map(|(k, v)| (k.clone(), serde_json::json!(v)))
+            .collect(),
+    )
+}
+
+/// Direct flux of the punctual lights: into each patch's front (RGB), onto back faces (RGB), and
+/// per light (lm, photometric, front and back).
+struct LightFlux {
+    per_patch: Vec<DVec3>,
+    back: DVec3,
+    per_light: Vec<f64>,
+}
+
+fn light_patch_flux(scene: &Scene, mesh: &PatchMesh, occ: &Occluder) -> LightFlux {
+    let budgets: Vec<f64> = scene
+        .lights
+        .iter()
+        .map(|l| punctual::refinement_budget(l, occ.diagonal))
+        .collect();
+    let per: Vec<Vec<(f64, f64)>> = mesh
         .patches
         .par_iter()
         .map(|p| {
             let corners = p.corners(&mesh.receivers);
-            let mut front = DVec3::ZERO;
-            let mut back = DVec3::ZERO;
-            for light in &scene.lights {
-                let (f, b) = punctual::patch_flux(light, occ, &corners, p.normal, p.area, tau);
-                front += light.color * f;
-                back += light.color * b;
-            }
-            (front, back)
+            scene
+                .lights
+                .iter()
+                .zip(&budgets)
+                .map(|(light, budget)| {
+                    punctual::patch_flux(light, occ, &corners, p.normal, *budget)
+                })
+                .collect()
         })
         .collect();
-    let back = per.iter().map(|x| x.1).sum();
-    (per.into_iter().map(|x| x.0).collect(), back)
+    let mut out = LightFlux {
+        per_patch: Vec::with_capacity(per.len()),
+        back: DVec3::ZERO,
+        per_light: vec![0.0; scene.lights.len()],
+    };
+    for row in per {
+        let mut front = DVec3::ZERO;
+        for (k, (f, b)) in row.into_iter().enumerate() {
+            let color = scene.lights[k].color;
+            front += color * f;
+            out.back += color * b;
+            out.per_light[k] += f + b;
+        }
+        out.per_patch.push(front);
+    }
+    out
 }
 
 /// Shape the solution for the exporter: one baked surface per patch group.

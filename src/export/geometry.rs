@@ -46,6 +46,7 @@ pub struct LocalPrimitive {
     pub triangles: Vec<[u32; 3]>,
     pub color: Vec<[f32; 3]>,
     pub illuminance: Vec<f32>,
+    pub illuminance_direct: Vec<f32>,
     pub luminance: Vec<f32>,
 }
 
@@ -62,6 +63,7 @@ pub fn to_local(baked: &BakedSurface, frame: &LocalFrame, what: &str) -> Result<
     };
     check_len("normals", baked.normals.len())?;
     check_len("illuminance", baked.illuminance.len())?;
+    check_len("direct illuminance", baked.illuminance_direct.len())?;
     check_len("luminance", baked.luminance.len())?;
     check_len("color", baked.color.len())?;
     for uv in [&baked.uv0, &baked.uv1].into_iter().flatten() {
@@ -113,6 +115,7 @@ pub fn to_local(baked: &BakedSurface, frame: &LocalFrame, what: &str) -> Result<
         triangles,
         color: baked.color.iter().map(|c| c.map(unit)).collect(),
         illuminance: finite("illuminance", &baked.illuminance)?,
+        illuminance_direct: finite("direct illuminance", &baked.illuminance_direct)?,
         luminance: finite("luminance", &baked.luminance)?,
     })
 }
@@ -154,6 +157,7 @@ mod tests {
             uv1: None,
             triangles: vec![[0, 1, 2]],
             illuminance: vec![1.0; 3],
+            illuminance_direct: vec![0.5; 3],
             luminance: vec![0.5; 3],
             color: vec![[0.2, 0.4, 0.6]; 3],
         }

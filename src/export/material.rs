@@ -4,7 +4,8 @@
 //! side, and the [`ExportOptions`]. Output: the `materials`, `textures`, `images` and `samplers`
 //! JSON arrays (images embedded in the [`Binary`] with their mimeType, whatever the input did).
 //! Invariants: every scene material is written, in order, with its name and extras; the input's
-//! `LUXBAKE_material` object is kept under `extensions`. With `unlit` (default) a material gets
+//! `LUXBAKE_material` object is kept under `extensions` (with unlit, under
+//! `extras.luxbake.original`, because the validator warns about any extension beside unlit). With `unlit` (default) a material gets
 //! `KHR_materials_unlit`, the spec's fallback metallic 0 / roughness 1, emissive zeroed and
 //! `KHR_materials_emissive_strength` dropped (it is forbidden with unlit); a material baked with a
 //! back side is written single-sided (each face has its own primitive). Every changed value is
@@ -89,7 +90,10 @@ fn material(m: &Material, back_baked: bool, options: &ExportOptions) -> Value {
     if options.unlit {
         extensions.insert(UNLIT.into(), json!({}));
     }
-    if let Some(ext) = &d.luxbake_extension {
+    // The validator warns when KHR_materials_unlit shares a material with any other extension,
+    // so with unlit the LUXBAKE_material object moves to extras.luxbake.original (where the
+    // importer finds it again when the output is baked anew).
+    if let Some(ext) = d.luxbake_extension.as_ref().filter(|_| !options.unlit) {
         extensions.insert(LUXBAKE_MATERIAL.into(), ext.clone());
     }
     if !extensions.is_empty() {
@@ -107,6 +111,9 @@ fn material(m: &Material, back_baked: bool, options: &ExportOptions) -> Value {
         original.insert("emissiveFactor".into(), json!(d.emissive_factor));
         if let Some(s) = d.emissive_strength {
             original.insert("emissiveStrength".into(), json!(s));
+        }
+        if let Some(ext) = &d.luxbake_extension {
+            original.insert(LUXBAKE_MATERIAL.into(), ext.clone());
         }
     }
     if options.unlit || double_sided != m.double_sided {

@@ -7,8 +7,9 @@
 //! surface giving its `Side::Front` primitive and then, if baked, its `Side::Back` one; every
 //! surface of a node must have a front result (else [`Error::Bake`]); baked sides without
 //! triangles are left out, and a node left with no primitive gets no mesh. Attributes: POSITION
-//! (with min/max), NORMAL, TEXCOORD_0/1 when present, COLOR_0 (float VEC3), `_ILLUMINANCE` (lx)
-//! and `_LUMINANCE` (cd/m²), float SCALAR; indices u16 or u32; mode TRIANGLES.
+//! (with min/max), NORMAL, TEXCOORD_0/1 when present, COLOR_0 (float VEC3), `_ILLUMINANCE` (lx),
+//! `_ILLUMINANCE_DIRECT` (lx) and `_LUMINANCE` (cd/m²), float SCALAR; indices u16 or u32; mode
+//! TRIANGLES.
 
 use super::buffer::Binary;
 use super::geometry::{LocalFrame, LocalPrimitive, to_local};
@@ -123,6 +124,10 @@ fn primitive(p: &LocalPrimitive, material: usize, binary: &mut Binary) -> Value 
     }
     attributes.insert("COLOR_0".into(), json!(binary.vec3(&p.color, false)));
     attributes.insert("_ILLUMINANCE".into(), json!(binary.scalar(&p.illuminance)));
+    attributes.insert(
+        "_ILLUMINANCE_DIRECT".into(),
+        json!(binary.scalar(&p.illuminance_direct)),
+    );
     attributes.insert("_LUMINANCE".into(), json!(binary.scalar(&p.luminance)));
     let indices = binary.indices(&p.triangles, p.positions.len());
     json!({

@@ -37,6 +37,13 @@ impl Default for ExportOptions {
     }
 }
 
+/// Check, before any work, that `path` is a writable output for `scene`: a `.gltf` or `.glb`
+/// name in an existing folder that would not replace any file the import read.
+pub fn check(path: &Path, scene: &Scene) -> Result<()> {
+    let target = Target::for_path(path)?;
+    target.check_not_input(scene, true)
+}
+
 /// Write `scene` with the baked `result` to `path` (`.gltf` or `.glb`, by extension), atomically.
 pub fn write(
     path: &Path,

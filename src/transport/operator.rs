@@ -35,7 +35,7 @@ pub struct PatchOperator<'a> {
 #[serde(rename_all = "camelCase")]
 pub struct BalanceStats {
     pub iterations: usize,
-    /// Largest |row sum − 1| and |column sum − 1| over closed patches before balancing.
+    /// Largest |row sum − target| and |column sum − target| over closed patches before balancing.
     pub row_error_before: f64,
     pub column_error_before: f64,
     /// The same after.
@@ -153,21 +153,32 @@ impl<'a> PatchOperator<'a> {
         z
     }
 
-    /// Scale rows and columns of the closed patches so both sum to one (area-weighted columns).
+    /// Scale rows and columns of the closed patches to their targets: one minus the part of the
+    /// patch's hemisphere covered by back faces (which absorb). By reciprocity the same fraction
+    /// of what a patch sends lands on front faces. Patches with (almost) nothing but back faces in
+    /// view — inside solid objects — are left alone.
     pub fn balance(&mut self, max_iterations: usize, tolerance: f64) -> BalanceStats {
         let mesh = self.mesh;
+        let mean = |p: &crate::patches::Patch, f: &dyn Fn(usize) -> f64| {
+            p.v.iter().map(|&v| f(v as usize)).sum::<f64>() / 3.0
+        };
+        let target: Vec<f64> = mesh
+            .patches
+            .iter()
+            .map(|p| 1.0 - mean(p, &|r| self.links.back[r] as f64))
+            .collect();
         let closed: Vec<bool> = mesh
             .patches
             .iter()
-            .map(|p| p.v.iter().all(|&v| self.links.closed[v as usize]))
+            .zip(&target)
+            .map(|(p, t)| *t > 0.05 && p.v.iter().all(|&v| self.links.closed[v as usize]))
             .collect();
         let areas: Vec<f64> = mesh.patches.iter().map(|p| p.area).collect();
         let ones = vec![1.0; mesh.patches.len()];
         let error = |sums: &[f64]| -> f64 {
-            sums.iter()
-                .zip(&closed)
-                .filter(|(_, c)| **c)
-                .map(|(s, _)| (s - 1.0).abs())
+            (0..sums.len())
+                .filter(|&i| closed[i])
+                .map(|i| (sums[i] - target[i]).abs())
                 .fold(0.0, f64::max)
         };
         let column_sums = |op: &Self| -> Vec<f64> {
@@ -196,13 +207,13 @@ impl<'a> PatchOperator<'a> {
             stats.iterations += 1;
             for j in 0..cols.len() {
                 if closed[j] && cols[j] > 0.0 {
-                    self.col[j] /= cols[j];
+                    self.col[j] *= target[j] / cols[j];
                 }
             }
             let rows = self.apply_scalar(&ones);
             for i in 0..rows.len() {
                 if closed[i] && rows[i] > 0.0 {
-                    self.row[i] /= rows[i];
+                    self.row[i] *= target[i] / rows[i];
                 }
             }
         }

@@ -105,6 +105,7 @@ fn baked(index: usize, s: &Surface, side: Side, e0: f32, rho: f32) -> BakedSurfa
             .iter()
             .map(|e| rho * e / std::f32::consts::PI)
             .collect(),
+        illuminance_direct: illuminance.iter().map(|e| e * 0.5).collect(),
         illuminance,
         color: vec![
             [0.1, 0.2, 0.3],
@@ -216,6 +217,7 @@ pub fn scene() -> (Scene, BakeResult) {
             baked(1, &surfaces[1], Side::Back, 20.0, 0.5),
         ],
         summary: json!({"patches": 12, "iterations": 3, "meanIlluminance": 250.5}),
+        timings: Vec::new(),
     };
     let scene = Scene {
         source_file: "fixture.gltf".into(),

@@ -43,7 +43,14 @@ fn material(
 ) -> Result<Material> {
     let index = m.index().unwrap_or_default();
     let at = format!("/materials/{index}");
-    let ext_at = format!("{at}/extensions/{LUXBAKE_MATERIAL}");
+    // A luxbake output keeps the extension in extras when its materials were made unlit.
+    let ext_at = [
+        format!("{at}/extensions/{LUXBAKE_MATERIAL}"),
+        format!("{at}/extras/luxbake/original/{LUXBAKE_MATERIAL}"),
+    ]
+    .into_iter()
+    .find(|p| raw::cloned(raw, p).is_some())
+    .unwrap_or_else(|| format!("{at}/extensions/{LUXBAKE_MATERIAL}"));
     let extension = raw::cloned(raw, &ext_at);
     let ext = match &extension {
         Some(v) => Some(luxbake_ext::parse(v).map_err(|msg| ctx.err(&ext_at, msg))?),
