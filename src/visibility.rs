@@ -4,8 +4,9 @@
 //! Input: every surface triangle of the scene (world space, m). Output: an [`Occluder`] answering
 //! "is the segment between two surface points clear?" and "does a ray escape the scene?".
 //!
-//! Robustness: the BVH works in f32 on coordinates re-centred on the scene's bounding box, so a
-//! room far from the origin keeps its precision. Segment ends are pulled off their surfaces by
+//! Robustness: the BVH works in f32 on coordinates re-centred on the scene's bounding box and
+//! scaled to a fixed size, so a room far from the origin keeps its precision and the traversal's
+//! built-in absolute epsilon means the same in every unit. Segment ends are pulled off their surfaces by
 //! ε = 10⁻⁵ × the scene's diagonal (along the normals, towards each other), so a scene in
 //! millimetres and one in kilometres behave alike. Single-sided triangles block light from both
 //! sides. Answers do not depend on the BVH's layout, so they are deterministic.
@@ -17,16 +18,23 @@
 use crate::scene::Scene;
 use glam::{DVec3, Vec3A};
 use obvhs::{
-    BvhBuildParams, cwbvh::CwBvh, cwbvh::builder::build_cwbvh_from_tris, ray::Ray,
+    Boundable, BvhBuildParams, aabb::Aabb, cwbvh::CwBvh, cwbvh::builder::build_cwbvh, ray::Ray,
     triangle::Triangle,
 };
 use std::time::Duration;
+
+/// The BVH works on the scene mapped to this diagonal. obvhs's wide-BVH traversal skips boxes
+/// nearer than a fixed 10⁻⁴ along the ray; at this scale that is 10⁻⁸ of the scene, below f32
+/// resolution, so short shadow rays near corners are not lost, whatever the scene's units.
+const BVH_DIAGONAL: f64 = 1e4;
 
 pub struct Occluder {
     bvh: Option<CwBvh>,
     /// Triangles in BVH primitive order, re-centred on `center`.
     triangles: Vec<Triangle>,
     center: DVec3,
+    /// World metres → BVH units (the scene is mapped to a diagonal of [`BVH_DIAGONAL`]).
+    scale: f64,
     /// Offset that pulls segment ends off their surfaces (m).
     pub epsilon: f64,
     /// True when no segment between surface points can be blocked (convex empty enclosure or a
@@ -60,13 +68,14 @@ impl Occluder {
         }
         let center = (lo + hi) * 0.5;
         let diagonal = (hi - lo).length();
+        let scale = BVH_DIAGONAL / diagonal.max(1e-300);
         let mut tris = Vec::new();
         for s in &scene.surfaces {
             for t in &s.triangles {
                 let [a, b, c] = t.map(|v| s.positions[v as usize]);
                 if (b - a).cross(c - a).length_squared() > 0.0 {
                     let f = |p: DVec3| {
-                        let q = p - center;
+                        let q = (p - center) * scale;
                         Vec3A::new(q.x as f32, q.y as f32, q.z as f32)
                     };
                     tris.push(Triangle {
@@ -78,9 +87,13 @@ impl Occluder {
             }
         }
         let convex_empty = !options.always_trace && is_convex_empty(scene);
+        // Boxes padded by a millionth of the scene: a flat box (a wall) seen by a ray that starts
+        // a hair away from it otherwise slips through the slab test in f32 and the ray leaks.
+        let pad = (1e-6 * BVH_DIAGONAL) as f32;
+        let padded: Vec<Padded> = tris.iter().map(|t| Padded { tri: *t, pad }).collect();
         let bvh = (!tris.is_empty()).then(|| {
-            build_cwbvh_from_tris(
-                &tris,
+            build_cwbvh(
+                &padded,
                 BvhBuildParams::medium_build(),
                 &mut Duration::default(),
             )
@@ -97,6 +110,7 @@ impl Occluder {
             bvh,
             triangles,
             center,
+            scale,
             epsilon: 1e-5 * diagonal.max(1e-9),
             convex_empty,
             diagonal,
@@ -147,18 +161,34 @@ impl Occluder {
     fn miss(&self, origin: DVec3, dir: DVec3, tmax: f64) -> bool {
         let Some(bvh) = &self.bvh else { return true };
         self.rays.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-        let o = origin - self.center;
+        let o = (origin - self.center) * self.scale;
         let ray = Ray::new(
             Vec3A::new(o.x as f32, o.y as f32, o.z as f32),
             Vec3A::new(dir.x as f32, dir.y as f32, dir.z as f32),
             0.0,
             if tmax.is_finite() {
-                tmax as f32
+                (tmax * self.scale) as f32
             } else {
                 f32::INFINITY
             },
         );
         bvh.ray_traverse_miss(ray, |r, id| intersect(&self.triangles[id], r))
+    }
+}
+
+/// A triangle whose bounding box is grown by `pad` on every side.
+struct Padded {
+    tri: Triangle,
+    pad: f32,
+}
+
+impl Boundable for Padded {
+    fn aabb(&self) -> Aabb {
+        let b = self.tri.aabb();
+        Aabb::new(
+            b.min - Vec3A::splat(self.pad),
+            b.max + Vec3A::splat(self.pad),
+        )
     }
 }
 

@@ -43,6 +43,9 @@ pub struct EnergyBalance {
     pub reflected_lm: f64,
     pub absorbed_lm: f64,
     pub escaped_lm: f64,
+    /// Of which: straight from punctual lights, and from surfaces (emitted or reflected).
+    pub escaped_from_lights_lm: f64,
+    pub escaped_from_surfaces_lm: f64,
     /// emitted − absorbed − escaped.
     pub balance_error_lm: f64,
     /// |balance error| / emitted.
@@ -102,6 +105,8 @@ pub fn balance(i: Inputs) -> EnergyBalance {
         reflected_lm: reflected,
         absorbed_lm: absorbed,
         escaped_lm: escaped,
+        escaped_from_lights_lm: lights_escaped,
+        escaped_from_surfaces_lm: surfaces_escaped,
         balance_error_lm: error,
         balance_error_relative: if emitted > 0.0 {
             error.abs() / emitted

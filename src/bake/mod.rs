@@ -133,7 +133,7 @@ pub fn bake(scene: &Scene, settings: &Settings, progress: &dyn Progress) -> Resu
         .collect();
     let areas: Vec<f64> = mesh.patches.iter().map(|p| p.area).collect();
     let mut operator = PatchOperator::new(&mesh, &tree, &links);
-    let balance_stats = operator.balance(50, 1e-6);
+    let balance_stats = operator.balance(40, 1e-6);
     // Direct irradiance of each patch: punctual lights exactly (solid angle), emitting surfaces
     // through the balanced operator (so a closed room receives exactly what they emit).
     let from_emitters = operator.apply(&exitance);

@@ -280,13 +280,18 @@ mod tests {
     fn spot_flux_into_a_floor_of_patches_matches_emitted_flux() {
         // A floor of 0.25 m patches under the spot catches the whole cone.
         let light = spot(0.3, 0.6);
-        let occ = crate::visibility::Occluder::build(&crate::scene::Scene::default(), Default::default());
+        let occ =
+            crate::visibility::Occluder::build(&crate::scene::Scene::default(), Default::default());
         let mut total = 0.0;
         let h = 0.25;
         for i in 0..40 {
             for j in 0..40 {
-                let p = |a: usize, b: usize| DVec3::new(-5.0 + h * a as f64, -2.0, -5.0 + h * b as f64);
-                for t in [[p(i, j), p(i, j + 1), p(i + 1, j + 1)], [p(i, j), p(i + 1, j + 1), p(i + 1, j)]] {
+                let p =
+                    |a: usize, b: usize| DVec3::new(-5.0 + h * a as f64, -2.0, -5.0 + h * b as f64);
+                for t in [
+                    [p(i, j), p(i, j + 1), p(i + 1, j + 1)],
+                    [p(i, j), p(i + 1, j + 1), p(i + 1, j)],
+                ] {
                     total += patch_flux(&light, &occ, &t, DVec3::Y, 1e-9).0;
                 }
             }

@@ -7,9 +7,11 @@
 //! coverage is exactly 1; the far-field expansion and sampled visibility leave it off by a little,
 //! and at reflectance 0.99 a per-bounce loss of 0.1 % costs 10 % of the answer. Rows of closed
 //! receivers are therefore normalised to coverage 1 (energy conservation per bounce). A receiver is
-//! closed when its coverage is ≥ 0.999, or when it is ≥ 0.9 and none of 64 stratified
-//! cosine-weighted escape rays leaves the scene. Open receivers keep their rows as computed; their
-//! deficit 1 − coverage is the escaping fraction used by the energy report.
+//! closed when its coverage is ≥ 0.999, or when none of 64 stratified cosine-weighted escape rays
+//! leaves the scene (a lower coverage then comes from sampled visibility, e.g. where objects
+//! touch). A receiver that sees (almost) nothing (coverage ≤ 0.05: pressed against another face)
+//! is left alone. Open receivers keep their rows as computed; their deficit 1 − coverage is the
+//! escaping fraction used by the energy report.
 
 use super::gather::{Gatherer, Link};
 use super::tree::NodeField;
@@ -40,7 +42,7 @@ impl ReceiverLinks {
                 chunk.iter().map(|r| {
                     let mut links = Vec::new();
                     let c = gatherer.links(r.point, r.normal, &mut links);
-                    let closed = c.total >= 0.999 || (c.total >= 0.9 && enclosed(gatherer, r));
+                    let closed = c.total >= 0.999 || (c.total > 0.05 && enclosed(gatherer, r));
                     let mut back = c.back;
                     if closed && c.total > 0.0 {
                         let scale = 1.0 / c.total;
