@@ -71,6 +71,21 @@ impl SceneBuilder {
         );
     }
 
+    /// A horizontal square of half-size `half` at height `y`, centred on the Y axis, facing up (+Y).
+    pub fn floor(&mut self, name: &str, half: f64, y: f64, material: usize) {
+        let c = |x: f64, z: f64| DVec3::new(x, y, z);
+        self.quad(
+            name,
+            [
+                c(-half, -half),
+                c(-half, half),
+                c(half, half),
+                c(half, -half),
+            ],
+            material,
+        );
+    }
+
     /// A triangle mesh as its own node (identity transform).
     pub fn surface(
         &mut self,

@@ -139,16 +139,7 @@ fn lambertian_panel_over_floor_matches_lamberts_formula() {
     let mut b = SceneBuilder::new();
     let floor = b.material("floor", 0.5);
     let lamp = b.emitter("panel", 0.0, 1000.0);
-    b.quad(
-        "floor",
-        [
-            DVec3::new(-3.0, 0.0, -3.0),
-            DVec3::new(-3.0, 0.0, 3.0),
-            DVec3::new(3.0, 0.0, 3.0),
-            DVec3::new(3.0, 0.0, -3.0),
-        ],
-        floor,
-    );
+    b.floor("floor", 3.0, 0.0, floor);
     // 1 × 0.5 m panel, 2 m up, facing down.
     b.quad(
         "panel",
@@ -175,16 +166,7 @@ fn lambertian_panel_over_floor_matches_lamberts_formula() {
 fn point_light_over_floor_follows_inverse_square_cosine_law() {
     let mut b = SceneBuilder::new();
     let floor = b.material("floor", 0.4);
-    b.quad(
-        "floor",
-        [
-            DVec3::new(-4.0, 0.0, -4.0),
-            DVec3::new(-4.0, 0.0, 4.0),
-            DVec3::new(4.0, 0.0, 4.0),
-            DVec3::new(4.0, 0.0, -4.0),
-        ],
-        floor,
-    );
+    b.floor("floor", 4.0, 0.0, floor);
     let light = DVec3::new(0.3, 2.5, -0.2);
     b.point_light("bulb", light, 1000.0);
     let r = run(&b.build(), &Settings::default());
@@ -210,16 +192,7 @@ fn opaque_box_casts_a_black_umbra() {
     let mut b = SceneBuilder::new();
     let floor = b.material("floor", 0.5);
     let black = b.material("blocker", 0.0);
-    b.quad(
-        "floor",
-        [
-            DVec3::new(-4.0, 0.0, -4.0),
-            DVec3::new(-4.0, 0.0, 4.0),
-            DVec3::new(4.0, 0.0, 4.0),
-            DVec3::new(4.0, 0.0, -4.0),
-        ],
-        floor,
-    );
+    b.floor("floor", 4.0, 0.0, floor);
     // A 1 m cube from y = 1 to 2 under a light at y = 3: umbra on the floor is |x|,|z| < 0.5·(3/1)… clipped.
     b.axis_box(
         "blocker",

@@ -188,45 +188,7 @@ mod tests {
         // Six faces of a cube around an interior point: the hemisphere is covered exactly once.
         let p = DVec3::new(0.2, -0.3, 0.1);
         let n = DVec3::new(0.3, 0.8, -0.2).normalize();
-        let c = |x: f64, y: f64, z: f64| DVec3::new(x, y, z);
-        let faces = [
-            [
-                c(-1., -1., -1.),
-                c(1., -1., -1.),
-                c(1., 1., -1.),
-                c(-1., 1., -1.),
-            ],
-            [
-                c(-1., -1., 1.),
-                c(1., -1., 1.),
-                c(1., 1., 1.),
-                c(-1., 1., 1.),
-            ],
-            [
-                c(-1., -1., -1.),
-                c(-1., 1., -1.),
-                c(-1., 1., 1.),
-                c(-1., -1., 1.),
-            ],
-            [
-                c(1., -1., -1.),
-                c(1., 1., -1.),
-                c(1., 1., 1.),
-                c(1., -1., 1.),
-            ],
-            [
-                c(-1., -1., -1.),
-                c(1., -1., -1.),
-                c(1., -1., 1.),
-                c(-1., -1., 1.),
-            ],
-            [
-                c(-1., 1., -1.),
-                c(1., 1., -1.),
-                c(1., 1., 1.),
-                c(-1., 1., 1.),
-            ],
-        ];
+        let faces = crate::fixtures::box_faces(DVec3::splat(-1.0), DVec3::splat(1.0));
         let sum: f64 = faces.iter().map(|f| form_factor(p, n, f)).sum();
         assert!((sum - 1.0).abs() < 1e-12, "{sum}");
     }
@@ -263,45 +225,7 @@ mod tests {
     #[test]
     fn solid_angles_of_cube_faces_sum_to_4pi() {
         let p = DVec3::new(0.3, 0.1, -0.4);
-        let c = |x: f64, y: f64, z: f64| DVec3::new(x, y, z);
-        let quads = [
-            [
-                c(-1., -1., -1.),
-                c(1., -1., -1.),
-                c(1., 1., -1.),
-                c(-1., 1., -1.),
-            ],
-            [
-                c(-1., -1., 1.),
-                c(1., -1., 1.),
-                c(1., 1., 1.),
-                c(-1., 1., 1.),
-            ],
-            [
-                c(-1., -1., -1.),
-                c(-1., 1., -1.),
-                c(-1., 1., 1.),
-                c(-1., -1., 1.),
-            ],
-            [
-                c(1., -1., -1.),
-                c(1., 1., -1.),
-                c(1., 1., 1.),
-                c(1., -1., 1.),
-            ],
-            [
-                c(-1., -1., -1.),
-                c(1., -1., -1.),
-                c(1., -1., 1.),
-                c(-1., -1., 1.),
-            ],
-            [
-                c(-1., 1., -1.),
-                c(1., 1., -1.),
-                c(1., 1., 1.),
-                c(-1., 1., 1.),
-            ],
-        ];
+        let quads = crate::fixtures::box_faces(DVec3::splat(-1.0), DVec3::splat(1.0));
         let sum: f64 = quads
             .iter()
             .map(|q| {
