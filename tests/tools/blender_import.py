@@ -10,7 +10,8 @@ receives one JSON object (Blender's own log lines are sent to stderr):
    "objects": [{"name", "type", "parent"}],         # every object, sorted by name
    "meshes": [{"name", "mesh", "vertex_count", "corner_count", "properties",
                "attributes": [{"name", "domain", "data_type"}],
-               "values": {ATTRIBUTE: {...}}}]}      # for _ILLUMINANCE, _LUMINANCE and Color
+               "values": {ATTRIBUTE: {...}}}]}      # for _ILLUMINANCE, _ILLUMINANCE_DIRECT,
+                                                    # _LUMINANCE and Color
 Scalar attributes give {"domain", "count", "min", "max", "mean", "first": [...]}. The colour
 attribute (8-bit, corner domain) additionally gives per-vertex values: "vertex_linear" and
 "vertex_srgb" (Blender stores byte colours sRGB-encoded; "linear" is Blender's decoding of them).
@@ -79,7 +80,7 @@ def describe_mesh(obj, limit):
         for a in mesh.attributes
     ]
     values = {}
-    for name in ("_ILLUMINANCE", "_LUMINANCE"):
+    for name in ("_ILLUMINANCE", "_ILLUMINANCE_DIRECT", "_LUMINANCE"):
         attr = mesh.attributes.get(name)
         if attr is not None:
             values[name] = scalar_values(attr, limit)
