@@ -28,16 +28,16 @@ struct Args {
     #[arg(long, value_enum, default_value_t = QualityArg::Default)]
     quality: QualityArg,
     /// Patch edge length in metres (overrides the size derived from --quality).
-    #[arg(long, value_name = "METRES")]
+    #[arg(long, value_name = "METRES", allow_negative_numbers = true)]
     patch_size: Option<f64>,
     /// Far-field acceptance ratio, radius/distance (overrides the one of --quality).
-    #[arg(long, value_name = "RATIO", hide = true)]
+    #[arg(long, value_name = "RATIO", hide = true, allow_negative_numbers = true)]
     far_field: Option<f64>,
     /// Worker threads (default: all cores). The output does not depend on it.
     #[arg(long)]
     threads: Option<usize>,
     /// Display exposure: 'auto' or the illuminance in lx shown as white in COLOR_0.
-    #[arg(long, default_value = "auto")]
+    #[arg(long, default_value = "auto", allow_hyphen_values = true)]
     exposure: String,
     /// Keep the input materials instead of switching them to KHR_materials_unlit.
     #[arg(long)]
@@ -70,7 +70,20 @@ enum UpArg {
 }
 
 fn main() {
-    let args = Args::parse();
+    let args = match Args::try_parse() {
+        Ok(args) => args,
+        Err(e) if e.use_stderr() => {
+            // One line, like every other error: clap's first line, and where to look.
+            let text = e.render().to_string();
+            let first = text
+                .lines()
+                .find(|l| !l.trim().is_empty())
+                .unwrap_or("error: invalid arguments");
+            eprintln!("{} (see bake --help)", first.trim_end());
+            std::process::exit(2);
+        }
+        Err(e) => e.exit(), // --help, --version
+    };
     if let Err(e) = run(&args) {
         eprintln!("error: {e:#}");
         std::process::exit(1);
@@ -119,10 +132,8 @@ fn run(args: &Args) -> Result<()> {
             obj_up: settings.obj_up,
         },
     )?;
-    export::check(&args.output, &scene)?;
-    if let Some(summary) = &args.summary_json {
-        check_summary_path(summary, &args.input, &args.output)?;
-    }
+    let extra: Vec<&Path> = args.summary_json.iter().map(|p| p.as_path()).collect();
+    export::check(&args.output, &scene, &extra)?;
     for w in &scene.warnings {
         progress.warn(w);
     }
@@ -153,20 +164,6 @@ fn run(args: &Args) -> Result<()> {
     }
     if !args.quiet {
         report(&result.summary, &args.output, total);
-    }
-    Ok(())
-}
-
-fn check_summary_path(summary: &Path, input: &Path, output: &Path) -> Result<()> {
-    let same = |a: &Path, b: &Path| match (a.canonicalize(), b.canonicalize()) {
-        (Ok(a), Ok(b)) => a == b,
-        _ => a == b,
-    };
-    if same(summary, input) || same(summary, output) {
-        anyhow::bail!(
-            "{}: --summary-json would overwrite the input or the output",
-            summary.display()
-        );
     }
     Ok(())
 }

@@ -183,7 +183,7 @@ fn summary_json_over_the_output_is_refused() {
 }
 
 #[test]
-#[ignore = "bug: `--summary-json OUT.bin` replaces the .bin of `-o OUT.gltf` with JSON (exit 0)"]
+
 fn summary_json_over_the_output_buffer_is_refused() {
     let (input, _, out) = mini_folders("cli-summary-bin");
     let (output, bin) = (out.join("lit.gltf"), out.join("lit.bin"));
@@ -193,7 +193,7 @@ fn summary_json_over_the_output_buffer_is_refused() {
 }
 
 #[test]
-#[ignore = "bug: `--summary-json IN.bin` overwrites the input's buffer file (exit 0)"]
+
 fn summary_json_over_an_input_file_is_refused() {
     let (input, folder, out) = mini_folders("cli-summary-input");
     let bin = folder.join("scene.bin");
@@ -213,7 +213,7 @@ fn summary_json_over_an_input_file_is_refused() {
 }
 
 #[test]
-#[ignore = "bug: `--summary-json` in a missing folder fails (exit 1) AFTER writing the output"]
+
 fn summary_json_in_a_missing_folder_writes_nothing() {
     let (input, _, out) = mini_folders("cli-summary-nodir");
     let summary = out.join("missing").join("summary.json");

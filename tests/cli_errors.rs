@@ -254,7 +254,7 @@ fn invalid_settings() {
 /// one-line settings error as `--patch-size=-1`; clap takes `-1` for an unknown flag and prints a
 /// 7-line usage error whose tip (`-- -1`) does not work either.
 #[test]
-#[ignore = "bug: clap rejects `--patch-size -1` as an unknown argument '-1' (7 lines, exit 2)"]
+
 fn negative_numbers_with_a_space() {
     let (input, out) = folders("settings-space");
     let path = Mini::new().write_gltf(&input, "scene.gltf", None);

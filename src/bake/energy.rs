@@ -3,14 +3,15 @@
 //! Each term is measured on its own: emitted flux from the lights' definitions and the emitting
 //! areas; absorbed flux from the solution, (1 − ρ)·E·A summed over patches, plus what lands on the
 //! back faces of single-sided surfaces; escaped flux from a fixed pattern of rays that leave the
-//! scene (stratified over the sphere, for point and spot lights) and, for light leaving surfaces,
-//! from the open part of each receiver's hemisphere. Their difference is the balance error: it
+//! scene (stratified over the sphere for point and spot lights, cosine-weighted over the
+//! hemisphere for light leaving surfaces that are not enclosed). Their difference is the balance error: it
 //! collects the solver's residual, the balancing tolerance and the error of the escape estimates
 //! (in a closed room the transport operator is balanced to conserve flux, see
 //! `transport::operator`).
 
 use super::Solution;
 use crate::direct::punctual;
+use crate::geom::samples;
 use crate::scene::{Scene, luma};
 use crate::transport::links::ReceiverLinks;
 use glam::DVec3;
@@ -78,12 +79,14 @@ pub fn balance(i: Inputs) -> EnergyBalance {
     let mut to_back = 0.0;
     let mut surfaces_escaped = 0.0;
     let mut absorbed_front = 0.0;
+    let open = open_fractions(i.solution, i.links);
     for (k, p) in mesh.patches.iter().enumerate() {
-        let mean = |f: &dyn Fn(usize) -> f64| p.v.iter().map(|&v| f(v as usize)).sum::<f64>() / 3.0;
-        let (back, open) = (
-            mean(&|r| i.links.back[r] as f64),
-            mean(&|r| i.links.open_fraction(r)),
-        );
+        let back =
+            p.v.iter()
+                .map(|&v| i.links.back[v as usize] as f64)
+                .sum::<f64>()
+                / 3.0;
+        let open = open[k];
         let emitted_here = p.area * luma(s.exitance[k]);
         let out = emitted_here + p.area * luma(s.reflected[k]);
         reflected += p.area * luma(s.reflected[k]);
@@ -114,6 +117,27 @@ pub fn balance(i: Inputs) -> EnergyBalance {
             0.0
         },
     }
+}
+
+/// Fraction of each patch's outgoing (cosine-distributed) flux that leaves the scene: 0 for
+/// patches whose receivers are all enclosed, else measured with 16 × 16 stratified
+/// cosine-weighted rays from the patch centroid.
+fn open_fractions(s: &Solution, links: &ReceiverLinks) -> Vec<f64> {
+    let mesh = &s.mesh;
+    mesh.patches
+        .par_iter()
+        .map(|p| {
+            if p.v.iter().all(|&v| links.closed[v as usize]) {
+                return 0.0;
+            }
+            let c = p.corners(&mesh.receivers);
+            let centroid = (c[0] + c[1] + c[2]) / 3.0;
+            let open = samples::cosine_directions(p.normal, 16)
+                .filter(|d| s.occluder.escapes(centroid, p.normal, *d))
+                .count();
+            open as f64 / 256.0
+        })
+        .collect()
 }
 
 /// Flux of a point or spot light that leaves the scene: a 64 × 128 grid of equal solid-angle

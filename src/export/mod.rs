@@ -38,10 +38,12 @@ impl Default for ExportOptions {
 }
 
 /// Check, before any work, that `path` is a writable output for `scene`: a `.gltf` or `.glb`
-/// name in an existing folder that would not replace any file the import read.
-pub fn check(path: &Path, scene: &Scene) -> Result<()> {
+/// name in an existing folder that would not replace any file the import read. `extra` are other
+/// files the caller will write (e.g. a summary); they are checked the same way and may not
+/// coincide with the glTF output files.
+pub fn check(path: &Path, scene: &Scene, extra: &[&Path]) -> Result<()> {
     let target = Target::for_path(path)?;
-    target.check_not_input(scene, true)
+    target.check_with(scene, true, extra)
 }
 
 /// Write `scene` with the baked `result` to `path` (`.gltf` or `.glb`, by extension), atomically.

@@ -72,11 +72,22 @@ impl Target {
     /// Refuse (before writing anything) when an output file would replace one of the scene's
     /// input files, or when the output directory does not exist.
     pub fn check_not_input(&self, scene: &Scene, has_binary: bool) -> Result<()> {
+        self.check_with(scene, has_binary, &[])
+    }
+
+    /// Like [`Target::check_not_input`], also for `extra` files the caller will write (a summary):
+    /// none may be an input, a glTF output, or each other, and their folders must exist.
+    pub fn check_with(&self, scene: &Scene, has_binary: bool, extra: &[&Path]) -> Result<()> {
         let mut inputs: Vec<PathBuf> = scene.input_files.iter().map(|p| canonical(p)).collect();
         if !scene.source_file.as_os_str().is_empty() {
             inputs.push(canonical(&scene.source_file));
         }
-        for file in self.files(has_binary) {
+        // The main file first, so a clash is reported on the name the user typed.
+        let mut files = self.files(has_binary);
+        files.reverse();
+        files.extend_from_slice(extra);
+        let mut written: Vec<PathBuf> = Vec::new();
+        for file in files {
             let resolved = resolve_output(file)?;
             if inputs.contains(&resolved) {
                 return Err(Error::output(
@@ -84,6 +95,13 @@ impl Target {
                     "refusing to overwrite an input file of the scene; choose another output name",
                 ));
             }
+            if written.contains(&resolved) {
+                return Err(Error::output(
+                    file,
+                    "two outputs would be written to the same file; choose another name",
+                ));
+            }
+            written.push(resolved);
         }
         Ok(())
     }

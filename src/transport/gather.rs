@@ -13,7 +13,8 @@
 //! it lies wholly above the receiver's plane, and its normal cone shows the receiver only front
 //! faces or only back faces; it then gets the second-order expansion of `geom::farfield`.
 //! Visibility is the only sampled part: a fixed pattern of points on the patch (1, 4 or 16 by
-//! its angular size) or two representative patches of a node, one shadow ray each.
+//! its angular size) or two representative patches of a node, one shadow ray each; a node whose
+//! two rays disagree is refined instead of accepted, so shadow boundaries get leaf resolution.
 
 use super::tree::PatchTree;
 use crate::geom::lambert;
@@ -89,8 +90,14 @@ impl Gatherer<'_> {
                 continue;
             }
             if let Some(front) = self.accept(node, p, below, dist) {
-                let f = node.moments.form_factor(p, n).abs();
                 let vis = self.node_visibility(p, n, node);
+                if vis > 0.0 && vis < 1.0 {
+                    // Partly hidden: a shadow boundary runs through the node. Refine rather
+                    // than guess the visible fraction from two rays.
+                    stack.extend(node.children);
+                    continue;
+                }
+                let f = node.moments.form_factor(p, n).abs();
                 coverage.total += f * vis;
                 if !front {
                     coverage.back += f * vis;

@@ -10,8 +10,7 @@
 //! closed when its coverage is ≥ 0.999, or when none of 64 stratified cosine-weighted escape rays
 //! leaves the scene (a lower coverage then comes from sampled visibility, e.g. where objects
 //! touch). A receiver that sees (almost) nothing (coverage ≤ 0.05: pressed against another face)
-//! is left alone. Open receivers keep their rows as computed; their deficit 1 − coverage is the
-//! escaping fraction used by the energy report.
+//! is left alone. Open receivers keep their rows as computed.
 
 use super::gather::{Gatherer, Link};
 use super::tree::NodeField;
@@ -87,15 +86,6 @@ impl ReceiverLinks {
                 *e = field.gather(&self.links[self.offsets[r]..self.offsets[r + 1]]);
             }
         });
-    }
-
-    /// Fraction of receiver `r`'s hemisphere open to the outside (0 for closed receivers).
-    pub fn open_fraction(&self, r: usize) -> f64 {
-        if self.closed[r] {
-            0.0
-        } else {
-            (1.0 - self.coverage[r] as f64).clamp(0.0, 1.0)
-        }
     }
 }
 
