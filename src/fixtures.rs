@@ -29,6 +29,7 @@ impl SceneBuilder {
         let e = Emission {
             amount: EmissionAmount::Luminance(l),
             color: DVec3::ONE,
+            profile: None,
         };
         self.material_full(name, DVec3::splat(rho), Some(e), false)
     }

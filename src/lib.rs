@@ -16,6 +16,7 @@ pub mod fixtures;
 pub mod geom;
 pub mod import;
 pub mod patches;
+pub mod photometry;
 pub mod progress;
 pub mod result;
 pub mod scene;

@@ -37,6 +37,11 @@ pub struct Scene {
     pub samplers: Vec<Sampler>,
     /// Punctual lights (KHR_lights_punctual), resolved to world space.
     pub lights: Vec<Light>,
+    /// Photometric profiles (IES LM-63 or EULUMDAT files), shared by luminaires and emitting
+    /// materials.
+    pub profiles: Vec<Profile>,
+    /// Luminaires with measured distributions (EXT_lights_ies, LUXBAKE_luminaire), world space.
+    pub luminaires: Vec<Luminaire>,
     /// Camera definitions, kept verbatim (glTF `cameras[i]` JSON) so the output keeps them.
     pub cameras: Vec<Value>,
     /// The input scene's `extras`, kept verbatim.
@@ -181,6 +186,11 @@ pub struct Emission {
     /// Relative linear RGB colour, normalised so that its luminance
     /// Y = 0.2126 R + 0.7152 G + 0.0722 B is 1 (white is [1, 1, 1]).
     pub color: DVec3,
+    /// A profile (index into `Scene::profiles`) giving the shape of the emitted distribution
+    /// instead of Lambert's cosine: its nadir (0, 0) along the surface normal, C = 0 along the
+    /// node's local +X projected onto the surface. The amount still sets the emitted flux
+    /// (luminance L means the flux π·L·A a Lambertian face would emit).
+    pub profile: Option<usize>,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -271,6 +281,46 @@ pub struct Sampler {
     pub min_filter: Option<u32>,
     pub wrap_s: Option<u32>,
     pub wrap_t: Option<u32>,
+}
+
+/// A photometric data file as read, parsed.
+#[derive(Debug, Clone)]
+pub struct Profile {
+    pub name: Option<String>,
+    /// `/extensions/EXT_lights_ies/lights/0` or `/extensions/LUXBAKE_luminaire/profiles/1`.
+    pub source_path: String,
+    /// The file's bytes (embedded in the output).
+    pub bytes: Vec<u8>,
+    pub photometry: crate::photometry::Photometry,
+}
+
+/// A luminaire with a measured distribution, placed by a node, in world space.
+///
+/// The photometric frame (the profile's own axes) maps to world space by `world_from_photometric`
+/// (orthonormal, node scale removed): photometric −Z is the nadir, the direction of (C, γ) = (0, 0)
+/// (EXT_lights_ies: "an untransformed light points down −Z"); +X is C = 0 and +Y is C = 90°.
+#[derive(Debug, Clone)]
+pub struct Luminaire {
+    pub name: Option<String>,
+    /// The node extension that defines it, e.g. `/nodes/4/extensions/EXT_lights_ies`.
+    pub source_path: String,
+    pub node: usize,
+    /// Index into `Scene::profiles`.
+    pub profile: usize,
+    /// Intensity scale: EXT_lights_ies `multiplier` × luminance of its raw `color` (the spec's
+    /// colour is a per-channel multiplier that changes the output) × maintenance factor.
+    pub multiplier: f64,
+    /// The maintenance (light loss) factor included in `multiplier` (1 when not given).
+    pub maintenance_factor: f64,
+    /// Relative linear RGB colour normalised to luminance 1 (see [`Emission::color`]).
+    pub color: DVec3,
+    /// Photometric centre (m, world).
+    pub position: DVec3,
+    pub world_from_photometric: glam::DMat3,
+    /// Luminous opening overriding the profile's (m), from `LUXBAKE_luminaire.opening`.
+    pub opening: Option<crate::photometry::Opening>,
+    /// The node's EXT_lights_ies / LUXBAKE_luminaire objects as given, for the output.
+    pub extensions: serde_json::Map<String, Value>,
 }
 
 /// A punctual light (KHR_lights_punctual) in world space.

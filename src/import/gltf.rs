@@ -78,6 +78,8 @@ pub(crate) fn load(ctx: &mut Ctx, bytes: &[u8]) -> Result<Scene> {
         images,
         samplers: textures::samplers(&doc, &raw),
         lights,
+        profiles: Vec::new(),
+        luminaires: Vec::new(),
         cameras: raw
             .get("cameras")
             .and_then(Value::as_array)

@@ -11,9 +11,9 @@ mod geometry;
 mod glb;
 mod gltf;
 mod images;
+mod material_values;
 mod obj;
 mod obj_mtl;
-mod photometry;
 mod resources;
 
 use crate::{Error, Result, scene::Scene};

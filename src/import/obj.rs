@@ -138,6 +138,8 @@ pub(crate) fn load(ctx: &mut Ctx, bytes: &[u8], up: UpAxis) -> Result<Scene> {
         images,
         samplers: Vec::new(),
         lights: Vec::new(),
+        profiles: Vec::new(),
+        luminaires: Vec::new(),
         cameras: Vec::new(),
         extras: None,
         warnings: std::mem::take(&mut ctx.warnings),

@@ -18,7 +18,7 @@
 
 use super::context::Ctx;
 use super::images::{mean_linear_rgb, sniff_mime};
-use super::photometry::{check_reflectance, emission_from_rgb};
+use super::material_values::{check_reflectance, emission_from_rgb};
 use super::resources::{confine, lexically_inside};
 use crate::scene::{DisplayMaterial, Image, Material, ReflectanceSource, Texture, TextureRef};
 use crate::{Error, Result};

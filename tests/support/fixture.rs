@@ -243,6 +243,8 @@ pub fn scene() -> (Scene, BakeResult) {
             wrap_t: Some(33648),
         }],
         lights: vec![light],
+        profiles: Vec::new(),
+        luminaires: Vec::new(),
         cameras: vec![json!({
             "name": "Eye",
             "type": "perspective",

@@ -12,7 +12,7 @@
 use super::raw;
 use crate::Result;
 use crate::import::context::Ctx;
-use crate::import::photometry::unit_luminance_color;
+use crate::import::material_values::unit_luminance_color;
 use crate::scene::{Light, LightKind};
 use glam::{DMat4, DVec3};
 use serde_json::Value;

@@ -10,7 +10,7 @@
 //! non-finite amount, and a colour without luminance are errors. The colour is normalised to
 //! luminance 1. The reflectance *range* ([0, 1)) is checked by the caller, like every reflectance.
 
-use crate::import::photometry::{check_amount, unit_luminance_color};
+use crate::import::material_values::{check_amount, unit_luminance_color};
 use crate::scene::{Emission, EmissionAmount};
 use glam::DVec3;
 use serde_json::{Map, Value};
@@ -90,7 +90,11 @@ fn emission(v: &Value) -> Result<Option<Emission>, String> {
         None => DVec3::ONE,
     };
     let (EmissionAmount::Luminance(value) | EmissionAmount::LuminousFlux(value)) = amount;
-    Ok((value > 0.0).then_some(Emission { amount, color }))
+    Ok((value > 0.0).then_some(Emission {
+        amount,
+        color,
+        profile: None,
+    }))
 }
 
 #[cfg(test)]

@@ -16,7 +16,7 @@ use super::{document::LUXBAKE_MATERIAL, raw};
 use crate::Result;
 use crate::import::context::Ctx;
 use crate::import::images::mean_linear_rgb;
-use crate::import::photometry::{check_reflectance, emission_from_rgb};
+use crate::import::material_values::{check_reflectance, emission_from_rgb};
 use crate::scene::{AlphaMode, DisplayMaterial, Image, Material, ReflectanceSource, TextureRef};
 use glam::DVec3;
 use serde_json::Value;

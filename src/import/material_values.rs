@@ -57,6 +57,7 @@ pub(crate) fn emission_from_rgb(rgb: DVec3, scale: f64) -> Result<Option<Emissio
     }
     let color = normalise_color(rgb).ok_or("emissive colour has no luminance")?;
     Ok(Some(Emission {
+        profile: None,
         amount: EmissionAmount::Luminance(luminance),
         color,
     }))
