@@ -227,8 +227,8 @@ fn intersect(t: &Triangle, ray: &Ray) -> f32 {
     }
 }
 
-/// True when every triangle's plane has all scene vertices and all point/spot lights on its front
-/// side (within tolerance): a convex enclosure with nothing inside, an open convex shell, or a
+/// True when every triangle's plane has all scene vertices, all point/spot lights and all
+/// luminaire openings on its front side (within tolerance): a convex enclosure with nothing inside, an open convex shell, or a
 /// single plane. Gives up (false) when the check would be too costly.
 fn is_convex_empty(scene: &Scene) -> bool {
     let mut points: Vec<DVec3> = scene
@@ -243,6 +243,16 @@ fn is_convex_empty(scene: &Scene) -> bool {
             .filter(|l| l.kind != crate::scene::LightKind::Directional)
             .map(|l| l.position),
     );
+    // Luminaires: every corner of their (possibly overridden) opening, where sub-sources lie.
+    for l in &scene.luminaires {
+        let o = l
+            .opening
+            .unwrap_or_else(|| scene.profiles[l.profile].photometry.opening());
+        let (a, b) = (o.length.max(0.0) / 2.0, o.width.max(0.0) / 2.0);
+        for (x, y) in [(-a, -b), (a, -b), (a, b), (-a, b)] {
+            points.push(l.position + l.world_from_photometric * DVec3::new(x, y, 0.0));
+        }
+    }
     let mut planes: Vec<(DVec3, f64)> = Vec::new();
     let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
     for p in &points {

@@ -10,24 +10,23 @@
 //! `transport::operator`).
 
 use super::Solution;
-use crate::direct::punctual;
+use crate::direct::sources::DirectSource;
 use crate::geom::samples;
-use crate::scene::{Scene, luma};
+use crate::scene::luma;
 use crate::transport::links::ReceiverLinks;
 use glam::DVec3;
 use rayon::prelude::*;
-use std::f64::consts::PI;
 
 pub struct Inputs<'a> {
-    pub scene: &'a Scene,
     pub solution: &'a Solution,
     pub links: &'a ReceiverLinks,
     /// Direct irradiance of each patch's front (lx, RGB).
     pub direct_patch: &'a [DVec3],
     /// Flux of punctual lights onto back faces of single-sided patches (lm, RGB).
     pub light_back: DVec3,
-    /// Flux each punctual light sends onto surfaces, front and back (lm).
-    pub light_received: &'a [f64],
+    /// The lights and luminaires, and the flux each sends onto surfaces, front and back (lm).
+    pub sources: &'a [DirectSource<'a>],
+    pub source_received: &'a [f64],
     /// Illuminance from inter-reflection averaged over each patch (lx, RGB).
     pub indirect_patch: &'a [DVec3],
     pub rho: &'a [DVec3],
@@ -58,13 +57,13 @@ pub fn balance(i: Inputs) -> EnergyBalance {
     let mesh = &s.mesh;
     let mut lights = 0.0;
     let mut lights_escaped = 0.0;
-    for (light, received) in i.scene.lights.iter().zip(i.light_received) {
-        match punctual::emitted_flux(light) {
+    for (source, received) in i.sources.iter().zip(i.source_received) {
+        match source.emitted_flux() {
             // A directional light emits what the scene intercepts.
             None => lights += received,
             Some(flux) => {
                 lights += flux;
-                lights_escaped += light_escape(s, light);
+                lights_escaped += source.escaping_flux(&s.occluder);
             }
         }
     }
@@ -138,34 +137,4 @@ fn open_fractions(s: &Solution, links: &ReceiverLinks) -> Vec<f64> {
             open as f64 / 256.0
         })
         .collect()
-}
-
-/// Flux of a point or spot light that leaves the scene: a 64 × 128 grid of equal solid-angle
-/// cells (uniform in cos θ and φ about the light's axis), each weighted by the intensity at its
-/// centre.
-fn light_escape(s: &Solution, light: &crate::scene::Light) -> f64 {
-    let (nu, nv) = (64usize, 128usize);
-    let cell = 4.0 * PI / (nu * nv) as f64;
-    let (t, b) = light.direction.any_orthonormal_pair();
-    (0..nu)
-        .into_par_iter()
-        .map(|iu| {
-            let cos = 1.0 - 2.0 * (iu as f64 + 0.5) / nu as f64;
-            let sin = (1.0 - cos * cos).max(0.0).sqrt();
-            (0..nv)
-                .map(|iv| {
-                    let phi = 2.0 * PI * (iv as f64 + 0.5) / nv as f64;
-                    let d = light.direction * cos + t * (sin * phi.cos()) + b * (sin * phi.sin());
-                    let i = punctual::intensity(light, d);
-                    if i > 0.0 && s.occluder.escapes(light.position, DVec3::ZERO, d) {
-                        i * cell
-                    } else {
-                        0.0
-                    }
-                })
-                .sum::<f64>()
-        })
-        .collect::<Vec<_>>()
-        .iter()
-        .sum()
 }

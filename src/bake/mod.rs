@@ -4,7 +4,7 @@
 //! 1. `patches::build` — surfaces refined into patches, receivers at their vertices;
 //! 2. `visibility::Occluder::build` — the BVH, once;
 //! 3. patch trees (all patches; emitting patches);
-//! 4. direct light — exact at receivers ([`direct_at_receivers`]), as flux into patches;
+//! 4. direct light — exact at receivers (`receivers::direct_at_receivers`), as flux into patches;
 //! 5. `transport::links` — every receiver's view of the patch hierarchy;
 //! 6. `solve::gmres` — reflected exitance B of every patch, to a residual tolerance;
 //! 7. gather at receivers — E = E_direct + Σ links·B; luminance, display colours, energy report.
@@ -16,7 +16,7 @@ mod display;
 mod energy;
 mod receivers;
 
-use crate::direct::{emitters, punctual};
+use crate::direct::{emitters, sources::DirectSource};
 use crate::error::{Error, Result};
 use crate::patches::{self, PatchMesh};
 use crate::progress::Progress;
@@ -41,8 +41,10 @@ pub struct Solution {
     pub occluder: Occluder,
     pub tree: PatchTree,
     pub emitter_tree: PatchTree,
-    /// Emitted exitance per patch (lm/m², RGB).
+    /// Lambertian emitted exitance per patch (lm/m², RGB): what enters the patch field.
     pub exitance: Vec<DVec3>,
+    /// All emitted exitance per patch, profiled emitters included (for the output's luminance).
+    pub emitted: Vec<DVec3>,
     /// Reflected exitance per patch (lm/m², RGB).
     pub reflected: Vec<DVec3>,
     /// Illuminance at each receiver: direct and from inter-reflection (lx, RGB).
@@ -91,20 +93,24 @@ pub fn bake(scene: &Scene, settings: &Settings, progress: &dyn Progress) -> Resu
             always_trace: settings.always_trace,
         },
     );
-    let exitance = emitters::patch_exitance(scene, &mesh);
+    // What every patch emits (for the output's luminance), and the part that is Lambertian and
+    // travels through the patch field (profiled emitters are direct sources instead).
+    let emitted = emitters::patch_exitance(scene, &mesh);
+    let exitance = emitters::diffuse_part(scene, &mesh, &emitted);
     let tree = PatchTree::build(&mesh, (0..mesh.patches.len() as u32).collect());
     let emitting: Vec<u32> = (0..mesh.patches.len() as u32)
         .filter(|&p| exitance[p as usize] != DVec3::ZERO)
         .collect();
     let emitter_tree = PatchTree::build(&mesh, emitting);
-    if scene.lights.is_empty() && emitter_tree.is_empty() {
-        progress.warn("the scene has no light source (no emitting material, no KHR_lights_punctual light): everything bakes to 0 lx");
+    let sources = DirectSource::all(scene, &mesh, &emitted);
+    if sources.is_empty() && emitter_tree.is_empty() {
+        progress.warn("the scene has no light source (no emitting material, light or luminaire): everything bakes to 0 lx");
     }
     lap("mesh", &mut timings);
 
     progress.stage("direct light", mesh.receivers.len() as u64);
     let direct = receivers::direct_at_receivers(
-        scene,
+        &sources,
         &mesh,
         &occluder,
         &emitter_tree,
@@ -112,7 +118,7 @@ pub fn bake(scene: &Scene, settings: &Settings, progress: &dyn Progress) -> Resu
         params.tau_direct,
         progress,
     );
-    let lights = light_patch_flux(scene, &mesh, &occluder);
+    let lights = light_patch_flux(&sources, &mesh, &occluder);
     lap("direct", &mut timings);
 
     progress.stage("form factors", mesh.receivers.len() as u64);
@@ -161,17 +167,18 @@ pub fn bake(scene: &Scene, settings: &Settings, progress: &dyn Progress) -> Resu
         tree,
         emitter_tree,
         exitance,
+        emitted,
         reflected,
         direct,
         indirect,
     };
     let balance = energy::balance(energy::Inputs {
-        scene,
         solution: &solution,
         links: &links,
         direct_patch: &direct_patch,
         light_back: lights.back,
-        light_received: &lights.per_light,
+        sources: &sources,
+        source_received: &lights.per_source,
         indirect_patch: &indirect_patch,
         rho: &rho,
     });
@@ -196,6 +203,11 @@ pub fn bake(scene: &Scene, settings: &Settings, progress: &dyn Progress) -> Resu
         "solver": stats,
         "balancing": balance_stats,
         "energy": balance,
+        "sources": sources
+            .iter()
+            .zip(&lights.per_source)
+            .map(|(s, received)| s.report(scene, *received))
+            .collect::<Vec<_>>(),
         "exposure": exposure,
         "units": {"illuminance": "lx", "luminance": "cd/m2", "flux": "lm", "length": "m", "up": "+Y"},
     });
@@ -225,47 +237,38 @@ pub fn timings_json(timings: &[(String, f64)]) -> serde_json::Value {
     )
 }
 
-/// Direct flux of the punctual lights: into each patch's front (RGB), onto back faces (RGB), and
-/// per light (lm, photometric, front and back).
+/// Direct flux of the lights and luminaires: into each patch's front (RGB), onto back faces
+/// (RGB), and per source (lm, photometric, front and back).
 struct LightFlux {
     per_patch: Vec<DVec3>,
     back: DVec3,
-    per_light: Vec<f64>,
+    per_source: Vec<f64>,
 }
 
-fn light_patch_flux(scene: &Scene, mesh: &PatchMesh, occ: &Occluder) -> LightFlux {
-    let budgets: Vec<f64> = scene
-        .lights
-        .iter()
-        .map(|l| punctual::refinement_budget(l, occ.diagonal))
-        .collect();
+fn light_patch_flux(sources: &[DirectSource], mesh: &PatchMesh, occ: &Occluder) -> LightFlux {
     let per: Vec<Vec<(f64, f64)>> = mesh
         .patches
         .par_iter()
         .map(|p| {
             let corners = p.corners(&mesh.receivers);
-            scene
-                .lights
+            sources
                 .iter()
-                .zip(&budgets)
-                .map(|(light, budget)| {
-                    punctual::patch_flux(light, occ, &corners, p.normal, *budget)
-                })
+                .map(|s| s.patch_flux(occ, &corners, p.normal))
                 .collect()
         })
         .collect();
     let mut out = LightFlux {
         per_patch: Vec::with_capacity(per.len()),
         back: DVec3::ZERO,
-        per_light: vec![0.0; scene.lights.len()],
+        per_source: vec![0.0; sources.len()],
     };
     for row in per {
         let mut front = DVec3::ZERO;
         for (k, (f, b)) in row.into_iter().enumerate() {
-            let color = scene.lights[k].color;
+            let color = sources[k].color();
             front += color * f;
             out.back += color * b;
-            out.per_light[k] += f + b;
+            out.per_source[k] += f + b;
         }
         out.per_patch.push(front);
     }
@@ -282,7 +285,7 @@ fn output_surfaces(scene: &Scene, s: &Solution, settings: &Settings) -> Vec<Bake
             let material = &scene.materials[g.material];
             // Every patch of a group emits alike.
             let emitted = s
-                .exitance
+                .emitted
                 .get(g.patches.start)
                 .copied()
                 .filter(|_| !g.patches.is_empty())

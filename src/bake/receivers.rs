@@ -1,11 +1,11 @@
 //! Direct light at the receivers, computed at each receiver itself (never interpolated from
-//! patches): punctual lights by the inverse-square cosine law with a shadow ray, emitting surfaces
-//! through the gather interface on the tree of emitting patches.
+//! patches): lights and luminaires by the inverse-square cosine law with shadow rays (luminaires
+//! split into sub-sources near their openings), emitting surfaces through the gather interface on
+//! the tree of emitting patches.
 
-use crate::direct::punctual;
+use crate::direct::sources::DirectSource;
 use crate::patches::PatchMesh;
 use crate::progress::Progress;
-use crate::scene::Scene;
 use crate::transport::{
     gather::Gatherer,
     tree::{NodeField, PatchTree},
@@ -16,7 +16,7 @@ use rayon::prelude::*;
 
 /// Direct illuminance (lx, RGB) at every receiver of `mesh`.
 pub fn direct_at_receivers(
-    scene: &Scene,
+    sources: &[DirectSource],
     mesh: &PatchMesh,
     occ: &Occluder,
     emitter_tree: &PatchTree,
@@ -36,7 +36,7 @@ pub fn direct_at_receivers(
         .flat_map_iter(|chunk| {
             let out: Vec<DVec3> = chunk
                 .iter()
-                .map(|r| direct_at(scene, occ, &gatherer, &node_exitance, r.point, r.normal))
+                .map(|r| direct_at(sources, occ, &gatherer, &node_exitance, r.point, r.normal))
                 .collect();
             progress.advance(chunk.len() as u64);
             out
@@ -46,7 +46,7 @@ pub fn direct_at_receivers(
 
 /// Direct illuminance (lx, RGB) at point `p` with unit normal `n`.
 pub fn direct_at(
-    scene: &Scene,
+    sources: &[DirectSource],
     occ: &Occluder,
     emitters: &Gatherer,
     node_exitance: &NodeField,
@@ -54,8 +54,8 @@ pub fn direct_at(
     n: DVec3,
 ) -> DVec3 {
     let mut e = DVec3::ZERO;
-    for light in &scene.lights {
-        e += light.color * punctual::illuminance(light, occ, p, n);
+    for source in sources {
+        e += source.color() * source.illuminance(occ, p, n);
     }
     let mut links = Vec::new();
     emitters.links(p, n, &mut links);

@@ -43,3 +43,19 @@ pub fn patch_exitance(scene: &Scene, mesh: &PatchMesh) -> Vec<DVec3> {
         .map(|p| group_exitance[p.group as usize])
         .collect()
 }
+
+/// The Lambertian part of `emitted`: zero for patches whose material emits through a profile
+/// (those are direct sources, `direct::profiled`).
+pub fn diffuse_part(scene: &Scene, mesh: &PatchMesh, emitted: &[DVec3]) -> Vec<DVec3> {
+    mesh.patches
+        .iter()
+        .zip(emitted)
+        .map(|(p, e)| {
+            let m = &scene.materials[mesh.groups[p.group as usize].material];
+            match &m.emission {
+                Some(em) if em.profile.is_some() => DVec3::ZERO,
+                _ => *e,
+            }
+        })
+        .collect()
+}

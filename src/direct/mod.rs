@@ -2,4 +2,8 @@
 //! receiver and as flux into every patch (what the radiosity solution then reflects).
 
 pub mod emitters;
+pub mod flux;
+pub mod luminaire;
+pub mod profiled;
 pub mod punctual;
+pub mod sources;

@@ -10,6 +10,7 @@
 //! Spot falloff is the KHR_lights_punctual reference: a = clamp((cos θ − cos θₒ)·s)², with
 //! s = 1/max(0.001, cos θᵢ − cos θₒ); its flux is 2π·I·[(1 − cₒ − w) + w/3], w = 1/s.
 
+use super::flux::{self, Radiator, Spread};
 use crate::geom::lambert;
 use crate::scene::{Light, LightKind};
 use crate::visibility::Occluder;
@@ -85,13 +86,7 @@ pub fn illuminance(light: &Light, occ: &Occluder, p: DVec3, n: DVec3) -> f64 {
 }
 
 /// Flux (lm, photometric) the light sends onto the front of a triangle patch, and onto its back
-/// (absorbed when the patch is single-sided): `(front, back)`. `budget` (lm) is the flux below
-/// which a piece of the patch is not refined further.
-///
-/// ∫ I(ω)·V dω over the patch is integrated adaptively: a piece whose corners agree on
-/// visibility and lie where the intensity is uniform (a point light, a spot's inner cone, a
-/// directional light) is exact (I·Ω); other pieces are split in four, down to a depth limit or the
-/// flux budget, so beam edges and shadow edges crossing a patch are followed.
+/// (absorbed when the patch is single-sided): `(front, back)`; see [`flux::patch_flux`].
 pub fn patch_flux(
     light: &Light,
     occ: &Occluder,
@@ -103,16 +98,8 @@ pub fn patch_flux(
         LightKind::Directional => normal.dot(-light.direction) > 0.0,
         _ => normal.dot(light.position - corners[0]) > 0.0,
     };
-    // Sample points pulled a hair inside the patch, so a vertex in a room corner is not tested
-    // edge-on against the neighbouring wall.
-    let c = (corners[0] + corners[1] + corners[2]) / 3.0;
-    let t = corners.map(|v| v + (c - v) * 1e-4);
-    let vis = t.map(|p| sees(light, occ, p, normal));
-    let flux = integrate(light, occ, normal, &t, vis, 0, budget);
-    if facing { (flux, 0.0) } else { (0.0, flux) }
+    flux::patch_flux(&Punctual(light), occ, corners, normal, facing, budget)
 }
-
-const MAX_DEPTH: u32 = 6;
 
 /// The flux below which [`patch_flux`] stops refining: a millionth of what the light sends into
 /// a scene of this diagonal (m).
@@ -120,77 +107,56 @@ pub fn refinement_budget(light: &Light, diagonal: f64) -> f64 {
     1e-6 * emitted_flux(light).unwrap_or(light.intensity * diagonal * diagonal)
 }
 
-fn sees(light: &Light, occ: &Occluder, p: DVec3, n: DVec3) -> bool {
-    match light.kind {
-        LightKind::Directional => occ.escapes(p, n, -light.direction),
-        _ => occ.clear(p, n, light.position, DVec3::ZERO),
-    }
-}
+/// A KHR light as the flux integrator sees it.
+struct Punctual<'a>(&'a Light);
 
-fn integrate(
-    light: &Light,
-    occ: &Occluder,
-    n: DVec3,
-    t: &[DVec3; 3],
-    vis: [bool; 3],
-    depth: u32,
-    budget: f64,
-) -> f64 {
-    // Unshadowed flux of this piece under uniform intensity, and the intensity it needs.
-    let (full, uniform, centre_value) = match light.kind {
-        LightKind::Directional => {
-            let area = (t[1] - t[0]).cross(t[2] - t[0]).length() / 2.0;
-            (
-                light.intensity * area * n.dot(-light.direction).abs(),
-                true,
-                1.0,
-            )
+impl Radiator for Punctual<'_> {
+    fn intensity(&self, dir: DVec3) -> f64 {
+        match self.0.kind {
+            LightKind::Directional => self.0.intensity,
+            _ => intensity(self.0, dir),
         }
-        LightKind::Point => (
-            light.intensity * lambert::triangle_solid_angle(light.position, t),
-            true,
-            1.0,
-        ),
-        LightKind::Spot {
-            outer_cone_angle, ..
-        } => {
-            let dirs = t.map(|v| (v - light.position).normalize_or_zero());
-            if outside_cone(light.direction, outer_cone_angle, &dirs) {
-                return 0.0;
+    }
+
+    fn spread(&self, t: &[DVec3; 3]) -> Spread {
+        let light = self.0;
+        match light.kind {
+            LightKind::Point | LightKind::Directional => Spread::Uniform(light.intensity),
+            LightKind::Spot {
+                outer_cone_angle, ..
+            } => {
+                let dirs = t.map(|v| (v - light.position).normalize_or_zero());
+                if outside_cone(light.direction, outer_cone_angle, &dirs) {
+                    Spread::Zero
+                } else if dirs.iter().all(|&d| intensity(light, d) >= light.intensity) {
+                    Spread::Uniform(light.intensity)
+                } else {
+                    Spread::Varies(light.intensity)
+                }
             }
-            let omega = lambert::triangle_solid_angle(light.position, t);
-            let uniform = dirs.iter().all(|&d| intensity(light, d) >= light.intensity);
-            let centre = ((t[0] + t[1] + t[2]) / 3.0 - light.position).normalize_or_zero();
-            (
-                light.intensity * omega,
-                uniform,
-                intensity(light, centre) / light.intensity,
-            )
         }
-    };
-    let same = vis[0] == vis[1] && vis[1] == vis[2];
-    if uniform && same {
-        return if vis[0] { full } else { 0.0 };
     }
-    if depth >= MAX_DEPTH || full < budget {
-        let seen = vis.iter().filter(|v| **v).count() as f64 / 3.0;
-        return full * centre_value * seen;
+
+    fn measure(&self, t: &[DVec3; 3], n: DVec3) -> f64 {
+        match self.0.kind {
+            LightKind::Directional => {
+                let area = (t[1] - t[0]).cross(t[2] - t[0]).length() / 2.0;
+                area * n.dot(-self.0.direction).abs()
+            }
+            _ => lambert::triangle_solid_angle(self.0.position, t),
+        }
     }
-    let m = [
-        (t[0] + t[1]) * 0.5,
-        (t[1] + t[2]) * 0.5,
-        (t[2] + t[0]) * 0.5,
-    ];
-    let mv = m.map(|p| sees(light, occ, p, n));
-    [
-        ([t[0], m[0], m[2]], [vis[0], mv[0], mv[2]]),
-        ([m[0], t[1], m[1]], [mv[0], vis[1], mv[1]]),
-        ([m[2], m[1], t[2]], [mv[2], mv[1], vis[2]]),
-        ([m[0], m[1], m[2]], [mv[0], mv[1], mv[2]]),
-    ]
-    .iter()
-    .map(|(piece, v)| integrate(light, occ, n, piece, *v, depth + 1, budget))
-    .sum()
+
+    fn toward(&self, p: DVec3) -> DVec3 {
+        (p - self.0.position).normalize_or_zero()
+    }
+
+    fn sees(&self, occ: &Occluder, p: DVec3, n: DVec3) -> bool {
+        match self.0.kind {
+            LightKind::Directional => occ.escapes(p, n, -self.0.direction),
+            _ => occ.clear(p, n, self.0.position, DVec3::ZERO),
+        }
+    }
 }
 
 /// True when the spherical triangle with corner directions `dirs` lies wholly outside the cone

@@ -1,0 +1,220 @@
+//! Direct light from luminaires with measured distributions (IES LM-63, EULUMDAT), including the
+//! near field of large luminous openings.
+//!
+//! Input: a scene [`Luminaire`] and its [`Photometry`]. Output: illuminance at receiver points
+//! and flux into patches.
+//!
+//! A photometric file describes the far field: I(C, γ) as if all light came from one point. Close
+//! to a large opening (a 1.5 m fluorescent 1.6 m above a desk) that is wrong, so the opening is
+//! split into sub-sources, each emitting the same distribution scaled by its share of the area
+//! (the usual near-field model). The split depends on the receiver: a rectangle of the opening
+//! is halved along its longer side while that side is longer than [`NEAR_FIELD_RATIO`] × its
+//! distance to the receiver. Relative to integrating the opening exactly, the midpoint rule this
+//! amounts to errs by well under 0.5 % at that ratio (measured in the tests for a 1.5 × 0.2 m
+//! opening at 0.3, 1 and 3 m). Each sub-source gets its own shadow ray, so extended luminaires cast
+//! soft shadows. Round openings are treated as the square of equal area. Sub-sources lie in the
+//! photometric XY plane through the luminaire's position.
+
+use super::flux::{self, GammaBounds, Radiator, Spread};
+use crate::geom::lambert;
+use crate::photometry::{Opening, OpeningShape, Photometry};
+use crate::scene::{Luminaire, Scene};
+use crate::visibility::Occluder;
+use glam::{DMat3, DVec3};
+use std::f64::consts::PI;
+
+/// A rectangle of the opening is split while its longer side exceeds this fraction of its
+/// distance to the receiver.
+pub const NEAR_FIELD_RATIO: f64 = 0.1;
+
+/// At most this many halvings per receiver (2¹⁰ = 1024 sub-sources).
+const MAX_SPLITS: u32 = 10;
+
+/// A luminaire ready for evaluation.
+pub struct Source<'a> {
+    pub name: Option<String>,
+    pub source_path: String,
+    /// Index into `Scene::profiles`.
+    pub profile: usize,
+    pub photometry: &'a Photometry,
+    /// Intensity scale (multiplier × colour luminance × maintenance factor).
+    pub scale: f64,
+    /// Relative RGB colour (luminance 1).
+    pub color: DVec3,
+    pub position: DVec3,
+    pub world_from_photometric: DMat3,
+    /// Half sizes of the (square-equivalent) opening along photometric X and Y (m).
+    pub half: [f64; 2],
+    /// Bounds of the unscaled distribution per band of γ, for refinement.
+    bounds: GammaBounds,
+    /// Flux of the scaled distribution (lm).
+    pub flux: f64,
+}
+
+impl<'a> Source<'a> {
+    pub fn new(scene: &'a Scene, l: &'a Luminaire) -> Self {
+        let photometry = &scene.profiles[l.profile].photometry;
+        let opening = l.opening.unwrap_or_else(|| photometry.opening());
+        Source {
+            name: l.name.clone(),
+            source_path: l.source_path.clone(),
+            profile: l.profile,
+            photometry,
+            scale: l.multiplier,
+            color: l.color,
+            position: l.position,
+            world_from_photometric: l.world_from_photometric,
+            half: half_sizes(&opening),
+            bounds: GammaBounds::new(|d| photometry.intensity(d)),
+            flux: l.multiplier * photometry.flux(),
+        }
+    }
+
+    /// All luminaires of a scene.
+    pub fn all(scene: &'a Scene) -> Vec<Source<'a>> {
+        scene
+            .luminaires
+            .iter()
+            .map(|l| Source::new(scene, l))
+            .collect()
+    }
+
+    /// Intensity (cd) toward the world direction `dir` (unit, away from the luminaire).
+    pub fn intensity(&self, dir: DVec3) -> f64 {
+        self.scale
+            * self
+                .photometry
+                .intensity(self.world_from_photometric.transpose() * dir)
+    }
+
+    /// The sub-sources seen from `p`: world position and share of the output.
+    pub fn split(&self, p: DVec3) -> Vec<(DVec3, f64)> {
+        let mut out = Vec::new();
+        self.split_rect([0.0, 0.0], self.half, p, 1.0, 0, &mut out);
+        out
+    }
+
+    fn split_rect(
+        &self,
+        centre: [f64; 2],
+        half: [f64; 2],
+        p: DVec3,
+        share: f64,
+        depth: u32,
+        out: &mut Vec<(DVec3, f64)>,
+    ) {
+        let world =
+            self.position + self.world_from_photometric * DVec3::new(centre[0], centre[1], 0.0);
+        let longer = if half[0] >= half[1] { 0 } else { 1 };
+        let side = 2.0 * half[longer];
+        if depth >= MAX_SPLITS || side <= NEAR_FIELD_RATIO * (p - world).length() {
+            out.push((world, share));
+            return;
+        }
+        let mut h = half;
+        h[longer] /= 2.0;
+        for sign in [-1.0, 1.0] {
+            let mut c = centre;
+            c[longer] += sign * h[longer];
+            self.split_rect(c, h, p, share / 2.0, depth + 1, out);
+        }
+    }
+
+    /// Illuminance (lx, photometric) at point `p` with unit normal `n`.
+    pub fn illuminance(&self, occ: &Occluder, p: DVec3, n: DVec3) -> f64 {
+        self.split(p)
+            .into_iter()
+            .map(|(q, share)| {
+                let d = q - p;
+                let dist2 = d.length_squared();
+                let cos = n.dot(d);
+                if cos <= 0.0 || dist2 <= 0.0 {
+                    return 0.0;
+                }
+                let dist = dist2.sqrt();
+                let i = self.intensity(-d / dist) * share;
+                if i <= 0.0 || !occ.clear(p, n, q, DVec3::ZERO) {
+                    return 0.0;
+                }
+                i * (cos / dist) / dist2
+            })
+            .sum()
+    }
+
+    /// `(front, back)` flux (lm) into a triangle patch, split as seen from its centroid.
+    pub fn patch_flux(
+        &self,
+        occ: &Occluder,
+        corners: &[DVec3; 3],
+        normal: DVec3,
+        budget: f64,
+    ) -> (f64, f64) {
+        let c = (corners[0] + corners[1] + corners[2]) / 3.0;
+        let mut total = (0.0, 0.0);
+        for (q, share) in self.split(c) {
+            let sub = SubSource {
+                source: self,
+                position: q,
+                share,
+            };
+            let facing = normal.dot(q - corners[0]) > 0.0;
+            let (f, b) = flux::patch_flux(&sub, occ, corners, normal, facing, budget * share);
+            total.0 += f;
+            total.1 += b;
+        }
+        total
+    }
+
+    /// The flux below which patch-flux integration stops refining (lm).
+    pub fn budget(&self) -> f64 {
+        1e-6 * self.flux
+    }
+}
+
+/// One sub-source of an opening.
+struct SubSource<'s, 'a> {
+    source: &'s Source<'a>,
+    position: DVec3,
+    share: f64,
+}
+
+impl Radiator for SubSource<'_, '_> {
+    fn intensity(&self, dir: DVec3) -> f64 {
+        self.share * self.source.intensity(dir)
+    }
+
+    fn spread(&self, t: &[DVec3; 3]) -> Spread {
+        let dirs = t.map(|v| (v - self.position).normalize_or_zero());
+        let s = self.source;
+        let nadir = -s.world_from_photometric.z_axis;
+        flux::sampled_spread(
+            &dirs,
+            |d| self.intensity(d),
+            |size| self.share * s.scale * s.bounds.over(nadir, &dirs, size),
+        )
+    }
+
+    fn measure(&self, t: &[DVec3; 3], _n: DVec3) -> f64 {
+        lambert::triangle_solid_angle(self.position, t)
+    }
+
+    fn toward(&self, p: DVec3) -> DVec3 {
+        (p - self.position).normalize_or_zero()
+    }
+
+    fn sees(&self, occ: &Occluder, p: DVec3, n: DVec3) -> bool {
+        occ.clear(p, n, self.position, DVec3::ZERO)
+    }
+}
+
+/// Half sizes along photometric X and Y; a round opening becomes the square of equal area.
+fn half_sizes(o: &Opening) -> [f64; 2] {
+    match o.shape {
+        OpeningShape::Rectangular => [o.length.max(0.0) / 2.0, o.width.max(0.0) / 2.0],
+        OpeningShape::Round => {
+            let (a, b) = (o.length.max(0.0), o.width.max(0.0));
+            let side = (PI * a * b / 4.0).sqrt();
+            [side / 2.0, side / 2.0]
+        }
+    }
+}

@@ -1,0 +1,136 @@
+//! Every direct source of a scene behind one interface: `KHR_lights_punctual` lights,
+//! photometric luminaires and emitting surfaces with a photometric profile. Lambertian emitting
+//! surfaces are not here: their light travels through the patch field (see `direct::emitters`).
+
+use super::{luminaire, profiled, punctual};
+use crate::patches::PatchMesh;
+use crate::scene::{Light, LightKind, Scene};
+use crate::visibility::Occluder;
+use glam::DVec3;
+use rayon::prelude::*;
+use std::f64::consts::PI;
+
+pub enum DirectSource<'a> {
+    Punctual(&'a Light),
+    Luminaire(luminaire::Source<'a>),
+    /// Emitting surfaces whose material has a photometric profile.
+    Profiled(profiled::Surface<'a>),
+}
+
+impl<'a> DirectSource<'a> {
+    /// The scene's lights, its luminaires, then its profiled emitting surfaces (`exitance`: what
+    /// each patch emits, as if Lambertian).
+    pub fn all(scene: &'a Scene, mesh: &PatchMesh, exitance: &[DVec3]) -> Vec<DirectSource<'a>> {
+        let lights = scene.lights.iter().map(DirectSource::Punctual);
+        let luminaires = luminaire::Source::all(scene)
+            .into_iter()
+            .map(DirectSource::Luminaire);
+        let surfaces = profiled::Surface::all(scene, mesh, exitance)
+            .into_iter()
+            .map(DirectSource::Profiled);
+        lights.chain(luminaires).chain(surfaces).collect()
+    }
+
+    /// What the summary says about this source, given the flux it put onto surfaces (lm).
+    pub fn report(&self, scene: &Scene, received: f64) -> serde_json::Value {
+        let (kind, name, path) = match self {
+            DirectSource::Punctual(l) => (
+                match l.kind {
+                    LightKind::Point => "point",
+                    LightKind::Spot { .. } => "spot",
+                    LightKind::Directional => "directional",
+                },
+                l.name.clone(),
+                l.source_path.clone(),
+            ),
+            DirectSource::Luminaire(s) => ("luminaire", s.name.clone(), s.source_path.clone()),
+            DirectSource::Profiled(s) => ("profiledSurface", s.name.clone(), s.source_path.clone()),
+        };
+        let mut out = serde_json::json!({
+            "kind": kind,
+            "name": name,
+            "source": path,
+            "emittedLm": self.emitted_flux().unwrap_or(received),
+            "reachedSurfacesLm": received,
+        });
+        if let DirectSource::Luminaire(s) = self {
+            out["profile"] = serde_json::json!(scene.profiles[s.profile].name);
+            out["multiplier"] = serde_json::json!(s.scale);
+        }
+        out
+    }
+
+    /// Relative RGB colour (luminance 1).
+    pub fn color(&self) -> DVec3 {
+        match self {
+            DirectSource::Punctual(l) => l.color,
+            DirectSource::Luminaire(s) => s.color,
+            DirectSource::Profiled(s) => s.color,
+        }
+    }
+
+    /// Illuminance (lx, photometric) at point `p` with unit normal `n`.
+    pub fn illuminance(&self, occ: &Occluder, p: DVec3, n: DVec3) -> f64 {
+        match self {
+            DirectSource::Punctual(l) => punctual::illuminance(l, occ, p, n),
+            DirectSource::Luminaire(s) => s.illuminance(occ, p, n),
+            DirectSource::Profiled(s) => s.illuminance(occ, p, n),
+        }
+    }
+
+    /// `(front, back)` flux (lm, photometric) into a triangle patch.
+    pub fn patch_flux(&self, occ: &Occluder, corners: &[DVec3; 3], normal: DVec3) -> (f64, f64) {
+        match self {
+            DirectSource::Punctual(l) => {
+                let budget = punctual::refinement_budget(l, occ.diagonal);
+                punctual::patch_flux(l, occ, corners, normal, budget)
+            }
+            DirectSource::Luminaire(s) => s.patch_flux(occ, corners, normal, s.budget()),
+            DirectSource::Profiled(s) => s.patch_flux(occ, corners, normal),
+        }
+    }
+
+    /// Emitted flux (lm); `None` for a directional light (it emits what the scene intercepts).
+    pub fn emitted_flux(&self) -> Option<f64> {
+        match self {
+            DirectSource::Punctual(l) => punctual::emitted_flux(l),
+            DirectSource::Luminaire(s) => Some(s.flux),
+            DirectSource::Profiled(s) => Some(s.flux),
+        }
+    }
+
+    /// Flux that leaves the scene without touching a surface: a 64 × 128 grid of equal
+    /// solid-angle cells (uniform in cos θ and φ), each weighted by the intensity at its centre.
+    pub fn escaping_flux(&self, occ: &Occluder) -> f64 {
+        let (position, intensity): (DVec3, Box<dyn Fn(DVec3) -> f64 + Sync + '_>) = match self {
+            DirectSource::Punctual(l) if l.kind == LightKind::Directional => return 0.0,
+            DirectSource::Punctual(l) => (l.position, Box::new(move |d| punctual::intensity(l, d))),
+            DirectSource::Luminaire(s) => (s.position, Box::new(move |d| s.intensity(d))),
+            // Surfaces: their escape is counted with the other surfaces' (rays from patches).
+            DirectSource::Profiled(_) => return 0.0,
+        };
+        let (nu, nv) = (64usize, 128usize);
+        let cell = 4.0 * PI / (nu * nv) as f64;
+        (0..nu)
+            .into_par_iter()
+            .map(|iu| {
+                let cos = 1.0 - 2.0 * (iu as f64 + 0.5) / nu as f64;
+                let sin = (1.0 - cos * cos).max(0.0).sqrt();
+                (0..nv)
+                    .map(|iv| {
+                        let phi = 2.0 * PI * (iv as f64 + 0.5) / nv as f64;
+                        let d = DVec3::new(sin * phi.cos(), cos, sin * phi.sin());
+                        let i = intensity(d);
+                        if i > 0.0 && occ.escapes(position, DVec3::ZERO, d) {
+                            i * cell
+                        } else {
+                            0.0
+                        }
+                    })
+                    .sum::<f64>()
+            })
+            .collect::<Vec<_>>()
+            .iter()
+            .sum()
+    }
+}
