@@ -67,7 +67,8 @@ pub(super) fn parse(ctx: &mut Ctx, bytes: &[u8]) -> Result<Parsed> {
                 ctx.warn_once(
                     "POSITION min/max",
                     format!(
-                        "{pointer}: missing (the spec requires min and max on POSITION                          accessors); ignored"
+                        "{pointer}: missing (the spec requires min and max on POSITION \
+                         accessors); ignored"
                     ),
                 );
             }

@@ -74,7 +74,8 @@ fn material(
             ctx.err(
                 format!("{ext_at}/emission/profile"),
                 format!(
-                    "refers to /extensions/{LUXBAKE_LUMINAIRE}/profiles/{p}, which does not                      exist (the file has {} profiles there)",
+                    "refers to /extensions/{LUXBAKE_LUMINAIRE}/profiles/{p}, which does not \
+                     exist (the file has {} profiles there)",
                     profiles.luxbake
                 ),
             )
