@@ -222,6 +222,34 @@ fn references_are_remapped_and_missing_objects_made() {
     for l in &mut scene.luminaires {
         l.extensions.clear();
     }
+    // First without moving anything: node 1's objects are made from its values.
+    let path = dir.join("made.gltf");
+    export::write(
+        &path,
+        &scene,
+        &flat_result(&scene),
+        &ExportOptions::default(),
+    )
+    .unwrap();
+    let j = gltf_read::read(&path).json;
+    let node1 = &j["nodes"][1]["extensions"];
+    assert_eq!(node1["EXT_lights_ies"]["light"], 1);
+    let color: Vec<f64> = node1["EXT_lights_ies"]["color"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c.as_f64().unwrap())
+        .collect();
+    for (got, want) in color.iter().zip([1.0, 0.9, 0.7]) {
+        assert!((got - want).abs() < 1e-12, "{color:?}");
+    }
+    assert_eq!(
+        node1["LUXBAKE_luminaire"],
+        json!({"maintenanceFactor": 0.8, "opening": {"length": 1.2, "width": 0.3, "height": 0.0}})
+    );
+    let again = load_ok(&path);
+    assert_same_luminaires(&scene.luminaires, &again.luminaires, "made");
+
     // The glowing material now uses EXT_lights_ies light 1 (scene profile 1).
     let mut e = scene.materials[0].emission.unwrap();
     e.profile = Some(1);
