@@ -1,10 +1,11 @@
 //! The output's single binary buffer, with its `bufferViews` and `accessors`.
 //!
-//! Input: typed arrays (vertex attributes, indices, encoded images) in the order the document is
+//! Input: typed arrays (vertex attributes, indices, encoded images, photometric files) in the order the document is
 //! built. Output: the buffer bytes plus the `bufferViews` and `accessors` JSON arrays.
 //! Invariants: one bufferView per accessor or image; every view starts at a multiple of 4 bytes
 //! and the buffer length is a multiple of 4 (zero padding); `byteStride` is never written;
-//! vertex data gets target ARRAY_BUFFER, indices ELEMENT_ARRAY_BUFFER, images no target;
+//! vertex data gets target ARRAY_BUFFER, indices ELEMENT_ARRAY_BUFFER, images and other files no
+//! target;
 //! `min`/`max` are the exact extremes of the stored `f32` values.
 
 use serde_json::{Map, Value, json};
@@ -113,6 +114,11 @@ impl Binary {
 
     /// Encoded image bytes as a bufferView without target; returns the view index.
     pub fn image(&mut self, bytes: &[u8]) -> usize {
+        self.blob(bytes)
+    }
+
+    /// Any other bytes (photometric files) as a bufferView without target; returns its index.
+    pub fn blob(&mut self, bytes: &[u8]) -> usize {
         self.push_view(bytes, None)
     }
 

@@ -5,12 +5,13 @@
 //! Invariants: fields are inserted in one fixed order and arrays follow scene order, so equal
 //! inputs give equal documents; empty arrays are omitted (glTF forbids them); `extensionsUsed`
 //! lists exactly the extension names that occur in the document (outside `extras`), sorted;
-//! `extensionsRequired` is never written.
+//! `extensionsRequired` is never written (Blender refuses files requiring extensions it does not
+//! know, such as `EXT_lights_ies` and `LUXBAKE_luminaire`).
 
-use super::{ExportOptions, buffer::Binary, material, mesh, nodes};
+use super::{ExportOptions, buffer::Binary, luminaires, material, mesh, nodes};
 use crate::{Result, result::BakeResult, scene::Scene};
 use serde_json::{Map, Value, json};
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 
 /// The document before it is packed into `.gltf` + `.bin` or `.glb`.
 #[derive(Debug)]
@@ -25,9 +26,10 @@ pub struct Document {
 pub fn build(scene: &Scene, result: &BakeResult, options: &ExportOptions) -> Result<Document> {
     let mut binary = Binary::default();
     let meshes = mesh::build(scene, result, &mut binary)?;
-    let materials = material::materials(scene, &meshes.back_baked, options);
     let (textures, images, samplers) = material::textures(scene, &mut binary);
-    let nodes = nodes::nodes(scene, &meshes.node_mesh);
+    let profiles = luminaires::profiles(scene, &mut binary);
+    let materials = material::materials(scene, &meshes.back_baked, options, &profiles);
+    let nodes = nodes::nodes(scene, &meshes.node_mesh, &profiles.node_extensions(scene));
     let scenes = vec![nodes::scene(scene, &result.summary)];
     let lights = nodes::lights(scene);
     let (bin, views, accessors) = binary.finish();
@@ -59,8 +61,13 @@ pub fn build(scene: &Scene, result: &BakeResult, options: &ExportOptions) -> Res
             root.insert(key.into(), Value::Array(array));
         }
     }
+    // Root extensions in sorted order: EXT_lights_ies, KHR_lights_punctual, LUXBAKE_luminaire.
+    let mut extensions: BTreeMap<&str, Value> = profiles.root_extensions().into_iter().collect();
     if let Some(lights) = lights {
-        root.insert("extensions".into(), json!({ nodes::LIGHTS: lights }));
+        extensions.insert(nodes::LIGHTS, lights);
+    }
+    if !extensions.is_empty() {
+        root.insert("extensions".into(), json!(extensions));
     }
 
     let mut used = BTreeSet::new();

@@ -5,13 +5,14 @@
 //! JSON arrays (images embedded in the [`Binary`] with their mimeType, whatever the input did).
 //! Invariants: every scene material is written, in order, with its name and extras; the input's
 //! `LUXBAKE_material` object is kept under `extensions` (with unlit, under
-//! `extras.luxbake.original`, because the validator warns about any extension beside unlit). With `unlit` (default) a material gets
+//! `extras.luxbake.original`, because the validator warns about any extension beside unlit), its
+//! `emission.profile` set to the output index of the emission's profile. With `unlit` (default) a material gets
 //! `KHR_materials_unlit`, the spec's fallback metallic 0 / roughness 1, emissive zeroed and
 //! `KHR_materials_emissive_strength` dropped (it is forbidden with unlit); a material baked with a
 //! back side is written single-sided (each face has its own primitive). Every changed value is
 //! kept in `extras.luxbake.original`; `extras.luxbake` also records the reflectance used.
 
-use super::{ExportOptions, buffer::Binary, extras::with_luxbake};
+use super::{ExportOptions, buffer::Binary, extras::with_luxbake, luminaires::Profiles};
 use crate::scene::{AlphaMode, Material, Scene, TextureRef};
 use serde_json::{Map, Value, json};
 
@@ -20,17 +21,43 @@ pub const EMISSIVE_STRENGTH: &str = "KHR_materials_emissive_strength";
 pub const LUXBAKE_MATERIAL: &str = "LUXBAKE_material";
 
 /// The `materials` array; `back_baked[i]` tells whether material `i` got back-side primitives.
-pub fn materials(scene: &Scene, back_baked: &[bool], options: &ExportOptions) -> Vec<Value> {
+/// `profiles` gives the output index of emission profiles.
+pub fn materials(
+    scene: &Scene,
+    back_baked: &[bool],
+    options: &ExportOptions,
+    profiles: &Profiles,
+) -> Vec<Value> {
     scene
         .materials
         .iter()
         .enumerate()
-        .map(|(i, m)| material(m, back_baked.get(i).copied().unwrap_or(false), options))
+        .map(|(i, m)| {
+            let back_baked = back_baked.get(i).copied().unwrap_or(false);
+            material(m, back_baked, options, profiles)
+        })
         .collect()
 }
 
-fn material(m: &Material, back_baked: bool, options: &ExportOptions) -> Value {
+/// The material's `LUXBAKE_material` object with `emission.profile` pointing into the output.
+fn luxbake_extension(m: &Material, profiles: &Profiles) -> Option<Value> {
+    let mut ext = m.display.luxbake_extension.clone()?;
+    let output_index = m
+        .emission
+        .and_then(|e| e.profile)
+        .and_then(|p| profiles.luxbake_index(p));
+    if let (Some(k), Some(emission)) = (
+        output_index,
+        ext.get_mut("emission").and_then(Value::as_object_mut),
+    ) {
+        emission.insert("profile".into(), json!(k));
+    }
+    Some(ext)
+}
+
+fn material(m: &Material, back_baked: bool, options: &ExportOptions, profiles: &Profiles) -> Value {
     let d = &m.display;
+    let luxbake_ext = luxbake_extension(m, profiles);
     let (metallic, roughness, emissive, strength) = if options.unlit {
         (0.0, 1.0, [0.0; 3], None)
     } else {
@@ -93,7 +120,7 @@ fn material(m: &Material, back_baked: bool, options: &ExportOptions) -> Value {
     // The validator warns when KHR_materials_unlit shares a material with any other extension,
     // so with unlit the LUXBAKE_material object moves to extras.luxbake.original (where the
     // importer finds it again when the output is baked anew).
-    if let Some(ext) = d.luxbake_extension.as_ref().filter(|_| !options.unlit) {
+    if let Some(ext) = luxbake_ext.as_ref().filter(|_| !options.unlit) {
         extensions.insert(LUXBAKE_MATERIAL.into(), ext.clone());
     }
     if !extensions.is_empty() {
@@ -112,7 +139,7 @@ fn material(m: &Material, back_baked: bool, options: &ExportOptions) -> Value {
         if let Some(s) = d.emissive_strength {
             original.insert("emissiveStrength".into(), json!(s));
         }
-        if let Some(ext) = &d.luxbake_extension {
+        if let Some(ext) = &luxbake_ext {
             original.insert(LUXBAKE_MATERIAL.into(), ext.clone());
         }
     }

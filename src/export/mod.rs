@@ -6,7 +6,8 @@
 //! fails (unknown extension, missing directory, an output that would replace an input file,
 //! inconsistent bake results). Layout of the output (one concern per module):
 //! [`target`] (paths and the input-overwrite guard), [`document`] (the root JSON) built from
-//! [`mesh`] (+ [`geometry`], [`buffer`]), [`material`], [`nodes`] and [`extras`], packed by
+//! [`mesh`] (+ [`geometry`], [`buffer`]), [`material`], [`nodes`], [`luminaires`] (profiles and
+//! luminaire extensions) and [`extras`], packed by
 //! [`container`] and written by [`atomic`].
 
 pub mod atomic;
@@ -15,6 +16,7 @@ mod container;
 mod document;
 mod extras;
 mod geometry;
+mod luminaires;
 mod material;
 mod mesh;
 mod nodes;

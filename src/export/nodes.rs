@@ -6,7 +6,9 @@
 //! names, children, extras, cameras and the local transform (matrix or TRS, as given) are kept;
 //! default transform parts are omitted; a light is referenced from the node that places it
 //! (`Node::light`, else `Light::node`), whose transform already positions and aims it; a
-//! directional light gets no `range`. Light colours are linear RGB
+//! directional light gets no `range`. A node placing a luminaire gets the `EXT_lights_ies` /
+//! `LUXBAKE_luminaire` objects made by [`super::luminaires`] beside its light (extension names
+//! sorted). Light colours are linear RGB
 //! scaled so the largest component is 1 (glTF requires [0, 1]; chromaticity kept, the intensity
 //! in cd or lx is written unchanged). Scene extras gain `"luxbake": <summary>`.
 
@@ -14,11 +16,17 @@ use super::extras::with_luxbake;
 use crate::scene::{LightKind, LocalTransform, Scene};
 use glam::{DMat4, DQuat, DVec3};
 use serde_json::{Map, Value, json};
+use std::collections::BTreeMap;
 
 pub const LIGHTS: &str = "KHR_lights_punctual";
 
-/// The `nodes` array; `node_mesh[i]` is node `i`'s mesh index.
-pub fn nodes(scene: &Scene, node_mesh: &[Option<usize>]) -> Vec<Value> {
+/// The `nodes` array; `node_mesh[i]` is node `i`'s mesh index, `node_extensions[i]` the
+/// luminaire extension objects of node `i`.
+pub fn nodes(
+    scene: &Scene,
+    node_mesh: &[Option<usize>],
+    node_extensions: &[Vec<(&'static str, Value)>],
+) -> Vec<Value> {
     let mut node_light = vec![None; scene.nodes.len()];
     for (i, light) in scene.lights.iter().enumerate() {
         if let Some(slot) = node_light.get_mut(light.node) {
@@ -44,8 +52,15 @@ pub fn nodes(scene: &Scene, node_mesh: &[Option<usize>]) -> Vec<Value> {
             if let Some(camera) = node.camera {
                 out.insert("camera".into(), json!(camera));
             }
+            let mut extensions: BTreeMap<&str, Value> = BTreeMap::new();
             if let Some(light) = node.light.or(node_light[i]) {
-                out.insert("extensions".into(), json!({ LIGHTS: { "light": light } }));
+                extensions.insert(LIGHTS, json!({ "light": light }));
+            }
+            for (name, value) in node_extensions.get(i).into_iter().flatten() {
+                extensions.insert(name, value.clone());
+            }
+            if !extensions.is_empty() {
+                out.insert("extensions".into(), json!(extensions));
             }
             if let Some(extras) = &node.extras {
                 out.insert("extras".into(), extras.clone());

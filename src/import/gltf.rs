@@ -5,8 +5,10 @@
 //! Steps: parse and validate (`document`), read buffers and images confined to the input folder
 //! (`buffers`), build the node tree and world transforms (`nodes`), materials (`material`,
 //! `luxbake_ext`), one surface per (node instance, triangle primitive) (`mesh`, `accessor`) and
-//! one light per node placing a `KHR_lights_punctual` light (`lights`). Cameras and `extras` are
-//! kept verbatim. Surfaces and lights come only from the nodes of the imported scene; other nodes
+//! one light per node placing a `KHR_lights_punctual` light (`lights`), photometric profiles
+//! (`profiles`: read first, parsed last, so that every index into them is checked before any
+//! file is parsed) and one luminaire per node carrying `EXT_lights_ies` / `LUXBAKE_luminaire`
+//! (`luminaires`). Cameras and `extras` are kept verbatim. Surfaces and lights come only from the nodes of the imported scene; other nodes
 //! are kept (with their transforms) but instantiate nothing. Primitives without a material use
 //! [`Material::default_material`], appended once after the file's materials when needed.
 
@@ -14,10 +16,12 @@ mod accessor;
 mod buffers;
 mod document;
 mod lights;
+mod luminaires;
 mod luxbake_ext;
 mod material;
 mod mesh;
 mod nodes;
+mod profiles;
 mod raw;
 mod textures;
 
@@ -30,7 +34,8 @@ pub(crate) fn load(ctx: &mut Ctx, bytes: &[u8]) -> Result<Scene> {
     let document::Parsed { doc, raw, bin } = document::parse(ctx, bytes)?;
     let buffers = buffers::load_buffers(ctx, &doc, bin.as_deref())?;
     let images = buffers::load_images(ctx, &doc, &buffers)?;
-    let mut materials = material::materials(ctx, &doc, &raw, &images)?;
+    let profile_sources = profiles::read(ctx, &doc, &raw, &buffers)?;
+    let mut materials = material::materials(ctx, &doc, &raw, &images, profile_sources.counts)?;
     let hierarchy = nodes::build(ctx, &doc, &raw)?;
     let mut nodes = hierarchy.nodes;
 
@@ -66,6 +71,9 @@ pub(crate) fn load(ctx: &mut Ctx, bytes: &[u8]) -> Result<Scene> {
     if surfaces.iter().any(|s| s.material == default_material) {
         materials.push(Material::default_material());
     }
+    let luminaires =
+        luminaires::luminaires(ctx, &raw, &nodes, &hierarchy.reachable, &profile_sources)?;
+    let profiles = profiles::parse(ctx, profile_sources)?;
 
     Ok(Scene {
         source_file: ctx.file.clone(),
@@ -78,8 +86,8 @@ pub(crate) fn load(ctx: &mut Ctx, bytes: &[u8]) -> Result<Scene> {
         images,
         samplers: textures::samplers(&doc, &raw),
         lights,
-        profiles: Vec::new(),
-        luminaires: Vec::new(),
+        profiles,
+        luminaires,
         cameras: raw
             .get("cameras")
             .and_then(Value::as_array)

@@ -2,6 +2,8 @@
 //! as an external `.bin`, a `data:` URI or a `.glb`) and small geometry/assertion helpers.
 #![allow(dead_code)]
 
+pub mod luminaires;
+
 use glam::DVec3;
 use luxbake::import::{ImportOptions, load};
 use luxbake::scene::Scene;

@@ -4,8 +4,8 @@
 //! all enums known), the raw JSON (for values kept verbatim and numbers read at full f64
 //! precision) and the GLB binary chunk.
 //! Invariants: `extensionsRequired` may only name extensions luxbake handles (anything else is
-//! refused, naming it); `LUXBAKE_material` is ours and accepted even though the `gltf` crate would
-//! reject it. Validation errors of the `gltf` crate (paths like `meshes[0].primitives[0]`) are
+//! refused, naming it); `LUXBAKE_material`, `LUXBAKE_luminaire` (ours) and `EXT_lights_ies` are
+//! accepted even though the `gltf` crate would reject them. Validation errors of the `gltf` crate (paths like `meshes[0].primitives[0]`) are
 //! reported as JSON pointers (`/meshes/0/primitives/0`).
 
 use crate::Result;
@@ -17,11 +17,19 @@ const HANDLED_REQUIRED: &[&str] = &[
     "KHR_lights_punctual",
     "KHR_materials_emissive_strength",
     "KHR_materials_unlit",
-    "LUXBAKE_material",
+    LUXBAKE_MATERIAL,
+    EXT_LIGHTS_IES,
+    LUXBAKE_LUMINAIRE,
 ];
 
-/// Our own extension, unknown to the `gltf` crate.
+/// Our own material extension, unknown to the `gltf` crate.
 pub(super) const LUXBAKE_MATERIAL: &str = "LUXBAKE_material";
+/// The vendor extension for IES luminaires, unknown to the `gltf` crate.
+pub(super) const EXT_LIGHTS_IES: &str = "EXT_lights_ies";
+/// Our own luminaire extension, unknown to the `gltf` crate.
+pub(super) const LUXBAKE_LUMINAIRE: &str = "LUXBAKE_luminaire";
+/// Extensions luxbake reads itself; the `gltf` crate must not see them as required.
+const READ_HERE: &[&str] = &[LUXBAKE_MATERIAL, EXT_LIGHTS_IES, LUXBAKE_LUMINAIRE];
 
 pub(super) struct Parsed {
     pub doc: ::gltf::Document,
@@ -45,7 +53,8 @@ pub(super) fn parse(ctx: &mut Ctx, bytes: &[u8]) -> Result<Parsed> {
     check_required_extensions(ctx, &raw)?;
     let mut root = ::gltf::json::Root::from_slice(json)
         .map_err(|e| ctx.err("", format!("not valid glTF 2.0 JSON: {e}")))?;
-    root.extensions_required.retain(|e| e != LUXBAKE_MATERIAL);
+    root.extensions_required
+        .retain(|e| !READ_HERE.contains(&e.as_str()));
     let doc = match ::gltf::Document::from_json(root.clone()) {
         Ok(doc) => doc,
         Err(::gltf::Error::Validation(errors)) => {
@@ -58,7 +67,8 @@ pub(super) fn parse(ctx: &mut Ctx, bytes: &[u8]) -> Result<Parsed> {
                 ctx.warn_once(
                     "POSITION min/max",
                     format!(
-                        "{pointer}: missing (the spec requires min and max on POSITION                          accessors); ignored"
+                        "{pointer}: missing (the spec requires min and max on POSITION \
+                         accessors); ignored"
                     ),
                 );
             }

@@ -8,16 +8,25 @@
 //! (a warning says when the material is black only because `metallicFactor` defaulted to 1), and
 //! emission luminance (cd/m²) = Y(`emissiveFactor`) × `KHR_materials_emissive_strength`, coloured
 //! like `emissiveFactor` (zero = no emission; `emissiveTexture` does not change the amount).
+//! `LUXBAKE_material.emission.profile` indexes `LUXBAKE_luminaire.profiles` and becomes
+//! `Emission::profile` (a scene profile index).
 //! Invariants: every reflectance is in [0, 1) (else an error at `/materials/N` saying how to fix
-//! it); emission amounts are finite and ≥ 0. Texture means are computed once per image.
+//! it); emission amounts are finite and ≥ 0; an emission profile index that does not exist is an
+//! error at `.../LUXBAKE_material/emission/profile`. Texture means are computed once per image.
 
 use super::luxbake_ext;
-use super::{document::LUXBAKE_MATERIAL, raw};
+use super::profiles::Counts;
+use super::{
+    document::{LUXBAKE_LUMINAIRE, LUXBAKE_MATERIAL},
+    raw,
+};
 use crate::Result;
 use crate::import::context::Ctx;
 use crate::import::images::mean_linear_rgb;
 use crate::import::material_values::{check_reflectance, emission_from_rgb};
-use crate::scene::{AlphaMode, DisplayMaterial, Image, Material, ReflectanceSource, TextureRef};
+use crate::scene::{
+    AlphaMode, DisplayMaterial, Emission, Image, Material, ReflectanceSource, TextureRef,
+};
 use glam::DVec3;
 use serde_json::Value;
 use std::collections::HashMap;
@@ -27,10 +36,11 @@ pub(super) fn materials(
     doc: &::gltf::Document,
     raw: &Value,
     images: &[Image],
+    profiles: Counts,
 ) -> Result<Vec<Material>> {
     let mut means = HashMap::new();
     doc.materials()
-        .map(|m| material(ctx, &m, raw, images, &mut means))
+        .map(|m| material(ctx, &m, raw, images, profiles, &mut means))
         .collect()
 }
 
@@ -39,6 +49,7 @@ fn material(
     m: &::gltf::Material,
     raw: &Value,
     images: &[Image],
+    profiles: Counts,
     means: &mut HashMap<usize, DVec3>,
 ) -> Result<Material> {
     let index = m.index().unwrap_or_default();
@@ -57,6 +68,19 @@ fn material(
         None => None,
     };
     let display = display(m, raw, &at, extension);
+    let emission_profile = match ext.as_ref().and_then(|e| e.emission_profile) {
+        None => None,
+        Some(p) => Some(profiles.luxbake_profile(p).ok_or_else(|| {
+            ctx.err(
+                format!("{ext_at}/emission/profile"),
+                format!(
+                    "refers to /extensions/{LUXBAKE_LUMINAIRE}/profiles/{p}, which does not \
+                     exist (the file has {} profiles there)",
+                    profiles.luxbake
+                ),
+            )
+        })?),
+    };
 
     let (reflectance, source, hint) = match ext.as_ref().and_then(|e| e.reflectance) {
         Some(rho) => (
@@ -107,7 +131,10 @@ fn material(
     check_reflectance(reflectance, &hint).map_err(|msg| ctx.err(&at, msg))?;
 
     let emission = match ext.and_then(|e| e.emission) {
-        Some(emission) => emission,
+        Some(emission) => emission.map(|e| Emission {
+            profile: emission_profile,
+            ..e
+        }),
         None => {
             let strength = display.emissive_strength.unwrap_or(1.0);
             let emission = emission_from_rgb(DVec3::from_array(display.emissive_factor), strength)
