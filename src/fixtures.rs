@@ -189,6 +189,66 @@ impl SceneBuilder {
         self.scene.roots.push(node);
     }
 
+    /// A luminaire with the photometric file `bytes` at `position`, its nadir along `nadir` and
+    /// photometric C = 0 along `c0` (made perpendicular to the nadir); `opening` overrides the
+    /// file's luminous opening. Panics on a malformed file (fixtures are trusted input).
+    #[allow(clippy::too_many_arguments)]
+    pub fn luminaire(
+        &mut self,
+        name: &str,
+        bytes: &[u8],
+        format: crate::photometry::Format,
+        position: DVec3,
+        nadir: DVec3,
+        c0: DVec3,
+        multiplier: f64,
+        opening: Option<crate::photometry::Opening>,
+    ) {
+        let photometry = crate::photometry::Photometry::parse(bytes, format).expect("fixture profile parses");
+        let profile = self.scene.profiles.len();
+        self.scene.profiles.push(crate::scene::Profile {
+            name: Some(name.into()),
+            source_path: format!("/extensions/LUXBAKE_luminaire/profiles/{profile}"),
+            bytes: bytes.to_vec(),
+            photometry,
+        });
+        let z = -nadir.normalize();
+        let x = (c0 - z * c0.dot(z)).normalize();
+        let frame = glam::DMat3::from_cols(x, z.cross(x), z);
+        let node = self.scene.nodes.len();
+        let rotation = glam::DQuat::from_mat3(&frame);
+        self.scene.luminaires.push(crate::scene::Luminaire {
+            name: Some(name.into()),
+            source_path: format!("/nodes/{node}/extensions/LUXBAKE_luminaire"),
+            node,
+            profile,
+            multiplier,
+            maintenance_factor: 1.0,
+            color: DVec3::ONE,
+            position,
+            world_from_photometric: frame,
+            opening,
+            extensions: Default::default(),
+        });
+        self.scene.nodes.push(Node {
+            name: Some(name.into()),
+            source_path: format!("/nodes/{node}"),
+            children: Vec::new(),
+            local: LocalTransform::Trs {
+                translation: position,
+                rotation,
+                scale: DVec3::ONE,
+            },
+            world_from_local: DMat4::from_rotation_translation(rotation, position),
+            mesh_name: None,
+            surfaces: Vec::new(),
+            light: None,
+            camera: None,
+            extras: None,
+        });
+        self.scene.roots.push(node);
+    }
+
     pub fn build(self) -> Scene {
         self.scene
     }

@@ -1,0 +1,180 @@
+//! Luminaires with measured distributions against closed forms and brute force: CIE 171:2006
+//! test 5.2 (a cosine point source), the near field of a 1.5 × 0.2 m opening, energy balance in a
+//! closed room lit by an IES luminaire, and the office sample baked from IES and from EULUMDAT.
+
+use glam::DVec3;
+use luxbake::bake::bake;
+use luxbake::direct::luminaire::Source;
+use luxbake::fixtures::{SceneBuilder, box_faces};
+use luxbake::photometry::{Format, Opening, OpeningShape};
+use luxbake::progress::Silent;
+use luxbake::result::BakeResult;
+use luxbake::settings::{Quality, Settings};
+use luxbake::visibility::{Occluder, OccluderOptions};
+use std::f64::consts::PI;
+
+fn rel(a: f64, b: f64) -> f64 {
+    (a - b).abs() / b.abs().max(1e-300)
+}
+
+/// An IES LM-63-2002 file with absolute photometry for an axially symmetric distribution
+/// I(γ) sampled every `step` degrees from 0 to 180.
+fn ies_axial(step: f64, intensity: impl Fn(f64) -> f64) -> String {
+    let n = (180.0 / step).round() as usize + 1;
+    let gammas: Vec<f64> = (0..n).map(|k| k as f64 * step).collect();
+    let values: Vec<String> = gammas.iter().map(|g| format!("{:.6}", intensity(g.to_radians()))).collect();
+    let angles: Vec<String> = gammas.iter().map(|g| format!("{g}")).collect();
+    format!(
+        "IESNA:LM-63-2002\r\n[TEST] luxbake analytic\r\nTILT=NONE\r\n1 -1 1 {n} 1 1 2 0 0 0\r\n1 1 0\r\n{}\r\n0\r\n{}\r\n",
+        angles.join(" "),
+        values.join(" ")
+    )
+}
+
+/// The cosine (Lambertian) point source of CIE 171 test 5.2: I(γ) = 1000·cos γ below the horizon.
+fn cosine_source() -> String {
+    ies_axial(2.5, |g| if g <= PI / 2.0 { 1000.0 * g.cos().max(0.0) } else { 0.0 })
+}
+
+/// CIE 171:2006 test 5.2: cosine source 3 m above the centre of a 4 × 4 m plane; E = I₀h²/d⁴.
+#[test]
+fn cie_171_test_5_2_cosine_point_source() {
+    // The published table, from the formula (ANALYTIC.md §1).
+    let formula = |x: f64, y: f64| 1000.0 * 9.0 / (9.0 + x * x + y * y).powi(2);
+    for (x, y, e) in [(0.0, 0.0, 111.11), (1.0, 0.5, 85.66), (1.5, 1.5, 49.38)] {
+        assert!(rel(formula(x, y), e) < 5e-4);
+    }
+    let mut b = SceneBuilder::new();
+    let floor = b.material("plane", 0.0);
+    b.floor("plane", 2.0, 0.0, floor);
+    let ies = cosine_source();
+    b.luminaire("cosine source", ies.as_bytes(), Format::Ies, DVec3::new(0.0, 3.0, 0.0), -DVec3::Y, DVec3::X, 1.0, None);
+    let r = bake(&b.build(), &Settings::default(), &Silent).unwrap();
+    let mut worst = 0.0f64;
+    for (v, p) in r.surfaces[0].positions.iter().enumerate() {
+        worst = worst.max(rel(r.surfaces[0].illuminance[v] as f64, formula(p.x, p.z)));
+    }
+    eprintln!("CIE 5.2 worst {worst:.2e} over {} vertices", r.surfaces[0].positions.len());
+    assert!(worst < 1e-3, "worst {worst}");
+    // The profile's flux is π·I₀.
+    let emitted = r.summary["sources"][0]["emittedLm"].as_f64().unwrap();
+    assert!(rel(emitted, PI * 1000.0) < 5e-3, "{emitted}");
+}
+
+/// The near field of a 1.5 × 0.2 m luminaire: the split of its opening against a fine
+/// brute-force integration over the opening (each element emits the distribution scaled by its
+/// share of the area), at 0.3, 1 and 3 m.
+#[test]
+fn near_field_of_a_linear_luminaire_matches_brute_force() {
+    let mut b = SceneBuilder::new();
+    let ies = cosine_source();
+    let opening = Opening {
+        length: 1.5,
+        width: 0.2,
+        height: 0.0,
+        shape: OpeningShape::Rectangular,
+    };
+    b.luminaire("linear", ies.as_bytes(), Format::Ies, DVec3::ZERO, -DVec3::Y, DVec3::Z, 1.0, Some(opening));
+    let scene = b.build();
+    let occ = Occluder::build(&scene, OccluderOptions::default());
+    let source = Source::new(&scene, &scene.luminaires[0]);
+    let brute = |p: DVec3, n: DVec3| -> f64 {
+        let (nl, nw) = (1500, 200);
+        let mut e = 0.0;
+        for i in 0..nl {
+            for j in 0..nw {
+                let q = DVec3::new((j as f64 + 0.5) / nw as f64 * 0.2 - 0.1, 0.0, (i as f64 + 0.5) / nl as f64 * 1.5 - 0.75);
+                let d = q - p;
+                let cos = n.dot(d);
+                if cos > 0.0 {
+                    let dist = d.length();
+                    e += source.intensity(-d / dist) / (nl * nw) as f64 * cos / (dist * dist * dist);
+                }
+            }
+        }
+        e
+    };
+    let mut worst = 0.0f64;
+    for h in [0.3, 1.0, 3.0] {
+        // Below the centre, below one end, and off to the side, facing up.
+        for p in [DVec3::new(0.0, -h, 0.0), DVec3::new(0.0, -h, 0.7), DVec3::new(0.4, -h, 0.3)] {
+            let got = source.illuminance(&occ, p, DVec3::Y);
+            let far = source.intensity(-p.normalize()) * DVec3::Y.dot(-p.normalize()) / p.length_squared();
+            let want = brute(p, DVec3::Y);
+            eprintln!("near field h {h} p {p}: split {got:.4} brute {want:.4} point {far:.4} err {:.2e}", rel(got, want));
+            worst = worst.max(rel(got, want));
+        }
+    }
+    assert!(worst < 0.01, "worst near-field error {worst}");
+}
+
+fn mean_and_balance(r: &BakeResult) -> (f64, f64) {
+    let (mut sum, mut total) = (0.0, 0.0);
+    for s in &r.surfaces {
+        for t in &s.triangles {
+            let p = t.map(|v| s.positions[v as usize]);
+            let a = (p[1] - p[0]).cross(p[2] - p[0]).length() / 2.0;
+            for &v in t {
+                sum += s.illuminance[v as usize] as f64 * a / 3.0;
+                total += a / 3.0;
+            }
+        }
+    }
+    (sum / total, r.summary["energy"]["balanceErrorRelative"].as_f64().unwrap())
+}
+
+/// A closed 4 × 3 × 5 m room of reflectance 0.8 lit by an IES luminaire with a large opening
+/// hanging below the ceiling: the energy balance closes and the mean illuminance is Φ/(S(1−ρ)).
+#[test]
+fn energy_balances_with_an_ies_luminaire() {
+    let rho = 0.8;
+    let mut b = SceneBuilder::new();
+    let walls = b.material("walls", rho);
+    let size = DVec3::new(4.0, 3.0, 5.0);
+    for (i, f) in box_faces(DVec3::ZERO, size).iter().enumerate() {
+        b.quad(&format!("face_{i}"), *f, walls);
+    }
+    let ies = ies_axial(5.0, |g| 800.0 * g.cos().max(0.0).powf(1.5) + 50.0);
+    let opening = Opening {
+        length: 1.2,
+        width: 0.3,
+        height: 0.0,
+        shape: OpeningShape::Rectangular,
+    };
+    b.luminaire("fitting", ies.as_bytes(), Format::Ies, DVec3::new(2.0, 2.7, 2.5), -DVec3::Y, DVec3::Z, 1.0, Some(opening));
+    let r = bake(&b.build(), &Settings::default(), &Silent).unwrap();
+    let phi = r.summary["sources"][0]["emittedLm"].as_f64().unwrap();
+    let s = 2.0 * (4.0 * 3.0 + 4.0 * 5.0 + 3.0 * 5.0);
+    let (mean, balance) = mean_and_balance(&r);
+    let want = phi / (s * (1.0 - rho));
+    eprintln!("IES room: Φ {phi:.1} lm, mean {mean:.3} vs {want:.3} ({:.2e}), balance {balance:.2e}", rel(mean, want));
+    assert!(balance < 5e-3, "balance error {balance}");
+    assert!(rel(mean, want) < 5e-3);
+    let reached = r.summary["sources"][0]["reachedSurfacesLm"].as_f64().unwrap();
+    assert!(rel(reached, phi) < 2e-3, "all of the luminaire's flux lands in a closed room: {reached} vs {phi}");
+}
+
+/// The office sample's luminaires given as IES (EXT_lights_ies) and as EULUMDAT
+/// (LUXBAKE_luminaire) give the same illuminance everywhere within 0.1 %.
+#[test]
+fn office_from_ies_and_from_ldt_agree() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/office");
+    let load = |name: &str| luxbake::import::load(&root.join(name), &Default::default()).unwrap();
+    let settings = Settings {
+        quality: Quality::Draft,
+        ..Default::default()
+    };
+    let a = bake(&load("office.gltf"), &settings, &Silent).unwrap();
+    let b = bake(&load("office-ldt.gltf"), &settings, &Silent).unwrap();
+    let mut worst = 0.0f64;
+    let peak = a.surfaces.iter().flat_map(|s| s.illuminance.iter()).fold(0.0f32, |m, e| m.max(*e)) as f64;
+    for (sa, sb) in a.surfaces.iter().zip(&b.surfaces) {
+        assert_eq!(sa.illuminance.len(), sb.illuminance.len());
+        for (ea, eb) in sa.illuminance.iter().zip(&sb.illuminance) {
+            // Relative to the value, with a floor of 10⁻⁴ of the peak for dark corners.
+            worst = worst.max((ea - eb).abs() as f64 / (*ea as f64).max(1e-4 * peak));
+        }
+    }
+    eprintln!("office IES vs LDT worst {worst:.2e}");
+    assert!(worst < 1e-3, "{worst}");
+}
