@@ -159,7 +159,13 @@ impl Grid {
                 let ghost = self.interp_phi(opposite, row(1)).max(0.0);
                 slope(t[1] - t[0], t[1] - t[0], ghost, y[0], y[1])
             } else if i == 0 {
-                end_slope(t[1] - t[0], t.get(2).map_or(0.0, |x| x - t[1]), y[0], y[1], y.get(2).copied())
+                end_slope(
+                    t[1] - t[0],
+                    t.get(2).map_or(0.0, |x| x - t[1]),
+                    y[0],
+                    y[1],
+                    y.get(2).copied(),
+                )
             } else if self.frame.periodic && (t[m - 1] - 180.0).abs() < EPS_DEG {
                 let ghost = self.interp_phi(opposite, row(m - 2)).max(0.0);
                 let h = t[m - 1] - t[m - 2];
@@ -200,7 +206,13 @@ impl Grid {
         let (j, u) = self.plane_nodes.locate(phi);
         let (y0, y1) = (f(j), f(j + 1));
         let m0 = if j == 0 {
-            end_slope(g[0], g.get(1).copied().unwrap_or(0.0), y0, y1, (n > 2).then(|| f(2)))
+            end_slope(
+                g[0],
+                g.get(1).copied().unwrap_or(0.0),
+                y0,
+                y1,
+                (n > 2).then(|| f(2)),
+            )
         } else {
             slope(g[j - 1], g[j], f(j - 1), y0, y1)
         };

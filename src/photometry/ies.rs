@@ -59,9 +59,15 @@ fn version_of(line: &str) -> Option<u16> {
 
 /// A line of numbers only (the data begun without a TILT line).
 fn is_numeric(line: &str) -> bool {
-    let mut toks = line.split(|c: char| c.is_whitespace() || c == ',').filter(|t| !t.is_empty());
+    let mut toks = line
+        .split(|c: char| c.is_whitespace() || c == ',')
+        .filter(|t| !t.is_empty());
     let first = toks.next();
-    first.is_some() && first.into_iter().chain(toks).all(|t| t.parse::<f64>().is_ok())
+    first.is_some()
+        && first
+            .into_iter()
+            .chain(toks)
+            .all(|t| t.parse::<f64>().is_ok())
 }
 
 pub(super) fn parse(text: &str) -> Result<Parsed, ParseError> {
@@ -144,7 +150,10 @@ fn tilt_table(tokens: &mut Tokens) -> Result<TiltTable, ParseError> {
     check_increasing(&angles, &lines, "tilt angles")?;
     let (factors, lines) = tokens.numbers(n, |i| format!("tilt multiplier {} of {n}", i + 1))?;
     if let Some(k) = factors.iter().position(|&f| f < 0.0) {
-        return Err(err(lines[k], format!("expected a tilt multiplier ≥ 0, found {}", factors[k])));
+        return Err(err(
+            lines[k],
+            format!("expected a tilt multiplier ≥ 0, found {}", factors[k]),
+        ));
     }
     let k = angles.partition_point(|&a| a <= 0.0);
     let applied_factor = if k == 0 {
@@ -174,7 +183,10 @@ fn positive(tokens: &mut Tokens, what: &str) -> Result<f64, ParseError> {
 fn count(tokens: &mut Tokens, what: &str, min: i64) -> Result<usize, ParseError> {
     let (n, line) = tokens.integer(what)?;
     if !(min..=100_000).contains(&n) {
-        return Err(err(line, format!("expected {what} of at least {min}, found {n}")));
+        return Err(err(
+            line,
+            format!("expected {what} of at least {min}, found {n}"),
+        ));
     }
     Ok(n as usize)
 }
@@ -226,7 +238,9 @@ fn body(
     let second = if old {
         positive(tokens, "the ballast-lamp photometric factor")?
     } else {
-        tokens.number("the future-use / file generation type field")?.0
+        tokens
+            .number("the future-use / file generation type field")?
+            .0
     };
     let (watts, _) = tokens.number("the input watts")?;
     let (v, v_lines) = tokens.numbers(nv, |i| format!("vertical angle {} of {nv}", i + 1))?;
@@ -242,7 +256,10 @@ fn body(
     };
     let (cd, cd_lines) = tokens.numbers(total, what)?;
     if let Some(k) = cd.iter().position(|&c| c < 0.0) {
-        return Err(err(cd_lines[k], format!("expected a candela value ≥ 0, found {}", cd[k])));
+        return Err(err(
+            cd_lines[k],
+            format!("expected a candela value ≥ 0, found {}", cd[k]),
+        ));
     }
     if let Some((line, tok)) = tokens.peek() {
         return Err(err(
@@ -262,12 +279,22 @@ fn body(
         .zip(cd.chunks(nv))
         .map(|(&a, c)| (a, c.iter().map(|x| x * factor).collect()))
         .collect();
-    let ranges = Ranges { v: &v, v_lines: &v_lines, h: &h, h_lines: &h_lines };
+    let ranges = Ranges {
+        v: &v,
+        v_lines: &v_lines,
+        h: &h,
+        h_lines: &h_lines,
+    };
     let (symmetry, grid) = match ty {
         PhotometricType::C => grid_c(&ranges, planes)?,
         _ => grid_ab(ty, &ranges, planes)?,
     };
-    let find = |k: &str| keywords.iter().find(|(key, _)| key == k).map(|(_, v)| v.clone());
+    let find = |k: &str| {
+        keywords
+            .iter()
+            .find(|(key, _)| key == k)
+            .map(|(_, v)| v.clone())
+    };
     let info = FileInfo {
         version: format!("LM-63-{year}"),
         photometric_type: ty,
@@ -285,7 +312,11 @@ fn body(
         declared_lorl_percent: None,
         declared_dff_percent: None,
     };
-    Ok(Parsed { info, grid, opening: opening(dims[0] * scale, dims[1] * scale, dims[2] * scale) })
+    Ok(Parsed {
+        info,
+        grid,
+        opening: opening(dims[0] * scale, dims[1] * scale, dims[2] * scale),
+    })
 }
 
 /// Width (Y), length (X), height (Z) in metres → the opening.
@@ -302,7 +333,11 @@ fn opening(width: f64, length: f64, height: f64) -> Opening {
         length: l,
         width: w,
         height: height.abs(),
-        shape: if round { OpeningShape::Round } else { OpeningShape::Rectangular },
+        shape: if round {
+            OpeningShape::Round
+        } else {
+            OpeningShape::Rectangular
+        },
     }
 }
 
@@ -347,19 +382,30 @@ fn grid_c(r: &Ranges, planes: Vec<Plane>) -> Result<(Symmetry, Grid), ParseError
     };
     let full = complete_c(planes, symmetry);
     let (angles, values): (Vec<f64>, Vec<Vec<f64>>) = full.into_iter().unzip();
-    let grid = Grid::new(Frame::of(PhotometricType::C), angles, r.v.to_vec(), values.concat());
+    let grid = Grid::new(
+        Frame::of(PhotometricType::C),
+        angles,
+        r.v.to_vec(),
+        values.concat(),
+    );
     Ok((symmetry, grid))
 }
 
 /// Types A/B: (φ, θ) = (V, H + 90°) for B, (H, V + 90°) for A; ranges −90°/0° → 90°.
-fn grid_ab(ty: PhotometricType, r: &Ranges, planes: Vec<Plane>) -> Result<(Symmetry, Grid), ParseError> {
+fn grid_ab(
+    ty: PhotometricType,
+    r: &Ranges,
+    planes: Vec<Plane>,
+) -> Result<(Symmetry, Grid), ParseError> {
     let name = if ty == PhotometricType::B { "B" } else { "A" };
     for (a, lines, what) in [(r.v, r.v_lines, "vertical"), (r.h, r.h_lines, "horizontal")] {
         let (a0, a1) = (a[0], a[a.len() - 1]);
         if !(same(a0, -90.0) || same(a0, 0.0)) || !same(a1, 90.0) {
             return Err(err(
                 lines[0],
-                format!("expected type {name} {what} angles from −90° or 0° to 90°, found {a0}° to {a1}°"),
+                format!(
+                    "expected type {name} {what} angles from −90° or 0° to 90°, found {a0}° to {a1}°"
+                ),
             ));
         }
     }
@@ -367,18 +413,21 @@ fn grid_ab(ty: PhotometricType, r: &Ranges, planes: Vec<Plane>) -> Result<(Symme
     let v_half = same(r.v[0], 0.0);
     // Re-slice the table as half-planes: B planes are the vertical angles, A planes the horizontal.
     let (mut plane_list, theta_src): (Vec<Plane>, &[f64]) = if ty == PhotometricType::B {
-        let list = r
-            .v
-            .iter()
-            .enumerate()
-            .map(|(k, &va)| (va, planes.iter().map(|p| p.1[k]).collect()))
-            .collect();
+        let list =
+            r.v.iter()
+                .enumerate()
+                .map(|(k, &va)| (va, planes.iter().map(|p| p.1[k]).collect()))
+                .collect();
         (list, r.h)
     } else {
         (planes, r.v)
     };
     let mut thetas: Vec<f64> = theta_src.iter().map(|a| a + 90.0).collect();
-    let (phi_half, theta_half) = if ty == PhotometricType::B { (v_half, h_half) } else { (h_half, v_half) };
+    let (phi_half, theta_half) = if ty == PhotometricType::B {
+        (v_half, h_half)
+    } else {
+        (h_half, v_half)
+    };
     if theta_half {
         let (t, p) = mirror_thetas(&thetas, plane_list);
         (thetas, plane_list) = (t, p);
@@ -394,5 +443,8 @@ fn grid_ab(ty: PhotometricType, r: &Ranges, planes: Vec<Plane>) -> Result<(Symme
         (false, false) => Symmetry::None,
     };
     let (angles, values): (Vec<f64>, Vec<Vec<f64>>) = plane_list.into_iter().unzip();
-    Ok((symmetry, Grid::new(Frame::of(ty), angles, thetas, values.concat())))
+    Ok((
+        symmetry,
+        Grid::new(Frame::of(ty), angles, thetas, values.concat()),
+    ))
 }

@@ -173,7 +173,10 @@ impl Photometry {
     /// Luminous intensity (cd) at the file's own angle pair, degrees: (C, γ) for type C,
     /// (H, V) for types A and B.
     pub fn intensity_at(&self, horizontal_deg: f64, vertical_deg: f64) -> f64 {
-        self.intensity(self.photometric_type().direction(horizontal_deg, vertical_deg))
+        self.intensity(
+            self.photometric_type()
+                .direction(horizontal_deg, vertical_deg),
+        )
     }
 
     /// Total luminous flux (lm) of the distribution, integrated over the sphere.

@@ -86,7 +86,10 @@ pub(super) fn svg(p: &Photometry) -> String {
 <text x="{lx:.2}" y="{ly:.2}" text-anchor="middle" fill="#555">{gamma}°</text>"##
         );
     }
-    for (c, colour, dash) in [(0.0, "#c0392b", ""), (90.0, "#2463b4", r#" stroke-dasharray="6 4""#)] {
+    for (c, colour, dash) in [
+        (0.0, "#c0392b", ""),
+        (90.0, "#2463b4", r#" stroke-dasharray="6 4""#),
+    ] {
         let mut d = String::new();
         for k in -360..=360 {
             let sgn = f64::from(k) * 0.5;

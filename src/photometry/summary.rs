@@ -120,7 +120,11 @@ fn spread(ph: &Photometry, p: DVec3, t: DVec3, level: f64) -> Option<f64> {
                 let (mut lo, mut hi) = (s, next);
                 for _ in 0..40 {
                     let mid = 0.5 * (lo + hi);
-                    if at(mid, side) < level { hi = mid } else { lo = mid }
+                    if at(mid, side) < level {
+                        hi = mid
+                    } else {
+                        lo = mid
+                    }
                 }
                 return Some(0.5 * (lo + hi));
             }
@@ -153,26 +157,49 @@ impl fmt::Display for Summary {
                 writeln!(f, "{label:<16} {}", v.replace('\n', " "))?;
             }
         }
-        writeln!(f, "Photometry:      type {:?}, symmetry {}", self.photometric_type, self.symmetry.describe())?;
+        writeln!(
+            f,
+            "Photometry:      type {:?}, symmetry {}",
+            self.photometric_type,
+            self.symmetry.describe()
+        )?;
         match self.rated_lumens {
             Some(r) => writeln!(f, "Rated lamp flux: {r:.1} lm")?,
             None => writeln!(f, "Rated lamp flux: — (absolute photometry)")?,
         }
-        let lor = self.light_output_ratio.map_or(String::new(), |l| format!(" (LOR {:.1} %)", 100.0 * l));
+        let lor = self
+            .light_output_ratio
+            .map_or(String::new(), |l| format!(" (LOR {:.1} %)", 100.0 * l));
         writeln!(f, "Flux:            {:.1} lm{lor}", self.flux)?;
         if let (Some(lorl), Some(dff)) = (self.declared_lorl_percent, self.declared_dff_percent) {
             writeln!(f, "Declared:        LORL {lorl:.1} %, DFF {dff:.1} %")?;
         }
         let d = self.max_direction;
-        writeln!(f, "Peak intensity:  {:.1} cd at C {:.1}°, γ {:.1}°", self.max_intensity, d.c, d.gamma)?;
-        for (label, a) in [("Beam (50 %):", self.beam_angle), ("Field (10 %):", self.field_angle)] {
-            writeln!(f, "{label:<16} C0-C180 {}, C90-C270 {}", or_dash(a.c0_c180, "°"), or_dash(a.c90_c270, "°"))?;
+        writeln!(
+            f,
+            "Peak intensity:  {:.1} cd at C {:.1}°, γ {:.1}°",
+            self.max_intensity, d.c, d.gamma
+        )?;
+        for (label, a) in [
+            ("Beam (50 %):", self.beam_angle),
+            ("Field (10 %):", self.field_angle),
+        ] {
+            writeln!(
+                f,
+                "{label:<16} C0-C180 {}, C90-C270 {}",
+                or_dash(a.c0_c180, "°"),
+                or_dash(a.c90_c270, "°")
+            )?;
         }
         let o = self.opening;
         let shape = match o.shape {
             OpeningShape::Rectangular => "rectangular",
             OpeningShape::Round => "round",
         };
-        write!(f, "Opening:         {:.3} × {:.3} × {:.3} m (length × width × height), {shape}", o.length, o.width, o.height)
+        write!(
+            f,
+            "Opening:         {:.3} × {:.3} × {:.3} m (length × width × height), {shape}",
+            o.length, o.width, o.height
+        )
     }
 }

@@ -121,7 +121,6 @@ impl<'a> Tokens<'a> {
     pub(super) fn peek(&self) -> Option<(usize, &'a str)> {
         self.items.get(self.pos).copied()
     }
-
 }
 
 /// Checks that `angles` strictly increase; the error names the first offending angle's line.
