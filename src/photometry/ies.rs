@@ -25,20 +25,13 @@
 //! cylindrical or spherical shapes) gives [`OpeningShape::Round`] with the absolute values (a zero
 //! length or width of a round opening takes the other: a circle).
 
-use super::frame::{Frame, PhotometricType};
-use super::grid::Grid;
-use super::symmetry::{Plane, Symmetry, complete_c, mirror_planes, mirror_thetas};
+use super::frame::PhotometricType;
+use super::ies_grid::{Ranges, grid_ab, grid_c, opening};
+use super::symmetry::Plane;
 use super::text::{Tokens, check_increasing, err, last_content_line, lines as split_lines};
-use super::{FileInfo, Opening, OpeningShape, ParseError, Parsed, TiltTable};
+use super::{FileInfo, ParseError, Parsed, TiltTable};
 
 const FOOT: f64 = 0.3048;
-
-/// Angles equal within this many degrees.
-const TOL: f64 = 1e-6;
-
-fn same(a: f64, b: f64) -> bool {
-    (a - b).abs() < TOL
-}
 
 /// The standard year of a version line, if the line is one.
 fn version_of(line: &str) -> Option<u16> {
@@ -317,134 +310,4 @@ fn body(
         grid,
         opening: opening(dims[0] * scale, dims[1] * scale, dims[2] * scale),
     })
-}
-
-/// Width (Y), length (X), height (Z) in metres → the opening.
-fn opening(width: f64, length: f64, height: f64) -> Opening {
-    let round = width < 0.0 || length < 0.0 || height < 0.0;
-    let (mut w, mut l) = (width.abs(), length.abs());
-    if round && w == 0.0 {
-        w = l;
-    }
-    if round && l == 0.0 {
-        l = w;
-    }
-    Opening {
-        length: l,
-        width: w,
-        height: height.abs(),
-        shape: if round {
-            OpeningShape::Round
-        } else {
-            OpeningShape::Rectangular
-        },
-    }
-}
-
-struct Ranges<'a> {
-    v: &'a [f64],
-    v_lines: &'a [usize],
-    h: &'a [f64],
-    h_lines: &'a [usize],
-}
-
-fn grid_c(r: &Ranges, planes: Vec<Plane>) -> Result<(Symmetry, Grid), ParseError> {
-    let (v0, v1) = (r.v[0], r.v[r.v.len() - 1]);
-    if !(same(v0, 0.0) || same(v0, 90.0)) || !(same(v1, 90.0) || same(v1, 180.0)) {
-        return Err(err(
-            r.v_lines[0],
-            format!(
-                "expected type C vertical angles from 0° or 90° to 90° or 180°, found {v0}° to {v1}°"
-            ),
-        ));
-    }
-    let n = r.h.len();
-    let (h0, h1) = (r.h[0], r.h[n - 1]);
-    let short_of_360 = n >= 2 && h1 > 180.0 && h1 < 360.0 && same(360.0 - h1, h1 - r.h[n - 2]);
-    let symmetry = if same(h0, 0.0) && n == 1 {
-        Symmetry::Axial
-    } else if same(h0, 0.0) && same(h1, 90.0) {
-        Symmetry::Quadrant
-    } else if same(h0, 0.0) && same(h1, 180.0) {
-        Symmetry::BilateralC0C180
-    } else if same(h0, 0.0) && (same(h1, 360.0) || short_of_360) {
-        Symmetry::None
-    } else if same(h0, 90.0) && same(h1, 270.0) {
-        Symmetry::BilateralC90C270
-    } else {
-        return Err(err(
-            r.h_lines[n - 1],
-            format!(
-                "expected type C horizontal angles from 0° to 0°, 90°, 180° or 360°, or from 90° \
-                 to 270°, found {h0}° to {h1}°"
-            ),
-        ));
-    };
-    let full = complete_c(planes, symmetry);
-    let (angles, values): (Vec<f64>, Vec<Vec<f64>>) = full.into_iter().unzip();
-    let grid = Grid::new(
-        Frame::of(PhotometricType::C),
-        angles,
-        r.v.to_vec(),
-        values.concat(),
-    );
-    Ok((symmetry, grid))
-}
-
-/// Types A/B: (φ, θ) = (V, H + 90°) for B, (H, V + 90°) for A; ranges −90°/0° → 90°.
-fn grid_ab(
-    ty: PhotometricType,
-    r: &Ranges,
-    planes: Vec<Plane>,
-) -> Result<(Symmetry, Grid), ParseError> {
-    let name = if ty == PhotometricType::B { "B" } else { "A" };
-    for (a, lines, what) in [(r.v, r.v_lines, "vertical"), (r.h, r.h_lines, "horizontal")] {
-        let (a0, a1) = (a[0], a[a.len() - 1]);
-        if !(same(a0, -90.0) || same(a0, 0.0)) || !same(a1, 90.0) {
-            return Err(err(
-                lines[0],
-                format!(
-                    "expected type {name} {what} angles from −90° or 0° to 90°, found {a0}° to {a1}°"
-                ),
-            ));
-        }
-    }
-    let h_half = same(r.h[0], 0.0);
-    let v_half = same(r.v[0], 0.0);
-    // Re-slice the table as half-planes: B planes are the vertical angles, A planes the horizontal.
-    let (mut plane_list, theta_src): (Vec<Plane>, &[f64]) = if ty == PhotometricType::B {
-        let list =
-            r.v.iter()
-                .enumerate()
-                .map(|(k, &va)| (va, planes.iter().map(|p| p.1[k]).collect()))
-                .collect();
-        (list, r.h)
-    } else {
-        (planes, r.v)
-    };
-    let mut thetas: Vec<f64> = theta_src.iter().map(|a| a + 90.0).collect();
-    let (phi_half, theta_half) = if ty == PhotometricType::B {
-        (v_half, h_half)
-    } else {
-        (h_half, v_half)
-    };
-    if theta_half {
-        let (t, p) = mirror_thetas(&thetas, plane_list);
-        (thetas, plane_list) = (t, p);
-    }
-    if phi_half {
-        plane_list = mirror_planes(plane_list);
-    }
-    // H = −H mirrors Y (the C0–C180 plane), V = −V mirrors X (the C90–C270 plane) for A and B.
-    let symmetry = match (h_half, v_half) {
-        (true, true) => Symmetry::Quadrant,
-        (true, false) => Symmetry::BilateralC0C180,
-        (false, true) => Symmetry::BilateralC90C270,
-        (false, false) => Symmetry::None,
-    };
-    let (angles, values): (Vec<f64>, Vec<Vec<f64>>) = plane_list.into_iter().unzip();
-    Ok((
-        symmetry,
-        Grid::new(Frame::of(ty), angles, thetas, values.concat()),
-    ))
 }

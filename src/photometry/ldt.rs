@@ -134,7 +134,7 @@ pub(super) fn parse(text: &str) -> Result<Parsed, ParseError> {
         4 => 4,
         _ => 1,
     };
-    if mc < 1 || mc > 3600 || mc % divisor != 0 {
+    if !(1..=3600).contains(&mc) || mc % divisor != 0 {
         return Err(err(
             4,
             format!(

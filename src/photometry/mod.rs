@@ -12,7 +12,7 @@
 //! The parsers are written here (no AGPL/GPL crate). Malformed files give a [`ParseError`] with the
 //! line number and what was expected.
 //!
-//! Module map: `text` (decoding, numbers with line numbers), `ies` and `ldt` (the two formats),
+//! Module map: `text` (decoding, numbers with line numbers), `ies` (+ `ies_grid`, its angle ranges) and `ldt` (the two formats),
 //! `symmetry` (declared symmetries, expansion), `frame` (types A/B/C → directions), `grid`
 //! (interpolation), `flux` (integration), `summary` (beam/field angles, the report) and `polar`
 //! (the SVG diagram).
@@ -21,6 +21,7 @@ mod flux;
 mod frame;
 mod grid;
 mod ies;
+mod ies_grid;
 mod ldt;
 mod polar;
 mod summary;
