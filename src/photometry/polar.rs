@@ -1,9 +1,10 @@
 //! The classic polar intensity diagram as standalone SVG.
 //!
 //! Input: a [`Photometry`]. Output: an SVG document (UTF-8 text, 480 × 540 user units): the
-//! C0–C180 curve (solid red; C0 to the right) and the C90–C270 curve (dashed blue; C90 to the
-//! right) of absolute intensity in cd, nadir (γ = 0°) down, zenith up; concentric rings at round
-//! intensities labelled in cd; spokes every 30° labelled with γ; a title and a legend.
+//! C0–C180 curve (solid red) and the C90–C270 curve (dashed blue) of absolute intensity in cd,
+//! C0 / C90 to the right and C180 / C270 to the left, nadir (γ = 0°) down, zenith up; concentric
+//! rings at round intensities labelled in cd; spokes every 30° labelled with γ; a title and a
+//! legend.
 //! Invariants: well-formed XML (text is escaped), deterministic output.
 
 use std::fmt::Write;
@@ -57,11 +58,13 @@ pub(super) fn svg(p: &Photometry) -> String {
         .unwrap_or_else(|| "Luminaire".into());
     let _ = writeln!(
         s,
-        r#"<?xml version="1.0" encoding="UTF-8"?>
+        r##"<?xml version="1.0" encoding="UTF-8"?>
 <svg xmlns="http://www.w3.org/2000/svg" width="480" height="540" viewBox="0 0 480 540" font-family="sans-serif" font-size="11">
 <rect width="480" height="540" fill="white"/>
 <text x="240" y="24" text-anchor="middle" font-size="15">{}</text>
-<text x="240" y="42" text-anchor="middle">Luminous intensity (cd), nadir down</text>"#,
+<text x="240" y="42" text-anchor="middle">Luminous intensity (cd), nadir down</text>
+<text x="16" y="66" fill="#555">C180 / C270</text>
+<text x="464" y="66" text-anchor="end" fill="#555">C0 / C90</text>"##,
         escape(&title.replace('\n', " "))
     );
     for k in 1..=rings {

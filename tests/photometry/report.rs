@@ -198,3 +198,17 @@ fn intensity_is_cheap() {
     eprintln!("intensity(): {:.0} ns per call", per * 1e9);
     assert!(sum > 0.0 && per < 5e-6, "{per} s per call");
 }
+
+#[test]
+#[ignore = "writes the polar diagrams to $PHOTOMETRY_SVG_DIR for a look"]
+fn dump_polar_svgs() {
+    let out = std::env::var("PHOTOMETRY_SVG_DIR").unwrap();
+    for file in [
+        "ies2002_none_tilt.ies",
+        "ldt_isym1.ldt",
+        "ies2002_typeB.ies",
+    ] {
+        std::fs::write(format!("{out}/{file}.svg"), load(file).polar_svg()).unwrap();
+        println!("{}", load(file).summary());
+    }
+}
