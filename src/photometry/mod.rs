@@ -7,15 +7,35 @@
 //! plane and +Y the C = 90° half plane (C increases counter-clockwise seen from above, i.e. from
 //! +Z). This is EXT_lights_ies' convention (the X/Z plane is the vertical photometric plane of
 //! C = 0/180; an untransformed light points down −Z). Types A and B map into the same frame (see
-//! the implementation's docs).
+//! [`PhotometricType`]: the aim (0°, 0°) is −Z, V > 0 towards +X, H > 0 (clockwise) towards −Y).
 //!
 //! The parsers are written here (no AGPL/GPL crate). Malformed files give a [`ParseError`] with the
 //! line number and what was expected.
+//!
+//! Module map: `text` (decoding, numbers with line numbers), `ies` (+ `ies_grid`, its angle ranges) and `ldt` (the two formats),
+//! `symmetry` (declared symmetries, expansion), `frame` (types A/B/C → directions), `grid`
+//! (interpolation), `flux` (integration), `summary` (beam/field angles, the report) and `polar`
+//! (the SVG diagram).
+
+mod flux;
+mod frame;
+mod grid;
+mod ies;
+mod ies_grid;
+mod ldt;
+mod polar;
+mod summary;
+mod symmetry;
+mod text;
 
 use glam::DVec3;
 
+pub use frame::PhotometricType;
+pub use summary::{PeakDirection, PlaneAngles, Summary};
+pub use symmetry::Symmetry;
+
 /// The file formats.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 pub enum Format {
     /// IES LM-63 (`application/x-ies-lm-63`, `.ies`).
     Ies,
@@ -62,40 +82,155 @@ pub struct ParseError {
     pub message: String,
 }
 
+/// An IES `TILT=INCLUDE` table as read. The candela values were multiplied by `applied_factor`,
+/// the table's multiplier at 0° tilt (linear between entries, the nearest entry outside them):
+/// the luminaire is taken as mounted as measured; tilted mountings are not modelled.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct TiltTable {
+    /// Lamp-to-luminaire geometry: 1 (vertical base-up/down), 2 (horizontal, stays horizontal
+    /// when tilted along the 0° plane), 3 (horizontal, tilts with the luminaire).
+    pub geometry: u8,
+    pub angles: Vec<f64>,
+    pub factors: Vec<f64>,
+    pub applied_factor: f64,
+}
+
+/// What a file says about itself, besides the intensities.
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct FileInfo {
+    /// `LM-63-1986` … `LM-63-2019`, or `EULUMDAT`.
+    pub version: String,
+    pub photometric_type: PhotometricType,
+    pub symmetry: Symmetry,
+    /// IES keywords in file order (`[MORE]` lines joined with a newline), upper-case names.
+    pub keywords: Vec<(String, String)>,
+    /// IES `[MANUFAC]`; EULUMDAT line 1 (company).
+    pub manufacturer: Option<String>,
+    /// IES `[LUMINAIRE]`; EULUMDAT line 9.
+    pub luminaire: Option<String>,
+    /// IES `[LUMCAT]`; EULUMDAT line 10 (luminaire number).
+    pub catalog_number: Option<String>,
+    /// IES `[LAMP]`; EULUMDAT lamp types of the lamp sets, joined with "; ".
+    pub lamp: Option<String>,
+    /// IES `[TEST]`; EULUMDAT line 8 (measurement report).
+    pub test: Option<String>,
+    /// Number of lamps (EULUMDAT: over all lamp sets).
+    pub lamp_count: u32,
+    /// Lamp lumens × number of lamps (EULUMDAT: Σ lamp-set flux); `None` for absolute photometry.
+    pub rated_lumens: Option<f64>,
+    /// IES input watts; EULUMDAT Σ lamp-set wattage.
+    pub input_watts: Option<f64>,
+    pub tilt: Option<TiltTable>,
+    /// EULUMDAT light output ratio of the luminaire (%), as declared.
+    pub declared_lorl_percent: Option<f64>,
+    /// EULUMDAT downward flux fraction (%), as declared.
+    pub declared_dff_percent: Option<f64>,
+}
+
+/// What a format parser hands over.
+struct Parsed {
+    info: FileInfo,
+    grid: grid::Grid,
+    opening: Opening,
+}
+
 /// A measured intensity distribution in absolute candela.
 #[derive(Debug, Clone)]
 pub struct Photometry {
-    _private: (),
+    format: Format,
+    info: FileInfo,
+    grid: grid::Grid,
+    opening: Opening,
+    flux: f64,
 }
 
 impl Photometry {
     /// Parse a file's bytes.
     pub fn parse(bytes: &[u8], format: Format) -> Result<Photometry, ParseError> {
-        let _ = (bytes, format);
-        Err(ParseError {
-            line: 0,
-            message: "photometry parsing is not implemented yet".into(),
+        let text = text::decode(bytes);
+        let parsed = match format {
+            Format::Ies => ies::parse(&text)?,
+            Format::Eulumdat => ldt::parse(&text)?,
+        };
+        let flux = flux::integrate(&parsed.grid);
+        Ok(Photometry {
+            format,
+            info: parsed.info,
+            grid: parsed.grid,
+            opening: parsed.opening,
+            flux,
         })
     }
 
     /// Luminous intensity (cd) in unit direction `dir` of the photometric frame.
+    #[inline]
     pub fn intensity(&self, dir: DVec3) -> f64 {
-        let _ = dir;
-        0.0
+        let (phi, theta) = self.grid.frame.angles(dir);
+        self.grid.eval(phi, theta)
+    }
+
+    /// Luminous intensity (cd) at the file's own angle pair, degrees: (C, γ) for type C,
+    /// (H, V) for types A and B.
+    pub fn intensity_at(&self, horizontal_deg: f64, vertical_deg: f64) -> f64 {
+        self.intensity(
+            self.photometric_type()
+                .direction(horizontal_deg, vertical_deg),
+        )
     }
 
     /// Total luminous flux (lm) of the distribution, integrated over the sphere.
     pub fn flux(&self) -> f64 {
-        0.0
+        self.flux
     }
 
     /// The luminous opening the file declares (m).
     pub fn opening(&self) -> Opening {
-        Opening {
-            length: 0.0,
-            width: 0.0,
-            height: 0.0,
-            shape: OpeningShape::Rectangular,
-        }
+        self.opening
+    }
+
+    pub fn format(&self) -> Format {
+        self.format
+    }
+
+    /// Header data: names, version, lamps, tilt table, declared ratios.
+    pub fn info(&self) -> &FileInfo {
+        &self.info
+    }
+
+    pub fn photometric_type(&self) -> PhotometricType {
+        self.info.photometric_type
+    }
+
+    pub fn symmetry(&self) -> Symmetry {
+        self.info.symmetry
+    }
+
+    /// The declared lamp flux (lm): lamp lumens × number of lamps, or the EULUMDAT lamp sets'
+    /// total; `None` for absolute photometry.
+    pub fn rated_lumens(&self) -> Option<f64> {
+        self.info.rated_lumens
+    }
+
+    /// Light output ratio `flux() / rated_lumens()`; `None` for absolute photometry.
+    pub fn light_output_ratio(&self) -> Option<f64> {
+        self.rated_lumens().map(|r| self.flux / r)
+    }
+
+    /// The largest tabulated intensity (cd) and its unit direction.
+    pub fn max_intensity(&self) -> (f64, DVec3) {
+        let (value, phi, theta) = self.grid.peak();
+        (value, self.grid.frame.direction(phi, theta))
+    }
+
+    /// The summary a lighting designer reads (see [`Summary`]).
+    pub fn summary(&self) -> Summary {
+        summary::summarise(self)
+    }
+
+    /// The classic polar intensity diagram (C0–C180 and C90–C270, nadir down, cd) as SVG.
+    pub fn polar_svg(&self) -> String {
+        polar::svg(self)
     }
 }
