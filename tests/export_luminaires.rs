@@ -111,7 +111,7 @@ fn assert_same_profiles(a: &Scene, b: &Scene, what: &str) {
 }
 
 #[test]
-#[ignore = "needs the photometry parser"]
+
 fn round_trip_keeps_luminaires_and_profiles() {
     let dir = scratch("luminaires-round-trip");
     let input = rich(&dir).write_gltf(&dir, "in.gltf", Bin::DataUri);
@@ -136,7 +136,7 @@ fn round_trip_keeps_luminaires_and_profiles() {
 }
 
 #[test]
-#[ignore = "needs the photometry parser"]
+
 fn profiles_are_embedded_and_nothing_is_required() {
     let dir = scratch("luminaires-json");
     let input = rich(&dir).write_gltf(&dir, "in.gltf", Bin::DataUri);
@@ -214,7 +214,7 @@ fn profiles_are_embedded_and_nothing_is_required() {
 /// their values, and an EXT_lights_ies profile used by a material moves to LUXBAKE_luminaire
 /// (the only list a material can index), with every reference following it.
 #[test]
-#[ignore = "needs the photometry parser"]
+
 fn references_are_remapped_and_missing_objects_made() {
     let dir = scratch("luminaires-remap");
     let input = rich(&dir).write_gltf(&dir, "in.gltf", Bin::DataUri);
@@ -305,7 +305,7 @@ fn references_are_remapped_and_missing_objects_made() {
 }
 
 #[test]
-#[ignore = "needs the photometry parser"]
+
 fn validator_finds_no_errors_or_warnings() {
     if !tools::have_validator() {
         return;
@@ -328,7 +328,7 @@ fn validator_finds_no_errors_or_warnings() {
 }
 
 #[test]
-#[ignore = "needs the photometry parser"]
+
 fn blender_keeps_luminaire_nodes() {
     if !tools::have_blender() {
         return;

@@ -39,7 +39,7 @@ fn frame_close(a: DMat3, b: DMat3, what: &str) {
 }
 
 #[test]
-#[ignore = "needs the photometry parser"]
+
 fn base_scene_loads() {
     let dir = tempfile::tempdir().unwrap();
     let path = base().write_gltf(dir.path(), "base.gltf", Bin::DataUri);
@@ -77,7 +77,7 @@ fn base_scene_loads() {
 }
 
 #[test]
-#[ignore = "needs the photometry parser"]
+
 fn frame_follows_the_node_without_its_scale() {
     let dir = tempfile::tempdir().unwrap();
     let mut b = base();
@@ -123,7 +123,7 @@ fn frame_follows_the_node_without_its_scale() {
 }
 
 #[test]
-#[ignore = "needs the photometry parser"]
+
 fn mirrored_node_keeps_a_right_handed_frame() {
     let dir = tempfile::tempdir().unwrap();
     let mut b = base();
@@ -138,7 +138,7 @@ fn mirrored_node_keeps_a_right_handed_frame() {
 }
 
 #[test]
-#[ignore = "needs the photometry parser"]
+
 fn multiplier_colour_maintenance_and_opening() {
     let dir = tempfile::tempdir().unwrap();
     let mut b = base();
@@ -179,7 +179,7 @@ fn multiplier_colour_maintenance_and_opening() {
 }
 
 #[test]
-#[ignore = "needs the photometry parser"]
+
 fn profiles_from_files_buffer_views_and_glb() {
     let dir = tempfile::tempdir().unwrap();
     std::fs::create_dir(dir.path().join("ies")).unwrap();
@@ -226,7 +226,7 @@ fn profiles_from_files_buffer_views_and_glb() {
 }
 
 #[test]
-#[ignore = "needs the photometry parser"]
+
 fn emission_profile_on_a_material() {
     let dir = tempfile::tempdir().unwrap();
     let mut b = base();
@@ -254,7 +254,7 @@ fn emission_profile_on_a_material() {
 }
 
 #[test]
-#[ignore = "needs the photometry parser"]
+
 fn nodes_outside_the_scene_place_no_luminaire() {
     let dir = tempfile::tempdir().unwrap();
     let mut b = base();

@@ -99,7 +99,7 @@ fn near_field_of_a_linear_luminaire_matches_brute_force() {
         // Below the centre, below one end, and off to the side, facing up.
         for p in [DVec3::new(0.0, -h, 0.0), DVec3::new(0.0, -h, 0.7), DVec3::new(0.4, -h, 0.3)] {
             let got = source.illuminance(&occ, p, DVec3::Y);
-            let far = source.intensity(-p.normalize()) * DVec3::Y.dot(-p.normalize()) / p.length_squared();
+            let far = source.intensity(p.normalize()) * DVec3::Y.dot(-p.normalize()) / p.length_squared();
             let want = brute(p, DVec3::Y);
             eprintln!("near field h {h} p {p}: split {got:.4} brute {want:.4} point {far:.4} err {:.2e}", rel(got, want));
             worst = worst.max(rel(got, want));
