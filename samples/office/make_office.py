@@ -1,6 +1,13 @@
 #!/usr/bin/env python3
-"""Write office.gltf + office.bin: the sample room of the seed paper
-"Three-dimensional Illuminance: a tool for lighting design?" (see README.md).
+"""Write office.gltf + office.bin and office-ldt.gltf + office-ldt.bin: the sample room of
+the seed paper "Three-dimensional Illuminance: a tool for lighting design?" (see README.md).
+
+The luminaires' photometry is embedded from profiles/ (written by profiles/make_profiles.py):
+  office.gltf      fluorescents: EXT_lights_ies with miral_58w.ies (+ LUXBAKE_luminaire opening)
+                   spotlight:    LUXBAKE_luminaire with cns70_50w.ldt
+  office-ldt.gltf  every luminaire: LUXBAKE_luminaire with the .ldt profiles
+                   (miral_58w.ldt = profile 0, cns70_50w.ldt = profile 1)
+Both files hold the same scene and the same candela values.
 
 Python 3 standard library only; the output is byte-for-byte deterministic.
 Run from anywhere:  python3 samples/office/make_office.py
@@ -15,8 +22,14 @@ import os
 import struct
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-GLTF_NAME = "office.gltf"
-BIN_NAME = "office.bin"
+PROFILE_DIR = os.path.join(HERE, "profiles")
+VARIANTS = {            # variant -> (glTF name, bin name)
+    "ies": ("office.gltf", "office.bin"),
+    "ldt": ("office-ldt.gltf", "office-ldt.bin"),
+}
+MIME = {"ies": "application/x-ies-lm-63", "ldt": "application/x-eulumdat"}
+MIRAL = ("miral_58w", "Miral 1/58W louvred")
+CNS70 = ("cns70_50w", "CNS70 1/50W")
 
 # ---------------------------------------------------------------- room data
 ROOM_W, ROOM_H, ROOM_L = 5.0, 3.2, 8.0      # x, y, z extents (m)
@@ -39,15 +52,14 @@ PIC_CENTRE = (2.5, 1.6, ROOM_L - 0.005)
 LUM_X, LUM_Y, LUM_Z = 0.2, 0.08, 1.5
 LUM_ROWS_X = (1.25, 3.75)
 LUM_ZS = (4.0 / 3.0, 4.0, 20.0 / 3.0)
-LAMP_FLUX = 5200.0                 # lm per luminaire
-N_LUM = len(LUM_ROWS_X) * len(LUM_ZS)
-DIFFUSER_FLUX = LAMP_FLUX * N_LUM  # 31200 lm shared by all diffuser faces
+LIGHT_DROP = 0.001                 # light node 1 mm below the diffuser centre
+MAINTENANCE_FACTOR = 1.0
+# luminaire light node: local -Z (nadir) -> world -Y, local +X (C0) -> world +Z (length)
+LIGHT_ROTATION = [-0.5, -0.5, -0.5, 0.5]
 
-# spotlight aimed at the picture
+# spotlight aimed at the picture centre on the wall plane; local +X stays horizontal
 SPOT_POS = (2.5, 3.1, 6.0)
 SPOT_TARGET = (2.5, 1.6, ROOM_L)
-SPOT_FLUX = 990.0                  # lm inside the outer cone
-SPOT_INNER, SPOT_OUTER = 0.15, 0.2  # rad
 
 # --------------------------------------------------------------- vector math
 
@@ -143,6 +155,15 @@ class Builder:
         self.bin += data
         return len(self.buffer_views) - 1
 
+    def add_blob(self, data):
+        """A bufferView holding a whole file (no target), 4-byte aligned like the rest."""
+        while len(self.bin) % 4:
+            self.bin.append(0)
+        self.buffer_views.append({"buffer": 0, "byteOffset": len(self.bin),
+                                  "byteLength": len(data)})
+        self.bin += data
+        return len(self.buffer_views) - 1
+
     def add_faces(self, faces):
         """POSITION, NORMAL and uint16 indices for a list of faces.
         Returns the attributes dict and the indices accessor index."""
@@ -177,34 +198,36 @@ class Builder:
 # --------------------------------------------------------------- photometry
 
 
-def spot_falloff(theta, inner, outer):
-    """KHR_lights_punctual reference angular attenuation (spec sample code):
-    t = saturate((cos(theta) - cos(outer)) / max(0.001, cos(inner) - cos(outer)))
-    attenuation = t * t."""
-    scale_ = 1.0 / max(0.001, math.cos(inner) - math.cos(outer))
-    offset = -math.cos(outer) * scale_
-    t = min(1.0, max(0.0, math.cos(theta) * scale_ + offset))
-    return t * t
+def read_profile(key, fmt):
+    with open(os.path.join(PROFILE_DIR, "%s.%s" % (key, fmt)), "rb") as f:
+        return f.read()
 
 
-def spot_flux_per_cd(inner, outer, n=200000):
-    """Phi / I = 2 pi * integral_0^outer f(theta) sin(theta) dtheta,
-    composite Simpson's rule over [0, inner] and [inner, outer]."""
-    def simpson(a, b, m):
-        h = (b - a) / m
-        s = 0.0
-        for k in range(m + 1):
-            t = a + k * h
-            w = 1 if k in (0, m) else (4 if k % 2 else 2)
-            s += w * spot_falloff(t, inner, outer) * math.sin(t)
-        return s * h / 3.0
-    return 2.0 * math.pi * (simpson(0.0, inner, n) + simpson(inner, outer, n))
+def ies_nadir_cd(data):
+    """Candela at (C, gamma) = (0, 0) of one of our LM-63 files (first value after the
+    angle lists, times the multiplier; vertical angles start at 0)."""
+    lines = data.decode("ascii").split("\r\n")
+    i = next(k for k, ln in enumerate(lines) if ln.startswith("TILT="))
+    nums = " ".join(lines[i + 1:]).split()
+    nv, nh = int(nums[3]), int(nums[4])
+    assert float(nums[13]) == 0.0
+    return float(nums[2]) * float(nums[13 + nv + nh])
 
 
-def spot_flux_per_cd_closed(inner, outer):
-    """Same integral in closed form (mu = cos theta): 2 pi [(1 - ci) + (ci - co)/3]."""
-    ci, co = math.cos(inner), math.cos(outer)
-    return 2.0 * math.pi * ((1.0 - ci) + (ci - co) / 3.0)
+def ies_axial_cd(data, gamma_deg):
+    """Candela of an axially symmetric LM-63 file at gamma, linear in gamma."""
+    lines = data.decode("ascii").split("\r\n")
+    i = next(k for k, ln in enumerate(lines) if ln.startswith("TILT="))
+    nums = " ".join(lines[i + 1:]).split()
+    nv, nh = int(nums[3]), int(nums[4])
+    assert nh == 1
+    g = [float(x) for x in nums[13:13 + nv]]
+    v = [float(nums[2]) * float(x) for x in nums[14 + nv:14 + 2 * nv]]
+    for k in range(nv - 1):
+        if g[k] <= gamma_deg <= g[k + 1]:
+            t = (gamma_deg - g[k]) / (g[k + 1] - g[k])
+            return v[k] + t * (v[k + 1] - v[k])
+    return 0.0
 
 
 def look_rotation_minus_z(direction):
@@ -246,7 +269,8 @@ def material(name, refl, emission=None, core_emissive_strength=None):
     return m
 
 
-def build():
+def build(variant):
+    assert variant in VARIANTS
     b = Builder()
     materials, meshes, nodes = [], [], []
     mat_idx = {}
@@ -255,9 +279,11 @@ def build():
         materials.append(m)
         mat_idx[m["name"]] = len(materials) - 1
 
-    # diffuser: each panel gets LAMP_FLUX over its own area (flux shared by area)
+    # diffuser: no longer an emitter for luxbake (luminance 0); plain viewers get the
+    # opening's mean luminance seen from straight below, I(0, 0) / area, as core emission
     diffuser_area = LUM_X * LUM_Z
-    diffuser_luminance = LAMP_FLUX / (math.pi * diffuser_area)
+    miral_ies = read_profile(MIRAL[0], "ies")
+    diffuser_luminance = ies_nadir_cd(miral_ies) / diffuser_area
 
     add_material(material("floor", 0.3))
     add_material(material("ceiling", 0.7))
@@ -268,7 +294,7 @@ def build():
     add_material(material("picture", 0.5))
     add_material(material("luminaire_housing", 0.7))
     add_material(material("luminaire_diffuser", 0.5,
-                          emission={"luminousFlux": DIFFUSER_FLUX},
+                          emission={"luminance": 0},
                           core_emissive_strength=r6(diffuser_luminance)))
 
     def add_mesh(name, prims):
@@ -335,40 +361,87 @@ def build():
     assert abs(face_area(lf["-y"]) - diffuser_area) < 1e-12
     m_lum = add_mesh("luminaire", [(housing, "luminaire_housing"),
                                    (diffuser, "luminaire_diffuser")])
-    k = 0
+    lum_nodes = []
     for x in LUM_ROWS_X:
         for z in LUM_ZS:
-            k += 1
-            scene_nodes.append(add_node({"name": "luminaire_%d" % k, "mesh": m_lum,
-                                         "translation": [x, ROOM_H, r6(z)]}))
+            lum_nodes.append(add_node({"name": "luminaire_%d" % (len(lum_nodes) + 1),
+                                       "mesh": m_lum, "translation": [x, ROOM_H, r6(z)]}))
+            scene_nodes.append(lum_nodes[-1])
 
-    # ---- spotlight (KHR_lights_punctual), -Z aimed at the picture centre
+    # ---- spotlight (LUXBAKE_luminaire, EULUMDAT profile), -Z aimed at the picture centre
     aim = norm(sub(SPOT_TARGET, SPOT_POS))
     q = look_rotation_minus_z(aim)
     got = rotate(q, (0.0, 0.0, -1.0))
     assert all(abs(a - b_) < 1e-12 for a, b_ in zip(got, aim)), (got, aim)
-    k_num = spot_flux_per_cd(SPOT_INNER, SPOT_OUTER)
-    k_closed = spot_flux_per_cd_closed(SPOT_INNER, SPOT_OUTER)
-    assert abs(k_num - k_closed) < 1e-12 * 1e3, (k_num, k_closed)
-    spot_cd = SPOT_FLUX / k_num
-    light = {"name": "spotlight", "type": "spot", "color": [1.0, 1.0, 1.0],
-             "intensity": round(spot_cd, 3),
-             "spot": {"innerConeAngle": SPOT_INNER, "outerConeAngle": SPOT_OUTER}}
-    scene_nodes.append(add_node({"name": "spotlight",
-                                 "translation": list(SPOT_POS),
-                                 "rotation": [c if abs(c) > 1e-15 else 0.0 for c in q],
-                                 "extensions": {"KHR_lights_punctual": {"light": 0}}}))
+    spot_x = rotate(q, (1.0, 0.0, 0.0))
+    assert abs(spot_x[1]) < 1e-12, spot_x                       # local +X horizontal
+    spot_profile = 0 if variant == "ies" else 1
+    spot_node = add_node({"name": "spotlight",
+                          "translation": list(SPOT_POS),
+                          "rotation": [c if abs(c) > 1e-15 else 0.0 for c in q],
+                          "extensions": {"LUXBAKE_luminaire": {
+                              "profile": spot_profile,
+                              "maintenanceFactor": MAINTENANCE_FACTOR}}})
+    scene_nodes.append(spot_node)
+
+    # ---- one light node per fluorescent, child of luminaire_N, 1 mm below the diffuser
+    ql = LIGHT_ROTATION
+    for v, want in (((0.0, 0.0, -1.0), (0.0, -1.0, 0.0)),     # nadir straight down
+                    ((1.0, 0.0, 0.0), (0.0, 0.0, 1.0)),       # C0 along the length (+z)
+                    ((0.0, 1.0, 0.0), (1.0, 0.0, 0.0))):      # C90 across (+x)
+        got = rotate(ql, v)
+        assert all(abs(a - b_) < 1e-12 for a, b_ in zip(got, want)), (v, got, want)
+    opening = {"length": LUM_Z, "width": LUM_X, "height": 0.0}
+    for i, parent in enumerate(lum_nodes, 1):
+        if variant == "ies":
+            ext = {"EXT_lights_ies": {"light": 0, "multiplier": 1.0, "color": [1.0, 1.0, 1.0]},
+                   "LUXBAKE_luminaire": {"maintenanceFactor": MAINTENANCE_FACTOR,
+                                         "opening": dict(opening)}}
+        else:
+            ext = {"LUXBAKE_luminaire": {"profile": 0, "maintenanceFactor": MAINTENANCE_FACTOR,
+                                         "opening": dict(opening)}}
+        child = add_node({"name": "luminaire_%d_light" % i,
+                          "translation": [0.0, r6(-LUM_Y - LIGHT_DROP), 0.0],
+                          "rotation": list(ql),
+                          "extensions": ext})
+        nodes[parent]["children"] = [child]
+
+    # ---- the profiles, embedded after all geometry
+    root_ext = {}
+    if variant == "ies":
+        v_miral = b.add_blob(miral_ies)
+        v_cns = b.add_blob(read_profile(CNS70[0], "ldt"))
+        root_ext["EXT_lights_ies"] = {"lights": [
+            {"bufferView": v_miral, "mimeType": MIME["ies"], "name": MIRAL[1]}]}
+        root_ext["LUXBAKE_luminaire"] = {"profiles": [
+            {"bufferView": v_cns, "mimeType": MIME["ldt"], "name": CNS70[1]}]}
+    else:
+        v_miral = b.add_blob(read_profile(MIRAL[0], "ldt"))
+        v_cns = b.add_blob(read_profile(CNS70[0], "ldt"))
+        root_ext["LUXBAKE_luminaire"] = {"profiles": [
+            {"bufferView": v_miral, "mimeType": MIME["ldt"], "name": MIRAL[1]},
+            {"bufferView": v_cns, "mimeType": MIME["ldt"], "name": CNS70[1]}]}
+    used = sorted(set(root_ext) | {"KHR_materials_emissive_strength", "LUXBAKE_material"})
+
+    # the spot's direct illuminance at the picture centre (a number for tests)
+    pic_centre = PIC_CENTRE
+    d = sub(pic_centre, SPOT_POS)
+    dist = math.sqrt(dot(d, d))
+    theta = math.degrees(math.acos(min(1.0, dot(norm(d), aim))))
+    cos_inc = dot(scale(d, -1.0 / dist), (0.0, 0.0, -1.0))
+    spot_cd = ies_axial_cd(read_profile(CNS70[0], "ies"), theta)
+    e_pic = spot_cd * cos_inc / dist ** 2
 
     while len(b.bin) % 4:
         b.bin.append(0)
+    _, bin_name = VARIANTS[variant]
     gltf = {
         "asset": {"version": "2.0", "generator": "luxbake samples/office/make_office.py",
                   "extras": {"units": "SI: m, lm, cd, cd/m^2",
                              "source": "Sample room of 'Three-dimensional Illuminance: "
                                        "a tool for lighting design?' (layout chosen, see README)"}},
-        "extensionsUsed": ["KHR_lights_punctual", "KHR_materials_emissive_strength",
-                           "LUXBAKE_material"],
-        "extensions": {"KHR_lights_punctual": {"lights": [light]}},
+        "extensionsUsed": used,
+        "extensions": root_ext,
         "scene": 0,
         "scenes": [{"name": "office", "nodes": scene_nodes}],
         "nodes": nodes,
@@ -376,29 +449,33 @@ def build():
         "materials": materials,
         "accessors": b.accessors,
         "bufferViews": b.buffer_views,
-        "buffers": [{"uri": BIN_NAME, "byteLength": len(b.bin)}],
+        "buffers": [{"uri": bin_name, "byteLength": len(b.bin)}],
     }
-    info = {"spot_cd": spot_cd, "spot_flux_per_cd": k_num, "spot_rotation": q,
-            "spot_aim": aim, "diffuser_luminance": diffuser_luminance}
+    info = {"spot_rotation": q, "spot_aim": aim, "diffuser_luminance": diffuser_luminance,
+            "pic_theta": theta, "pic_cd": spot_cd, "pic_cos": cos_inc, "pic_dist": dist,
+            "pic_E": e_pic}
     return gltf, bytes(b.bin), info
 
 
 def main():
-    gltf, binary, info = build()
-    with open(os.path.join(HERE, BIN_NAME), "wb") as f:
-        f.write(binary)
-    with open(os.path.join(HERE, GLTF_NAME), "w", encoding="utf-8", newline="\n") as f:
-        json.dump(gltf, f, indent=1)
-        f.write("\n")
-    print("wrote %s (%d nodes, %d meshes, %d materials) and %s (%d bytes)" % (
-        GLTF_NAME, len(gltf["nodes"]), len(gltf["meshes"]), len(gltf["materials"]),
-        BIN_NAME, len(binary)))
-    print("spot: Phi/I = %.9f lm/cd -> I = %.3f cd for %.0f lm" % (
-        info["spot_flux_per_cd"], info["spot_cd"], SPOT_FLUX))
+    for variant, (gltf_name, bin_name) in VARIANTS.items():
+        gltf, binary, info = build(variant)
+        with open(os.path.join(HERE, bin_name), "wb") as f:
+            f.write(binary)
+        with open(os.path.join(HERE, gltf_name), "w", encoding="utf-8", newline="\n") as f:
+            json.dump(gltf, f, indent=1)
+            f.write("\n")
+        print("wrote %s (%d nodes, %d meshes, %d materials) and %s (%d bytes)" % (
+            gltf_name, len(gltf["nodes"]), len(gltf["meshes"]), len(gltf["materials"]),
+            bin_name, len(binary)))
+    print("luminaire light rotation [x,y,z,w] = %s" % LIGHT_ROTATION)
     print("spot rotation [x,y,z,w] = %s, aim = %s" % (
-        ["%.6f" % c for c in info["spot_rotation"]], ["%.6f" % c for c in info["spot_aim"]]))
-    print("diffuser luminance = %.3f cd/m^2 (%.0f lm over %.2f m^2 each)" % (
-        info["diffuser_luminance"], LAMP_FLUX, LUM_X * LUM_Z))
+        ["%.7f" % (c + 0.0) for c in info["spot_rotation"]], ["%.6f" % c for c in info["spot_aim"]]))
+    print("spot at the picture centre: %.4f deg off axis, I = %.2f cd, d = %.5f m, cos = %.5f"
+          " -> direct E = %.1f lx" % (info["pic_theta"], info["pic_cd"], info["pic_dist"],
+                                      info["pic_cos"], info["pic_E"]))
+    print("diffuser core emission (viewers only): %.3f cd/m^2 = I(0,0) / %.2f m^2" % (
+        info["diffuser_luminance"], LUM_X * LUM_Z))
 
 
 if __name__ == "__main__":
