@@ -204,7 +204,8 @@ impl SceneBuilder {
         multiplier: f64,
         opening: Option<crate::photometry::Opening>,
     ) {
-        let photometry = crate::photometry::Photometry::parse(bytes, format).expect("fixture profile parses");
+        let photometry =
+            crate::photometry::Photometry::parse(bytes, format).expect("fixture profile parses");
         let profile = self.scene.profiles.len();
         self.scene.profiles.push(crate::scene::Profile {
             name: Some(name.into()),

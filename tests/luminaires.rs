@@ -22,7 +22,10 @@ fn rel(a: f64, b: f64) -> f64 {
 fn ies_axial(step: f64, intensity: impl Fn(f64) -> f64) -> String {
     let n = (180.0 / step).round() as usize + 1;
     let gammas: Vec<f64> = (0..n).map(|k| k as f64 * step).collect();
-    let values: Vec<String> = gammas.iter().map(|g| format!("{:.6}", intensity(g.to_radians()))).collect();
+    let values: Vec<String> = gammas
+        .iter()
+        .map(|g| format!("{:.6}", intensity(g.to_radians())))
+        .collect();
     let angles: Vec<String> = gammas.iter().map(|g| format!("{g}")).collect();
     format!(
         "IESNA:LM-63-2002\r\n[TEST] luxbake analytic\r\nTILT=NONE\r\n1 -1 1 {n} 1 1 2 0 0 0\r\n1 1 0\r\n{}\r\n0\r\n{}\r\n",
@@ -33,7 +36,13 @@ fn ies_axial(step: f64, intensity: impl Fn(f64) -> f64) -> String {
 
 /// The cosine (Lambertian) point source of CIE 171 test 5.2: I(γ) = 1000·cos γ below the horizon.
 fn cosine_source() -> String {
-    ies_axial(2.5, |g| if g <= PI / 2.0 { 1000.0 * g.cos().max(0.0) } else { 0.0 })
+    ies_axial(2.5, |g| {
+        if g <= PI / 2.0 {
+            1000.0 * g.cos().max(0.0)
+        } else {
+            0.0
+        }
+    })
 }
 
 /// CIE 171:2006 test 5.2: cosine source 3 m above the centre of a 4 × 4 m plane; E = I₀h²/d⁴.
@@ -48,13 +57,25 @@ fn cie_171_test_5_2_cosine_point_source() {
     let floor = b.material("plane", 0.0);
     b.floor("plane", 2.0, 0.0, floor);
     let ies = cosine_source();
-    b.luminaire("cosine source", ies.as_bytes(), Format::Ies, DVec3::new(0.0, 3.0, 0.0), -DVec3::Y, DVec3::X, 1.0, None);
+    b.luminaire(
+        "cosine source",
+        ies.as_bytes(),
+        Format::Ies,
+        DVec3::new(0.0, 3.0, 0.0),
+        -DVec3::Y,
+        DVec3::X,
+        1.0,
+        None,
+    );
     let r = bake(&b.build(), &Settings::default(), &Silent).unwrap();
     let mut worst = 0.0f64;
     for (v, p) in r.surfaces[0].positions.iter().enumerate() {
         worst = worst.max(rel(r.surfaces[0].illuminance[v] as f64, formula(p.x, p.z)));
     }
-    eprintln!("CIE 5.2 worst {worst:.2e} over {} vertices", r.surfaces[0].positions.len());
+    eprintln!(
+        "CIE 5.2 worst {worst:.2e} over {} vertices",
+        r.surfaces[0].positions.len()
+    );
     assert!(worst < 1e-3, "worst {worst}");
     // The profile's flux is π·I₀.
     let emitted = r.summary["sources"][0]["emittedLm"].as_f64().unwrap();
@@ -74,7 +95,16 @@ fn near_field_of_a_linear_luminaire_matches_brute_force() {
         height: 0.0,
         shape: OpeningShape::Rectangular,
     };
-    b.luminaire("linear", ies.as_bytes(), Format::Ies, DVec3::ZERO, -DVec3::Y, DVec3::Z, 1.0, Some(opening));
+    b.luminaire(
+        "linear",
+        ies.as_bytes(),
+        Format::Ies,
+        DVec3::ZERO,
+        -DVec3::Y,
+        DVec3::Z,
+        1.0,
+        Some(opening),
+    );
     let scene = b.build();
     let occ = Occluder::build(&scene, OccluderOptions::default());
     let source = Source::new(&scene, &scene.luminaires[0]);
@@ -83,12 +113,17 @@ fn near_field_of_a_linear_luminaire_matches_brute_force() {
         let mut e = 0.0;
         for i in 0..nl {
             for j in 0..nw {
-                let q = DVec3::new((j as f64 + 0.5) / nw as f64 * 0.2 - 0.1, 0.0, (i as f64 + 0.5) / nl as f64 * 1.5 - 0.75);
+                let q = DVec3::new(
+                    (j as f64 + 0.5) / nw as f64 * 0.2 - 0.1,
+                    0.0,
+                    (i as f64 + 0.5) / nl as f64 * 1.5 - 0.75,
+                );
                 let d = q - p;
                 let cos = n.dot(d);
                 if cos > 0.0 {
                     let dist = d.length();
-                    e += source.intensity(-d / dist) / (nl * nw) as f64 * cos / (dist * dist * dist);
+                    e +=
+                        source.intensity(-d / dist) / (nl * nw) as f64 * cos / (dist * dist * dist);
                 }
             }
         }
@@ -97,11 +132,19 @@ fn near_field_of_a_linear_luminaire_matches_brute_force() {
     let mut worst = 0.0f64;
     for h in [0.3, 1.0, 3.0] {
         // Below the centre, below one end, and off to the side, facing up.
-        for p in [DVec3::new(0.0, -h, 0.0), DVec3::new(0.0, -h, 0.7), DVec3::new(0.4, -h, 0.3)] {
+        for p in [
+            DVec3::new(0.0, -h, 0.0),
+            DVec3::new(0.0, -h, 0.7),
+            DVec3::new(0.4, -h, 0.3),
+        ] {
             let got = source.illuminance(&occ, p, DVec3::Y);
-            let far = source.intensity(p.normalize()) * DVec3::Y.dot(-p.normalize()) / p.length_squared();
+            let far =
+                source.intensity(p.normalize()) * DVec3::Y.dot(-p.normalize()) / p.length_squared();
             let want = brute(p, DVec3::Y);
-            eprintln!("near field h {h} p {p}: split {got:.4} brute {want:.4} point {far:.4} err {:.2e}", rel(got, want));
+            eprintln!(
+                "near field h {h} p {p}: split {got:.4} brute {want:.4} point {far:.4} err {:.2e}",
+                rel(got, want)
+            );
             worst = worst.max(rel(got, want));
         }
     }
@@ -120,7 +163,12 @@ fn mean_and_balance(r: &BakeResult) -> (f64, f64) {
             }
         }
     }
-    (sum / total, r.summary["energy"]["balanceErrorRelative"].as_f64().unwrap())
+    (
+        sum / total,
+        r.summary["energy"]["balanceErrorRelative"]
+            .as_f64()
+            .unwrap(),
+    )
 }
 
 /// A closed 4 × 3 × 5 m room of reflectance 0.8 lit by an IES luminaire with a large opening
@@ -141,17 +189,34 @@ fn energy_balances_with_an_ies_luminaire() {
         height: 0.0,
         shape: OpeningShape::Rectangular,
     };
-    b.luminaire("fitting", ies.as_bytes(), Format::Ies, DVec3::new(2.0, 2.7, 2.5), -DVec3::Y, DVec3::Z, 1.0, Some(opening));
+    b.luminaire(
+        "fitting",
+        ies.as_bytes(),
+        Format::Ies,
+        DVec3::new(2.0, 2.7, 2.5),
+        -DVec3::Y,
+        DVec3::Z,
+        1.0,
+        Some(opening),
+    );
     let r = bake(&b.build(), &Settings::default(), &Silent).unwrap();
     let phi = r.summary["sources"][0]["emittedLm"].as_f64().unwrap();
     let s = 2.0 * (4.0 * 3.0 + 4.0 * 5.0 + 3.0 * 5.0);
     let (mean, balance) = mean_and_balance(&r);
     let want = phi / (s * (1.0 - rho));
-    eprintln!("IES room: Φ {phi:.1} lm, mean {mean:.3} vs {want:.3} ({:.2e}), balance {balance:.2e}", rel(mean, want));
+    eprintln!(
+        "IES room: Φ {phi:.1} lm, mean {mean:.3} vs {want:.3} ({:.2e}), balance {balance:.2e}",
+        rel(mean, want)
+    );
     assert!(balance < 5e-3, "balance error {balance}");
     assert!(rel(mean, want) < 5e-3);
-    let reached = r.summary["sources"][0]["reachedSurfacesLm"].as_f64().unwrap();
-    assert!(rel(reached, phi) < 2e-3, "all of the luminaire's flux lands in a closed room: {reached} vs {phi}");
+    let reached = r.summary["sources"][0]["reachedSurfacesLm"]
+        .as_f64()
+        .unwrap();
+    assert!(
+        rel(reached, phi) < 2e-3,
+        "all of the luminaire's flux lands in a closed room: {reached} vs {phi}"
+    );
 }
 
 /// The office sample's luminaires given as IES (EXT_lights_ies) and as EULUMDAT
@@ -167,7 +232,11 @@ fn office_from_ies_and_from_ldt_agree() {
     let a = bake(&load("office.gltf"), &settings, &Silent).unwrap();
     let b = bake(&load("office-ldt.gltf"), &settings, &Silent).unwrap();
     let mut worst = 0.0f64;
-    let peak = a.surfaces.iter().flat_map(|s| s.illuminance.iter()).fold(0.0f32, |m, e| m.max(*e)) as f64;
+    let peak = a
+        .surfaces
+        .iter()
+        .flat_map(|s| s.illuminance.iter())
+        .fold(0.0f32, |m, e| m.max(*e)) as f64;
     for (sa, sb) in a.surfaces.iter().zip(&b.surfaces) {
         assert_eq!(sa.illuminance.len(), sb.illuminance.len());
         for (ea, eb) in sa.illuminance.iter().zip(&sb.illuminance) {

@@ -258,9 +258,13 @@ fn office_bakes_to_a_valid_gltf_that_blender_imports() {
         assert_valid(&output);
     }
     if tools::have_blender() {
-        // 6 × 5200 lm of luminaires and the 990 lm spotlight.
-        let types = object_types(&check_blender(&output, 31200.0 + 990.0));
-        for (name, kind) in [("spotlight", "LIGHT"), ("desk_dark", "EMPTY")] {
+        // Six fluorescents of 3380 lm and the 792 lm spotlight (from their profiles).
+        let types = object_types(&check_blender(&output, 6.0 * 3380.0 + 792.0));
+        for (name, kind) in [
+            ("spotlight", "EMPTY"),
+            ("luminaire_1_light", "EMPTY"),
+            ("desk_dark", "EMPTY"),
+        ] {
             let pair = (format!("\"{name}\""), format!("\"{kind}\""));
             assert!(types.contains(&pair), "{name} {kind}: {types:?}");
         }

@@ -9,7 +9,8 @@
 //! intensity is uniform is exact (I·Ω, Van Oosterom–Strackee). Other pieces are split in four,
 //! down to a depth limit or until the piece could carry less than `budget`; so beam edges, narrow
 //! beams and shadow edges crossing a patch are followed, and summed over a closed room the patch
-//! fluxes give back the source's flux.
+//! fluxes give back the source's flux. Shadow rays are spent only where the corners of a piece
+//! disagree: a piece whose corners all see the source is taken to see it wholly.
 
 use crate::visibility::Occluder;
 use glam::DVec3;
@@ -21,8 +22,9 @@ pub enum Spread {
     Zero,
     /// This intensity everywhere in the piece (cd, or lx for a directional light).
     Uniform(f64),
-    /// It varies, up to this bound.
-    Varies(f64),
+    /// It varies: `mean` estimates its average over the piece, `lo` and `hi` bracket it (`hi` an
+    /// upper bound, `lo` the smallest sample).
+    Varies { mean: f64, lo: f64, hi: f64 },
 }
 
 /// A source the integrator can ask about directions and visibility.
@@ -42,8 +44,11 @@ pub trait Radiator {
 
 const MAX_DEPTH: u32 = 7;
 
-/// Angular radius (rad) below which a piece's intensity is judged from its corners.
+/// Angular radius (rad) below which a piece's intensity is judged from its corners and centre.
 pub const ANGULAR_RESOLUTION: f64 = 0.04;
+
+/// Relative spread of a piece's sampled intensities below which it counts as uniform.
+const SMOOTH: f64 = 2e-3;
 
 /// The spread of a tabulated distribution over a piece: `dirs` its unit corner directions (from
 /// the source), `intensity` the distribution, `bound` an upper bound of the intensity over a
@@ -58,24 +63,39 @@ pub fn sampled_spread(
         .iter()
         .map(|d| d.dot(centre).clamp(-1.0, 1.0).acos())
         .fold(0.0, f64::max);
-    if size > ANGULAR_RESOLUTION {
-        let b = bound(size);
-        return if b > 0.0 {
-            Spread::Varies(b)
-        } else {
-            Spread::Zero
-        };
-    }
-    let values = dirs.map(intensity);
+    let values = [
+        intensity(dirs[0]),
+        intensity(dirs[1]),
+        intensity(dirs[2]),
+        intensity(centre),
+    ];
     let (lo, hi) = values
         .iter()
         .fold((f64::INFINITY, 0.0f64), |(a, b), v| (a.min(*v), b.max(*v)));
+    let flat = hi > 0.0 && hi - lo <= SMOOTH * hi;
+    let mean = values.iter().sum::<f64>() / 4.0;
+    if size > ANGULAR_RESOLUTION {
+        // A large piece is taken as uniform only when its samples agree and the band bound
+        // rules out a peak between them (a narrow beam inside the piece).
+        let b = bound(size);
+        return if b <= 0.0 {
+            Spread::Zero
+        } else if flat && b <= hi * (1.0 + 4.0 * SMOOTH) {
+            Spread::Uniform(mean)
+        } else {
+            Spread::Varies {
+                mean,
+                lo,
+                hi: b.max(hi),
+            }
+        };
+    }
     if hi <= 0.0 {
         Spread::Zero
-    } else if hi - lo <= 1e-3 * hi {
-        Spread::Uniform((lo + hi) / 2.0)
+    } else if flat {
+        Spread::Uniform(mean)
     } else {
-        Spread::Varies(hi)
+        Spread::Varies { mean, lo, hi }
     }
 }
 
@@ -131,37 +151,33 @@ pub fn patch_flux(
     let c = (corners[0] + corners[1] + corners[2]) / 3.0;
     let t = corners.map(|v| v + (c - v) * 1e-4);
     let vis = t.map(|p| r.sees(occ, p, normal));
-    let flux = integrate(r, occ, normal, &t, vis, 0, budget);
+    let flux = integrate(r, occ, normal, &t, r.spread(&t), vis, 0, budget);
     if facing { (flux, 0.0) } else { (0.0, flux) }
 }
 
+#[allow(clippy::too_many_arguments)]
 fn integrate(
     r: &dyn Radiator,
     occ: &Occluder,
     n: DVec3,
     t: &[DVec3; 3],
+    spread: Spread,
     vis: [bool; 3],
     depth: u32,
     budget: f64,
 ) -> f64 {
-    let (bound, uniform) = match r.spread(t) {
-        Spread::Zero => return 0.0,
-        Spread::Uniform(i) => (i, true),
-        Spread::Varies(max) => (max, false),
-    };
-    let full = bound * r.measure(t, n);
+    let measure = r.measure(t, n);
     let same = vis[0] == vis[1] && vis[1] == vis[2];
-    if uniform && same {
-        return if vis[0] { full } else { 0.0 };
-    }
-    if depth >= MAX_DEPTH || full < budget {
-        let seen = vis.iter().filter(|v| **v).count() as f64 / 3.0;
-        let value = if uniform {
-            bound
-        } else {
-            r.intensity(r.toward((t[0] + t[1] + t[2]) / 3.0))
-        };
-        return value * r.measure(t, n) * seen;
+    let seen = vis.iter().filter(|v| **v).count() as f64 / 3.0;
+    // The value if this piece is a leaf, and the largest error that could make.
+    let (value, error) = match spread {
+        Spread::Zero => return 0.0,
+        Spread::Uniform(i) if same => return if vis[0] { i * measure } else { 0.0 },
+        Spread::Uniform(i) => (i, i),
+        Spread::Varies { mean, lo, hi } => (mean, if same { hi - lo } else { hi }),
+    };
+    if depth >= MAX_DEPTH || error * measure < budget {
+        return value * measure * seen;
     }
     let m = [
         (t[0] + t[1]) * 0.5,
@@ -174,20 +190,25 @@ fn integrate(
         [m[2], m[1], t[2]],
         [m[0], m[1], m[2]],
     ];
-    // Shadow rays only where some light can arrive.
-    if pieces.iter().all(|p| r.spread(p) == Spread::Zero) {
+    let spreads = pieces.map(|p| r.spread(&p));
+    // Shadow rays only where some light can arrive, and only where the corners disagree: a
+    // piece whose corners all see the source (or none does) is refined for its intensity alone,
+    // its pieces inheriting that visibility.
+    if spreads.iter().all(|s| *s == Spread::Zero) {
         return 0.0;
     }
-    let mv = m.map(|p| r.sees(occ, p, n));
+    let mv = if same {
+        [vis[0]; 3]
+    } else {
+        m.map(|p| r.sees(occ, p, n))
+    };
     let vis = [
         [vis[0], mv[0], mv[2]],
         [mv[0], vis[1], mv[1]],
         [mv[2], mv[1], vis[2]],
         [mv[0], mv[1], mv[2]],
     ];
-    pieces
-        .iter()
-        .zip(vis)
-        .map(|(piece, v)| integrate(r, occ, n, piece, v, depth + 1, budget))
+    (0..4)
+        .map(|k| integrate(r, occ, n, &pieces[k], spreads[k], vis[k], depth + 1, budget))
         .sum()
 }

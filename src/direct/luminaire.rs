@@ -30,6 +30,11 @@ pub const NEAR_FIELD_RATIO: f64 = 0.1;
 /// At most this many halvings per receiver (2¹⁰ = 1024 sub-sources).
 const MAX_SPLITS: u32 = 10;
 
+/// For the flux into a patch (the input of the inter-reflection, not a value users read) the split
+/// may be coarser: any split conserves the flux, it only shifts it between nearby patches.
+const PATCH_RATIO: f64 = 0.3;
+const PATCH_MAX_SPLITS: u32 = 6;
+
 /// A luminaire ready for evaluation.
 pub struct Source<'a> {
     pub name: Option<String>,
@@ -90,10 +95,12 @@ impl<'a> Source<'a> {
     /// The sub-sources seen from `p`: world position and share of the output.
     pub fn split(&self, p: DVec3) -> Vec<(DVec3, f64)> {
         let mut out = Vec::new();
-        self.split_rect([0.0, 0.0], self.half, p, 1.0, 0, &mut out);
+        let rule = (NEAR_FIELD_RATIO, MAX_SPLITS);
+        self.split_rect([0.0, 0.0], self.half, p, 1.0, 0, rule, &mut out);
         out
     }
 
+    #[allow(clippy::too_many_arguments)]
     fn split_rect(
         &self,
         centre: [f64; 2],
@@ -101,13 +108,14 @@ impl<'a> Source<'a> {
         p: DVec3,
         share: f64,
         depth: u32,
+        rule: (f64, u32),
         out: &mut Vec<(DVec3, f64)>,
     ) {
         let world =
             self.position + self.world_from_photometric * DVec3::new(centre[0], centre[1], 0.0);
         let longer = if half[0] >= half[1] { 0 } else { 1 };
         let side = 2.0 * half[longer];
-        if depth >= MAX_SPLITS || side <= NEAR_FIELD_RATIO * (p - world).length() {
+        if depth >= rule.1 || side <= rule.0 * (p - world).length() {
             out.push((world, share));
             return;
         }
@@ -116,12 +124,28 @@ impl<'a> Source<'a> {
         for sign in [-1.0, 1.0] {
             let mut c = centre;
             c[longer] += sign * h[longer];
-            self.split_rect(c, h, p, share / 2.0, depth + 1, out);
+            self.split_rect(c, h, p, share / 2.0, depth + 1, rule, out);
         }
+    }
+
+    /// Whether any light can go from the opening toward `p` (cheap bound on the distribution).
+    fn reaches(&self, p: DVec3) -> bool {
+        let d = p - self.position;
+        let dist = d.length();
+        if dist <= 0.0 {
+            return false;
+        }
+        let radius = (self.half[0].hypot(self.half[1]) / dist).min(1.0).asin();
+        let dir = d / dist;
+        let nadir = -self.world_from_photometric.z_axis;
+        self.bounds.over(nadir, &[dir; 3], radius) > 0.0
     }
 
     /// Illuminance (lx, photometric) at point `p` with unit normal `n`.
     pub fn illuminance(&self, occ: &Occluder, p: DVec3, n: DVec3) -> f64 {
+        if !self.reaches(p) {
+            return 0.0;
+        }
         self.split(p)
             .into_iter()
             .map(|(q, share)| {
@@ -150,8 +174,19 @@ impl<'a> Source<'a> {
         budget: f64,
     ) -> (f64, f64) {
         let c = (corners[0] + corners[1] + corners[2]) / 3.0;
+        let size = corners
+            .iter()
+            .map(|v| (*v - c).length())
+            .fold(0.0, f64::max);
+        let near = (c - self.position).length() - size;
+        if near > 0.0 && size < 0.1 * near && !self.reaches(c) {
+            return (0.0, 0.0);
+        }
+        let mut subs = Vec::new();
+        let rule = (PATCH_RATIO, PATCH_MAX_SPLITS);
+        self.split_rect([0.0, 0.0], self.half, c, 1.0, 0, rule, &mut subs);
         let mut total = (0.0, 0.0);
-        for (q, share) in self.split(c) {
+        for (q, share) in subs {
             let sub = SubSource {
                 source: self,
                 position: q,

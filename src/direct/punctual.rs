@@ -131,7 +131,12 @@ impl Radiator for Punctual<'_> {
                 } else if dirs.iter().all(|&d| intensity(light, d) >= light.intensity) {
                     Spread::Uniform(light.intensity)
                 } else {
-                    Spread::Varies(light.intensity)
+                    let centre = (dirs[0] + dirs[1] + dirs[2]).normalize_or_zero();
+                    Spread::Varies {
+                        mean: intensity(light, centre),
+                        lo: 0.0,
+                        hi: light.intensity,
+                    }
                 }
             }
         }
