@@ -18,6 +18,7 @@ pub mod import;
 pub mod patches;
 pub mod photometry;
 pub mod progress;
+pub mod report;
 pub mod result;
 pub mod scene;
 pub mod settings;

@@ -1,242 +1,60 @@
-//! The `bake` command line: raw arguments are turned into validated [`Settings`] before any work,
-//! then import → bake → export. Errors print as one line naming the file and the element, with a
-//! non-zero exit code; nothing is written unless everything succeeded.
+//! The `bake` command line. Raw arguments are turned into validated settings before any work;
+//! errors print as one line naming the file and the element, with a non-zero exit code; nothing
+//! is written unless everything succeeded. Subcommands live in `cli/`.
 
-use anyhow::{Context, Result};
-use clap::{Parser, ValueEnum};
-use indicatif::{ProgressBar, ProgressStyle};
-use luxbake::export::{self, ExportOptions};
-use luxbake::import::{self, ImportOptions, UpAxis};
-use luxbake::progress::Progress;
-use luxbake::settings::{Exposure, Quality, Settings};
-use std::io::IsTerminal;
-use std::path::{Path, PathBuf};
-use std::sync::Mutex;
-use std::time::Instant;
+mod cli;
+
+use clap::{Parser, Subcommand};
 
 /// Solve the inter-reflection of light in a photometric glTF/OBJ room and write the lit result
 /// as glTF (units: m, lx, cd/m², lm; +Y up).
 #[derive(Parser, Debug)]
-#[command(name = "bake", version, about)]
-struct Args {
-    /// Input scene: .gltf, .glb or .obj (with its .mtl).
-    input: PathBuf,
-    /// Output file: .gltf (+ .bin beside it) or .glb.
-    #[arg(short, long)]
-    output: PathBuf,
-    /// Speed/accuracy trade-off.
-    #[arg(long, value_enum, default_value_t = QualityArg::Default)]
-    quality: QualityArg,
-    /// Patch edge length in metres (overrides the size derived from --quality).
-    #[arg(long, value_name = "METRES", allow_negative_numbers = true)]
-    patch_size: Option<f64>,
-    /// Far-field acceptance ratio, radius/distance (overrides the one of --quality).
-    #[arg(long, value_name = "RATIO", hide = true, allow_negative_numbers = true)]
-    far_field: Option<f64>,
-    /// Worker threads (default: all cores). The output does not depend on it.
-    #[arg(long)]
-    threads: Option<usize>,
-    /// Display exposure: 'auto' or the illuminance in lx shown as white in COLOR_0.
-    #[arg(long, default_value = "auto", allow_hyphen_values = true)]
-    exposure: String,
-    /// Keep the input materials instead of switching them to KHR_materials_unlit.
-    #[arg(long)]
-    keep_lit_materials: bool,
-    /// Up axis of an OBJ input (glTF is always +Y up).
-    #[arg(long, value_enum, default_value_t = UpArg::Y)]
-    obj_up: UpArg,
-    /// No progress bar and no summary on stderr (errors and warnings still print).
-    #[arg(short, long)]
-    quiet: bool,
-    /// Also write the run summary (settings, counts, energy balance, timings) as JSON here.
-    #[arg(long, value_name = "FILE")]
-    summary_json: Option<PathBuf>,
-    /// Record stage timings in the output's extras (makes bakes differ from run to run).
-    #[arg(long)]
-    timings_in_output: bool,
+#[command(
+    name = "bake",
+    version,
+    about,
+    args_conflicts_with_subcommands = true,
+    subcommand_negates_reqs = true
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+    #[command(flatten)]
+    bake: cli::bake::BakeArgs,
 }
 
-#[derive(Clone, Copy, Debug, ValueEnum)]
-enum QualityArg {
-    Draft,
-    Default,
-    High,
-}
-
-#[derive(Clone, Copy, Debug, ValueEnum)]
-enum UpArg {
-    Y,
-    Z,
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Summarise a photometric file (.ies, .ldt) and optionally draw its polar curve.
+    Luminaire(cli::luminaire::LuminaireArgs),
 }
 
 fn main() {
-    let args = match Args::try_parse() {
+    let args = match Cli::try_parse() {
         Ok(args) => args,
         Err(e) if e.use_stderr() => {
             // One line, like every other error: clap's first line, and where to look.
             let text = e.render().to_string();
-            let first = text
-                .lines()
-                .find(|l| !l.trim().is_empty())
-                .unwrap_or("error: invalid arguments");
-            eprintln!("{} (see bake --help)", first.trim_end());
+            let mut lines = text.lines().map(str::trim).filter(|l| !l.is_empty());
+            let mut first = lines
+                .next()
+                .unwrap_or("error: invalid arguments")
+                .to_string();
+            if first.ends_with(':') {
+                // "the following required arguments were not provided:" — name them.
+                first = format!("{first} {}", lines.next().unwrap_or(""));
+            }
+            eprintln!("{first} (see bake --help)");
             std::process::exit(2);
         }
         Err(e) => e.exit(), // --help, --version
     };
-    if let Err(e) = run(&args) {
+    let result = match &args.command {
+        None => cli::bake::run(&args.bake),
+        Some(Command::Luminaire(a)) => cli::luminaire::run(a),
+    };
+    if let Err(e) = result {
         eprintln!("error: {e:#}");
         std::process::exit(1);
-    }
-}
-
-/// Validate the raw arguments into settings (no work done yet).
-fn settings(args: &Args) -> Result<Settings> {
-    let exposure = match args.exposure.trim() {
-        "auto" => Exposure::Auto,
-        s => Exposure::White {
-            lux: s.parse().map_err(|_| {
-                anyhow::anyhow!("--exposure must be 'auto' or an illuminance in lx, got '{s}'")
-            })?,
-        },
-    };
-    let settings = Settings {
-        quality: match args.quality {
-            QualityArg::Draft => Quality::Draft,
-            QualityArg::Default => Quality::Default,
-            QualityArg::High => Quality::High,
-        },
-        patch_size: args.patch_size,
-        far_field: args.far_field,
-        exposure,
-        keep_lit_materials: args.keep_lit_materials,
-        obj_up: match args.obj_up {
-            UpArg::Y => UpAxis::Y,
-            UpArg::Z => UpAxis::Z,
-        },
-        threads: args.threads,
-        record_timings: args.timings_in_output,
-        always_trace: false,
-    };
-    settings.validate()?;
-    Ok(settings)
-}
-
-fn run(args: &Args) -> Result<()> {
-    let start = Instant::now();
-    let settings = settings(args)?;
-    let progress = CliProgress::new(!args.quiet && std::io::stderr().is_terminal());
-    let scene = import::load(
-        &args.input,
-        &ImportOptions {
-            obj_up: settings.obj_up,
-        },
-    )?;
-    let extra: Vec<&Path> = args.summary_json.iter().map(|p| p.as_path()).collect();
-    export::check(&args.output, &scene, &extra)?;
-    for w in &scene.warnings {
-        progress.warn(w);
-    }
-    let threads = settings
-        .threads
-        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .context("cannot start worker threads")?;
-    let result = pool.install(|| luxbake::bake::bake(&scene, &settings, &progress))?;
-    let options = ExportOptions {
-        unlit: !settings.keep_lit_materials,
-    };
-    pool.install(|| export::write(&args.output, &scene, &result, &options))?;
-    progress.done();
-    let total = start.elapsed().as_secs_f64();
-    if let Some(path) = &args.summary_json {
-        let mut summary = result.summary.clone();
-        summary["input"] = serde_json::json!(args.input);
-        summary["output"] = serde_json::json!(args.output);
-        summary["threads"] = serde_json::json!(threads);
-        summary["timingsSeconds"] = luxbake::bake::timings_json(&result.timings);
-        summary["totalSeconds"] = serde_json::json!(total);
-        let mut bytes = serde_json::to_vec_pretty(&summary)?;
-        bytes.push(b'\n');
-        export::atomic::write_atomic(path, &bytes)?;
-    }
-    if !args.quiet {
-        report(&result.summary, &args.output, total);
-    }
-    Ok(())
-}
-
-/// A few lines on stderr: what was baked and how well.
-fn report(s: &serde_json::Value, output: &Path, seconds: f64) {
-    let c = &s["counts"];
-    let e = &s["energy"];
-    eprintln!(
-        "baked {} patches, {} receivers in {seconds:.2} s → {}",
-        c["patches"],
-        c["receivers"],
-        output.display()
-    );
-    eprintln!(
-        "  emitted {:.1} lm, absorbed {:.1} lm, escaped {:.1} lm, balance error {:.2e}; solver residual {:.1e} after {} iterations",
-        e["emittedLm"].as_f64().unwrap_or(0.0),
-        e["absorbedLm"].as_f64().unwrap_or(0.0),
-        e["escapedLm"].as_f64().unwrap_or(0.0),
-        e["balanceErrorRelative"].as_f64().unwrap_or(0.0),
-        s["solver"]["relativeResidual"].as_f64().unwrap_or(0.0),
-        s["solver"]["iterations"],
-    );
-}
-
-/// Progress on stderr: a bar per stage when stderr is a terminal; warnings always.
-struct CliProgress {
-    bar: Option<Mutex<ProgressBar>>,
-}
-
-impl CliProgress {
-    fn new(show: bool) -> Self {
-        CliProgress {
-            bar: show.then(|| Mutex::new(ProgressBar::hidden())),
-        }
-    }
-
-    fn done(&self) {
-        if let Some(bar) = &self.bar {
-            bar.lock().unwrap().finish_and_clear();
-        }
-    }
-}
-
-impl Progress for CliProgress {
-    fn stage(&self, name: &str, total: u64) {
-        if let Some(bar) = &self.bar {
-            let mut bar = bar.lock().unwrap();
-            bar.finish_and_clear();
-            *bar = if total > 0 {
-                ProgressBar::new(total)
-            } else {
-                ProgressBar::new_spinner()
-            };
-            bar.set_style(
-                ProgressStyle::with_template("{msg:>14} [{bar:30}] {pos}/{len} {elapsed}")
-                    .unwrap_or_else(|_| ProgressStyle::default_bar())
-                    .progress_chars("=> "),
-            );
-            bar.set_message(name.to_string());
-        }
-    }
-
-    fn advance(&self, n: u64) {
-        if let Some(bar) = &self.bar {
-            bar.lock().unwrap().inc(n);
-        }
-    }
-
-    fn warn(&self, message: &str) {
-        match &self.bar {
-            Some(bar) => bar.lock().unwrap().println(format!("warning: {message}")),
-            None => eprintln!("warning: {message}"),
-        }
     }
 }

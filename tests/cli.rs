@@ -9,6 +9,7 @@ mod support;
 use serde_json::Value;
 use std::ffi::OsStr;
 use std::path::Path;
+use std::process::Command;
 use support::cli::{Mini, Run, bake, listing, repo_file};
 use support::{scratch, tools};
 
@@ -232,4 +233,50 @@ fn summary_json_in_a_missing_folder_writes_nothing() {
         Vec::<String>::new(),
         "output written by a failed run"
     );
+}
+
+#[test]
+fn luminaire_subcommand_summarises_a_profile_and_draws_its_polar_curve() {
+    let dir = scratch("cli-luminaire");
+    let svg = dir.join("miral.svg");
+    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/office/profiles/miral_58w.ies");
+    let out = Command::new(env!("CARGO_BIN_EXE_bake"))
+        .arg("luminaire")
+        .arg(&file)
+        .arg("--polar")
+        .arg(&svg)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8_lossy(&out.stdout);
+    for needle in [
+        "Rated lamp flux: 5200.0 lm",
+        "Flux:            3380.",
+        "LOR 65.0 %",
+        "Beam (50 %):",
+    ] {
+        assert!(text.contains(needle), "{needle} missing in:\n{text}");
+    }
+    let drawing = std::fs::read_to_string(&svg).unwrap();
+    assert!(drawing.starts_with("<?xml") && drawing.trim_end().ends_with("</svg>"));
+    // A malformed file: one line naming the file and the line.
+    let bad = dir.join("bad.ies");
+    std::fs::write(
+        &bad,
+        "IESNA:LM-63-2002\nTILT=NONE\n1 1000 1 x 1 1 2 0 0 0\n",
+    )
+    .unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_bake"))
+        .arg("luminaire")
+        .arg(&bad)
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert_eq!(err.lines().count(), 1, "{err}");
+    assert!(err.contains("bad.ies") && err.contains("line 3"), "{err}");
 }

@@ -54,8 +54,12 @@ impl<'a> DirectSource<'a> {
             "reachedSurfacesLm": received,
         });
         if let DirectSource::Luminaire(s) = self {
+            let photometry = &scene.profiles[s.profile].photometry;
             out["profile"] = serde_json::json!(scene.profiles[s.profile].name);
             out["multiplier"] = serde_json::json!(s.scale);
+            // Lamp lumens (× the multiplier) and the light output ratio of the profile.
+            out["ratedLampLm"] = serde_json::json!(photometry.rated_lumens().map(|r| r * s.scale));
+            out["lightOutputRatio"] = serde_json::json!(photometry.light_output_ratio());
         }
         out
     }

@@ -61,10 +61,15 @@ pub(super) fn svg(p: &Photometry) -> String {
         r##"<?xml version="1.0" encoding="UTF-8"?>
 <svg xmlns="http://www.w3.org/2000/svg" width="480" height="540" viewBox="0 0 480 540" font-family="sans-serif" font-size="11">
 <rect width="480" height="540" fill="white"/>
-<text x="240" y="24" text-anchor="middle" font-size="15">{}</text>
+<text x="240" y="24" text-anchor="middle" font-size="{}">{}</text>
 <text x="240" y="42" text-anchor="middle">Luminous intensity (cd), nadir down</text>
 <text x="16" y="66" fill="#555">C180 / C270</text>
 <text x="464" y="66" text-anchor="end" fill="#555">C0 / C90</text>"##,
+        // Long names shrink to fit the 480 px width (about 0.55 em per character).
+        (15.0f64)
+            .min(460.0 / (0.55 * title.chars().count().max(1) as f64))
+            .max(7.0)
+            .round(),
         escape(&title.replace('\n', " "))
     );
     for k in 1..=rings {

@@ -1,0 +1,170 @@
+//! `bake IN -o OUT`: raw arguments → validated [`Settings`] → import → bake → export, with a
+//! progress bar on stderr (when it is a terminal) and a short report.
+
+use super::progress::CliProgress;
+use anyhow::{Context, Result};
+use clap::{Args, ValueEnum};
+use luxbake::export::{self, ExportOptions};
+use luxbake::import::{self, ImportOptions, UpAxis};
+use luxbake::progress::Progress;
+use luxbake::settings::{Exposure, Quality, Settings};
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// The main job: bake a scene.
+#[derive(Args, Debug)]
+pub struct BakeArgs {
+    /// Input scene: .gltf, .glb or .obj (with its .mtl).
+    #[arg(required = true)]
+    input: Option<PathBuf>,
+    /// Output file: .gltf (+ .bin beside it) or .glb.
+    #[arg(short, long, required = true)]
+    output: Option<PathBuf>,
+    /// Speed/accuracy trade-off.
+    #[arg(long, value_enum, default_value_t = QualityArg::Default)]
+    quality: QualityArg,
+    /// Patch edge length in metres (overrides the size derived from --quality).
+    #[arg(long, value_name = "METRES", allow_negative_numbers = true)]
+    patch_size: Option<f64>,
+    /// Far-field acceptance ratio, radius/distance (overrides the one of --quality).
+    #[arg(long, value_name = "RATIO", hide = true, allow_negative_numbers = true)]
+    far_field: Option<f64>,
+    /// Worker threads (default: all cores). The output does not depend on it.
+    #[arg(long)]
+    threads: Option<usize>,
+    /// Display exposure: 'auto' or the illuminance in lx shown as white in COLOR_0.
+    #[arg(long, default_value = "auto", allow_hyphen_values = true)]
+    exposure: String,
+    /// Keep the input materials instead of switching them to KHR_materials_unlit.
+    #[arg(long)]
+    keep_lit_materials: bool,
+    /// Up axis of an OBJ input (glTF is always +Y up).
+    #[arg(long, value_enum, default_value_t = UpArg::Y)]
+    obj_up: UpArg,
+    /// No progress bar and no summary on stderr (errors and warnings still print).
+    #[arg(short, long)]
+    quiet: bool,
+    /// Also write the run summary (settings, counts, energy balance, timings) as JSON here.
+    #[arg(long, value_name = "FILE")]
+    summary_json: Option<PathBuf>,
+    /// Record stage timings in the output's extras (makes bakes differ from run to run).
+    #[arg(long)]
+    timings_in_output: bool,
+}
+
+#[derive(Clone, Copy, Debug, ValueEnum)]
+enum QualityArg {
+    Draft,
+    Default,
+    High,
+}
+
+#[derive(Clone, Copy, Debug, ValueEnum)]
+enum UpArg {
+    Y,
+    Z,
+}
+
+/// Validate the raw arguments into settings (no work done yet).
+fn settings(args: &BakeArgs) -> Result<Settings> {
+    let exposure = match args.exposure.trim() {
+        "auto" => Exposure::Auto,
+        s => Exposure::White {
+            lux: s.parse().map_err(|_| {
+                anyhow::anyhow!("--exposure must be 'auto' or an illuminance in lx, got '{s}'")
+            })?,
+        },
+    };
+    let settings = Settings {
+        quality: match args.quality {
+            QualityArg::Draft => Quality::Draft,
+            QualityArg::Default => Quality::Default,
+            QualityArg::High => Quality::High,
+        },
+        patch_size: args.patch_size,
+        far_field: args.far_field,
+        exposure,
+        keep_lit_materials: args.keep_lit_materials,
+        obj_up: match args.obj_up {
+            UpArg::Y => UpAxis::Y,
+            UpArg::Z => UpAxis::Z,
+        },
+        threads: args.threads,
+        record_timings: args.timings_in_output,
+        always_trace: false,
+    };
+    settings.validate()?;
+    Ok(settings)
+}
+
+/// Run the bake (the input and output are present: clap requires them without a subcommand).
+pub fn run(args: &BakeArgs) -> Result<()> {
+    let (Some(input), Some(output)) = (&args.input, &args.output) else {
+        anyhow::bail!("an input scene and -o OUTPUT are required (see bake --help)");
+    };
+    let start = Instant::now();
+    let settings = settings(args)?;
+    let progress = CliProgress::new(!args.quiet && std::io::stderr().is_terminal());
+    let scene = import::load(
+        input,
+        &ImportOptions {
+            obj_up: settings.obj_up,
+        },
+    )?;
+    let extra: Vec<&Path> = args.summary_json.iter().map(|p| p.as_path()).collect();
+    export::check(output, &scene, &extra)?;
+    for w in &scene.warnings {
+        progress.warn(w);
+    }
+    let threads = settings
+        .threads
+        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .context("cannot start worker threads")?;
+    let result = pool.install(|| luxbake::bake::bake(&scene, &settings, &progress))?;
+    let options = ExportOptions {
+        unlit: !settings.keep_lit_materials,
+    };
+    pool.install(|| export::write(output, &scene, &result, &options))?;
+    progress.done();
+    let total = start.elapsed().as_secs_f64();
+    if let Some(path) = &args.summary_json {
+        let mut summary = result.summary.clone();
+        summary["input"] = serde_json::json!(input);
+        summary["output"] = serde_json::json!(output);
+        summary["threads"] = serde_json::json!(threads);
+        summary["timingsSeconds"] = luxbake::bake::timings_json(&result.timings);
+        summary["totalSeconds"] = serde_json::json!(total);
+        let mut bytes = serde_json::to_vec_pretty(&summary)?;
+        bytes.push(b'\n');
+        export::atomic::write_atomic(path, &bytes)?;
+    }
+    if !args.quiet {
+        report(&result.summary, output, total);
+    }
+    Ok(())
+}
+
+/// A few lines on stderr: what was baked and how well.
+fn report(s: &serde_json::Value, output: &Path, seconds: f64) {
+    let c = &s["counts"];
+    let e = &s["energy"];
+    eprintln!(
+        "baked {} patches, {} receivers in {seconds:.2} s → {}",
+        c["patches"],
+        c["receivers"],
+        output.display()
+    );
+    eprintln!(
+        "  emitted {:.1} lm, absorbed {:.1} lm, escaped {:.1} lm, balance error {:.2e}; solver residual {:.1e} after {} iterations",
+        e["emittedLm"].as_f64().unwrap_or(0.0),
+        e["absorbedLm"].as_f64().unwrap_or(0.0),
+        e["escapedLm"].as_f64().unwrap_or(0.0),
+        e["balanceErrorRelative"].as_f64().unwrap_or(0.0),
+        s["solver"]["relativeResidual"].as_f64().unwrap_or(0.0),
+        s["solver"]["iterations"],
+    );
+}

@@ -1,0 +1,6 @@
+//! The `bake` command line's subcommands (the binary's own modules; the library knows nothing of
+//! them).
+
+pub mod bake;
+pub mod luminaire;
+pub mod progress;
