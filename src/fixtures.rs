@@ -189,6 +189,25 @@ impl SceneBuilder {
         self.scene.roots.push(node);
     }
 
+    /// Add a photometric profile (panics on a malformed file: fixtures are trusted input).
+    pub fn profile(
+        &mut self,
+        name: &str,
+        bytes: &[u8],
+        format: crate::photometry::Format,
+    ) -> usize {
+        let photometry =
+            crate::photometry::Photometry::parse(bytes, format).expect("fixture profile parses");
+        let profile = self.scene.profiles.len();
+        self.scene.profiles.push(crate::scene::Profile {
+            name: Some(name.into()),
+            source_path: format!("/extensions/LUXBAKE_luminaire/profiles/{profile}"),
+            bytes: bytes.to_vec(),
+            photometry,
+        });
+        profile
+    }
+
     /// A luminaire with the photometric file `bytes` at `position`, its nadir along `nadir` and
     /// photometric C = 0 along `c0` (made perpendicular to the nadir); `opening` overrides the
     /// file's luminous opening. Panics on a malformed file (fixtures are trusted input).

@@ -247,3 +247,43 @@ fn office_from_ies_and_from_ldt_agree() {
     eprintln!("office IES vs LDT worst {worst:.2e}");
     assert!(worst < 1e-3, "{worst}");
 }
+
+/// An emitting surface whose material carries a profile emits that distribution: with the
+/// cosine profile it must light a floor exactly like the same Lambertian panel (Lambert's
+/// formula), and the flux it emits is the material's.
+#[test]
+fn profiled_emitting_surface_with_a_cosine_profile_is_lambertian() {
+    use luxbake::scene::{Emission, EmissionAmount};
+    let mut b = SceneBuilder::new();
+    let floor = b.material("floor", 0.0);
+    let profile = b.profile("cosine", cosine_source().as_bytes(), Format::Ies);
+    let lamp = b.material_full(
+        "panel",
+        DVec3::ZERO,
+        Some(Emission {
+            amount: EmissionAmount::Luminance(1000.0),
+            color: DVec3::ONE,
+            profile: Some(profile),
+        }),
+        false,
+    );
+    b.floor("floor", 3.0, 0.0, floor);
+    let panel = [
+        DVec3::new(-0.5, 2.0, -0.25),
+        DVec3::new(0.5, 2.0, -0.25),
+        DVec3::new(0.5, 2.0, 0.25),
+        DVec3::new(-0.5, 2.0, 0.25),
+    ];
+    b.quad("panel", panel, lamp);
+    let r = bake(&b.build(), &Settings::default(), &Silent).unwrap();
+    let floor = &r.surfaces[0];
+    let mut worst = 0.0f64;
+    for (v, p) in floor.positions.iter().enumerate() {
+        let want = PI * 1000.0 * luxbake::geom::lambert::form_factor(*p, DVec3::Y, &panel);
+        worst = worst.max(rel(floor.illuminance[v] as f64, want));
+    }
+    eprintln!("profiled panel worst {worst:.2e}");
+    assert!(worst < 5e-3, "{worst}");
+    let emitted = r.summary["energy"]["emittedLm"].as_f64().unwrap();
+    assert!(rel(emitted, PI * 1000.0 * 0.5) < 1e-3, "{emitted}");
+}
