@@ -17,6 +17,7 @@ pub mod geom;
 pub mod import;
 pub mod patches;
 pub mod photometry;
+pub mod probes;
 pub mod progress;
 pub mod report;
 pub mod result;

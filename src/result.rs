@@ -44,6 +44,9 @@ pub struct BakedSurface {
 #[derive(Debug, Clone)]
 pub struct BakeResult {
     pub surfaces: Vec<BakedSurface>,
+    /// Cubic illuminance at every probe (scene nodes marked `probe`, grids, CSV files, the
+    /// working plane).
+    pub probes: Vec<crate::probes::ProbeResult>,
     /// The run summary; written as the output scene's `extras.luxbake` and by `--summary-json`.
     pub summary: serde_json::Value,
     /// Wall-clock seconds per stage (not part of `summary` unless asked for: they differ run to

@@ -86,6 +86,24 @@ pub struct Settings {
     /// Trace shadow rays even where the scene is a convex empty enclosure (testing).
     #[serde(skip)]
     pub always_trace: bool,
+    /// A grid of probes over the floor (`--probe-grid SPACING --probe-height H`).
+    pub probe_grid: Option<ProbeGrid>,
+    /// Probes given explicitly (read from a `--probes` CSV file by the caller).
+    #[serde(skip)]
+    pub extra_probes: Vec<crate::probes::Probe>,
+    /// The working plane of the report: a grid of upward-facing probes at this height above the
+    /// floor (m), and its spacing.
+    pub working_plane: Option<ProbeGrid>,
+    /// Add a glyph mesh per probe (illumination vector arrow, symmetric sphere) to the output.
+    pub probe_glyphs: bool,
+}
+
+/// A horizontal grid of probes: points every `spacing` m over the floor, `height` m above it.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct ProbeGrid {
+    pub spacing: f64,
+    pub height: f64,
 }
 
 impl Default for Settings {
@@ -100,6 +118,10 @@ impl Default for Settings {
             threads: None,
             record_timings: false,
             always_trace: false,
+            probe_grid: None,
+            extra_probes: Vec::new(),
+            working_plane: None,
+            probe_glyphs: false,
         }
     }
 }
@@ -136,6 +158,19 @@ impl Settings {
             return Err(Error::Settings(format!(
                 "--exposure must be 'auto' or a positive illuminance in lx, got {lux}"
             )));
+        }
+        for (name, grid) in [
+            ("--probe-grid", &self.probe_grid),
+            ("--working-plane", &self.working_plane),
+        ] {
+            if let Some(g) = grid
+                && !(g.spacing.is_finite() && g.spacing > 0.0 && g.height.is_finite())
+            {
+                return Err(Error::Settings(format!(
+                    "{name}: spacing must be a positive length and height finite (m), got {} and {}",
+                    g.spacing, g.height
+                )));
+            }
         }
         if self.threads == Some(0) {
             return Err(Error::Settings("--threads must be at least 1".into()));

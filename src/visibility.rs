@@ -18,7 +18,11 @@
 use crate::scene::Scene;
 use glam::{DVec3, Vec3A};
 use obvhs::{
-    Boundable, BvhBuildParams, aabb::Aabb, cwbvh::CwBvh, cwbvh::builder::build_cwbvh, ray::Ray,
+    Boundable, BvhBuildParams,
+    aabb::Aabb,
+    cwbvh::CwBvh,
+    cwbvh::builder::build_cwbvh,
+    ray::{Ray, RayHit},
     triangle::Triangle,
 };
 use std::time::Duration;
@@ -28,10 +32,20 @@ use std::time::Duration;
 /// resolution, so short shadow rays near corners are not lost, whatever the scene's units.
 const BVH_DIAGONAL: f64 = 1e4;
 
+/// A closest-hit answer.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Hit {
+    pub triangle: usize,
+    pub distance: f64,
+    pub normal: DVec3,
+}
+
 pub struct Occluder {
     bvh: Option<CwBvh>,
     /// Triangles in BVH primitive order, re-centred on `center`.
     triangles: Vec<Triangle>,
+    /// For each of them, its index in the constructor's input.
+    ids: Vec<u32>,
     center: DVec3,
     /// World metres → BVH units (the scene is mapped to a diagonal of [`BVH_DIAGONAL`]).
     scale: f64,
@@ -54,13 +68,27 @@ pub struct OccluderOptions {
 
 impl Occluder {
     pub fn build(scene: &Scene, options: OccluderOptions) -> Self {
+        let tris: Vec<[DVec3; 3]> = scene
+            .surfaces
+            .iter()
+            .flat_map(|s| {
+                s.triangles
+                    .iter()
+                    .map(|t| t.map(|v| s.positions[v as usize]))
+            })
+            .collect();
+        let convex_empty = !options.always_trace && is_convex_empty(scene);
+        Self::from_triangles(&tris, convex_empty)
+    }
+
+    /// An occluder over arbitrary world triangles (e.g. the refined patches, for closest-hit
+    /// look-ups); zero-area triangles are left out. Hits report indices into `tris`.
+    pub fn from_triangles(tris: &[[DVec3; 3]], convex_empty: bool) -> Self {
         let mut lo = DVec3::splat(f64::INFINITY);
         let mut hi = DVec3::splat(f64::NEG_INFINITY);
-        for s in &scene.surfaces {
-            for p in &s.positions {
-                lo = lo.min(*p);
-                hi = hi.max(*p);
-            }
+        for p in tris.iter().flatten() {
+            lo = lo.min(*p);
+            hi = hi.max(*p);
         }
         if lo.x > hi.x {
             lo = DVec3::ZERO;
@@ -69,46 +97,41 @@ impl Occluder {
         let center = (lo + hi) * 0.5;
         let diagonal = (hi - lo).length();
         let scale = BVH_DIAGONAL / diagonal.max(1e-300);
-        let mut tris = Vec::new();
-        for s in &scene.surfaces {
-            for t in &s.triangles {
-                let [a, b, c] = t.map(|v| s.positions[v as usize]);
-                if (b - a).cross(c - a).length_squared() > 0.0 {
-                    let f = |p: DVec3| {
-                        let q = (p - center) * scale;
-                        Vec3A::new(q.x as f32, q.y as f32, q.z as f32)
-                    };
-                    tris.push(Triangle {
-                        v0: f(a),
-                        v1: f(b),
-                        v2: f(c),
-                    });
-                }
+        let f = |p: DVec3| {
+            let q = (p - center) * scale;
+            Vec3A::new(q.x as f32, q.y as f32, q.z as f32)
+        };
+        let mut kept = Vec::new();
+        let mut ids = Vec::new();
+        for (k, [a, b, c]) in tris.iter().enumerate() {
+            if (*b - *a).cross(*c - *a).length_squared() > 0.0 {
+                kept.push(Triangle {
+                    v0: f(*a),
+                    v1: f(*b),
+                    v2: f(*c),
+                });
+                ids.push(k as u32);
             }
         }
-        let convex_empty = !options.always_trace && is_convex_empty(scene);
         // Boxes padded by a millionth of the scene: a flat box (a wall) seen by a ray that starts
         // a hair away from it otherwise slips through the slab test in f32 and the ray leaks.
         let pad = (1e-6 * BVH_DIAGONAL) as f32;
-        let padded: Vec<Padded> = tris.iter().map(|t| Padded { tri: *t, pad }).collect();
-        let bvh = (!tris.is_empty()).then(|| {
+        let padded: Vec<Padded> = kept.iter().map(|t| Padded { tri: *t, pad }).collect();
+        let bvh = (!kept.is_empty()).then(|| {
             build_cwbvh(
                 &padded,
                 BvhBuildParams::medium_build(),
                 &mut Duration::default(),
             )
         });
-        let triangles = match &bvh {
-            Some(b) => b
-                .primitive_indices
-                .iter()
-                .map(|&i| tris[i as usize])
-                .collect(),
-            None => Vec::new(),
-        };
+        let order: Vec<usize> = bvh
+            .as_ref()
+            .map(|b| b.primitive_indices.iter().map(|&i| i as usize).collect())
+            .unwrap_or_default();
         Occluder {
             bvh,
-            triangles,
+            triangles: order.iter().map(|&i| kept[i]).collect(),
+            ids: order.iter().map(|&i| ids[i]).collect(),
             center,
             scale,
             epsilon: 1e-5 * diagonal.max(1e-9),
@@ -116,6 +139,31 @@ impl Occluder {
             diagonal,
             rays: Default::default(),
         }
+    }
+
+    /// The nearest triangle a ray from `origin` along the unit `dir` hits: its index (as given to
+    /// the constructor), distance (m) and unit geometric normal (by its winding).
+    pub fn closest(&self, origin: DVec3, dir: DVec3) -> Option<Hit> {
+        let bvh = self.bvh.as_ref()?;
+        self.rays.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        let o = (origin - self.center) * self.scale;
+        let ray = Ray::new(
+            Vec3A::new(o.x as f32, o.y as f32, o.z as f32),
+            Vec3A::new(dir.x as f32, dir.y as f32, dir.z as f32),
+            0.0,
+            f32::INFINITY,
+        );
+        let mut hit = RayHit::none();
+        if !bvh.ray_traverse(ray, &mut hit, |r, id| intersect(&self.triangles[id], r)) {
+            return None;
+        }
+        let t = &self.triangles[hit.primitive_id as usize];
+        let n = (t.v1 - t.v0).cross(t.v2 - t.v0);
+        Some(Hit {
+            triangle: self.ids[hit.primitive_id as usize] as usize,
+            distance: hit.t as f64 / self.scale,
+            normal: DVec3::new(n.x as f64, n.y as f64, n.z as f64).normalize_or_zero(),
+        })
     }
 
     /// Number of rays traced so far.

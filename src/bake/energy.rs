@@ -18,7 +18,7 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 pub struct Inputs<'a> {
-    pub solution: &'a Solution,
+    pub solution: &'a Solution<'a>,
     pub links: &'a ReceiverLinks,
     /// Direct irradiance of each patch's front (lx, RGB).
     pub direct_patch: &'a [DVec3],

@@ -15,6 +15,7 @@
 mod display;
 mod energy;
 mod receivers;
+mod solution;
 
 use crate::direct::{emitters, sources::DirectSource};
 use crate::error::{Error, Result};
@@ -25,7 +26,8 @@ use crate::scene::{Scene, luma};
 use crate::settings::Settings;
 use crate::solve;
 use crate::transport::{
-    gather::Gatherer, links::ReceiverLinks, operator::PatchOperator, tree::PatchTree,
+    gather::Gatherer, links::ReceiverLinks, operator::PatchOperator, tree::NodeField,
+    tree::PatchTree,
 };
 use crate::visibility::{Occluder, OccluderOptions};
 use glam::DVec3;
@@ -35,8 +37,13 @@ use std::time::Instant;
 pub use energy::EnergyBalance;
 
 /// Everything the solve produced, before it is shaped for output. Later stages (probes,
-/// lightmaps) gather from `solution` through the same [`Gatherer`] interface.
-pub struct Solution {
+/// lightmaps) read light from it through its methods (`solution.rs`), which use the same
+/// [`Gatherer`] interface as the vertices.
+pub struct Solution<'a> {
+    pub scene: &'a Scene,
+    pub settings: &'a Settings,
+    /// Lights, luminaires and profiled emitting surfaces.
+    pub sources: Vec<DirectSource<'a>>,
     pub mesh: PatchMesh,
     pub occluder: Occluder,
     pub tree: PatchTree,
@@ -50,10 +57,63 @@ pub struct Solution {
     /// Illuminance at each receiver: direct and from inter-reflection (lx, RGB).
     pub direct: Vec<DVec3>,
     pub indirect: Vec<DVec3>,
+    /// The patch fields summarised on the trees, for gathering at new points.
+    pub node_exitance: NodeField,
+    pub node_reflected: NodeField,
+    /// Cuttle's first reflected flux (lm, photometric): Σ ρ × direct flux onto each patch.
+    pub first_reflected_flux: f64,
+    /// Closest-hit index over the patches (front faces), built when first needed.
+    pub(crate) surface_index: std::sync::OnceLock<Occluder>,
+}
+
+/// A solved scene and what the summary says about the solve.
+pub struct Solved<'a> {
+    pub solution: Solution<'a>,
+    /// counts, solver, balancing, energy, sources (merged into the output's summary).
+    pub summary: serde_json::Value,
+    pub timings: Vec<(String, f64)>,
+    pub patch_size: f64,
 }
 
 /// Run the whole bake.
 pub fn bake(scene: &Scene, settings: &Settings, progress: &dyn Progress) -> Result<BakeResult> {
+    let solved = solve(scene, settings, progress)?;
+    let mut timings = solved.timings.clone();
+    let clock = Instant::now();
+    let s = &solved.solution;
+    let probe_list = crate::probes::gather::all(scene, settings, s, progress);
+    let probes = crate::probes::evaluate::all(s, &probe_list, progress);
+    let surfaces = output_surfaces(scene, s, settings);
+    let exposure = display::exposure_note(settings, s, scene);
+    timings.push(("output".into(), clock.elapsed().as_secs_f64()));
+    let mut summary = serde_json::json!({
+        "tool": format!("luxbake {}", env!("CARGO_PKG_VERSION")),
+        "settings": settings,
+        "quality": settings.params(),
+        "patchSize": solved.patch_size,
+    });
+    for (k, v) in solved.summary.as_object().into_iter().flatten() {
+        summary[k] = v.clone();
+    }
+    summary["exposure"] = exposure;
+    summary["units"] = serde_json::json!({"illuminance": "lx", "luminance": "cd/m2", "flux": "lm", "length": "m", "up": "+Y"});
+    if settings.record_timings {
+        summary["timingsSeconds"] = timings_json(&timings);
+    }
+    Ok(BakeResult {
+        surfaces,
+        probes,
+        summary,
+        timings,
+    })
+}
+
+/// Mesh, light and solve the scene (everything but shaping the output).
+pub fn solve<'a>(
+    scene: &'a Scene,
+    settings: &'a Settings,
+    progress: &dyn Progress,
+) -> Result<Solved<'a>> {
     settings.validate()?;
     let mut timings = Vec::new();
     let mut clock = Instant::now();
@@ -161,7 +221,15 @@ pub fn bake(scene: &Scene, settings: &Settings, progress: &dyn Progress) -> Resu
     lap("solve", &mut timings);
     drop(operator);
 
+    let node_exitance = emitter_tree.node_field(&exitance);
+    let node_reflected = tree.node_field(&reflected);
+    let first_reflected_flux: f64 = (0..mesh.patches.len())
+        .map(|i| luma(rho[i] * direct_patch[i]) * areas[i])
+        .sum();
     let solution = Solution {
+        scene,
+        settings,
+        sources,
         mesh,
         occluder,
         tree,
@@ -171,26 +239,22 @@ pub fn bake(scene: &Scene, settings: &Settings, progress: &dyn Progress) -> Resu
         reflected,
         direct,
         indirect,
+        node_exitance,
+        node_reflected,
+        first_reflected_flux,
+        surface_index: Default::default(),
     };
     let balance = energy::balance(energy::Inputs {
         solution: &solution,
         links: &links,
         direct_patch: &direct_patch,
         light_back: lights.back,
-        sources: &sources,
+        sources: &solution.sources,
         source_received: &lights.per_source,
         indirect_patch: &indirect_patch,
         rho: &rho,
     });
-    let surfaces = output_surfaces(scene, &solution, settings);
-    let exposure = display::exposure_note(settings, &solution, scene);
-    lap("output", &mut timings);
-
-    let mut summary = serde_json::json!({
-        "tool": format!("luxbake {}", env!("CARGO_PKG_VERSION")),
-        "settings": settings,
-        "quality": params,
-        "patchSize": h,
+    let summary = serde_json::json!({
         "counts": {
             "surfaces": scene.surfaces.len(),
             "patches": solution.mesh.patches.len(),
@@ -203,27 +267,23 @@ pub fn bake(scene: &Scene, settings: &Settings, progress: &dyn Progress) -> Resu
         "solver": stats,
         "balancing": balance_stats,
         "energy": balance,
-        "sources": sources
+        "sources": solution.sources
             .iter()
             .zip(&lights.per_source)
             .map(|(s, received)| s.report(scene, *received))
             .collect::<Vec<_>>(),
-        "exposure": exposure,
-        "units": {"illuminance": "lx", "luminance": "cd/m2", "flux": "lm", "length": "m", "up": "+Y"},
     });
-    if settings.record_timings {
-        summary["timingsSeconds"] = timings_json(&timings);
-    }
     if !stats.converged {
         progress.warn(&format!(
             "the solver stopped at {} iterations with relative residual {:.2e} (tolerance {:.0e})",
             stats.iterations, stats.relative_residual, params.tolerance
         ));
     }
-    Ok(BakeResult {
-        surfaces,
+    Ok(Solved {
+        solution,
         summary,
         timings,
+        patch_size: h,
     })
 }
 

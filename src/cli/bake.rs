@@ -92,7 +92,7 @@ fn settings(args: &BakeArgs) -> Result<Settings> {
         },
         threads: args.threads,
         record_timings: args.timings_in_output,
-        always_trace: false,
+        ..Settings::default()
     };
     settings.validate()?;
     Ok(settings)

@@ -114,6 +114,28 @@ impl<'a> Surface<'a> {
         e
     }
 
+    /// The sub-patches seen from `p` as point sources: position, unit direction from `p`, and
+    /// the illuminance each gives on a plane facing it (lx, unshadowed).
+    pub fn point_sources(&self, p: DVec3) -> Vec<(Option<DVec3>, DVec3, f64)> {
+        let mut out = Vec::new();
+        for patch in &self.patches {
+            for (q, share) in split(&patch.corners, p) {
+                let d = q - p;
+                let dist2 = d.length_squared();
+                if dist2 <= 0.0 || patch.normal.dot(-d) <= 0.0 {
+                    continue;
+                }
+                let dir = d / dist2.sqrt();
+                let i =
+                    patch.scale * share * self.photometry.intensity(patch.frame.transpose() * -dir);
+                if i > 0.0 {
+                    out.push((Some(q), dir, i / dist2));
+                }
+            }
+        }
+        out
+    }
+
     /// `(front, back)` flux (lm) into a triangle patch of the scene.
     pub fn patch_flux(&self, occ: &Occluder, corners: &[DVec3; 3], normal: DVec3) -> (f64, f64) {
         let c = (corners[0] + corners[1] + corners[2]) / 3.0;

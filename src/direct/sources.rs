@@ -64,6 +64,36 @@ impl<'a> DirectSource<'a> {
         out
     }
 
+    /// The point-like pieces of this source as seen from `p`: position (None for a directional
+    /// light), unit direction from `p` toward it, and the illuminance it gives on a plane facing
+    /// it (lx, photometric, unshadowed).
+    pub fn point_sources(&self, p: DVec3) -> Vec<(Option<DVec3>, DVec3, f64)> {
+        let toward = |q: DVec3, i: f64| {
+            let d = q - p;
+            let dist2 = d.length_squared();
+            (dist2 > 0.0).then(|| (Some(q), d / dist2.sqrt(), i / dist2))
+        };
+        match self {
+            DirectSource::Punctual(l) if l.kind == LightKind::Directional => {
+                vec![(None, -l.direction, l.intensity)]
+            }
+            DirectSource::Punctual(l) => {
+                let d = (p - l.position).normalize_or_zero();
+                toward(l.position, punctual::intensity(l, d))
+                    .into_iter()
+                    .collect()
+            }
+            DirectSource::Luminaire(s) => s
+                .split(p)
+                .into_iter()
+                .filter_map(|(q, share)| {
+                    toward(q, share * s.intensity((p - q).normalize_or_zero()))
+                })
+                .collect(),
+            DirectSource::Profiled(s) => s.point_sources(p),
+        }
+    }
+
     /// Relative RGB colour (luminance 1).
     pub fn color(&self) -> DVec3 {
         match self {

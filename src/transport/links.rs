@@ -39,19 +39,8 @@ impl ReceiverLinks {
             .par_chunks(CHUNK)
             .flat_map_iter(|chunk| {
                 chunk.iter().map(|r| {
-                    let mut links = Vec::new();
-                    let c = gatherer.links(r.point, r.normal, &mut links);
-                    let closed = c.total >= 0.999 || (c.total > 0.05 && enclosed(gatherer, r));
-                    let mut back = c.back;
-                    if closed && c.total > 0.0 {
-                        let scale = 1.0 / c.total;
-                        for l in &mut links {
-                            l.coeff *= scale as f32;
-                            l.grad = l.grad.map(|g| g * scale as f32);
-                        }
-                        back *= scale;
-                    }
-                    (links, c.total as f32, back as f32, closed)
+                    let row = gather_row(gatherer, r.point, r.normal);
+                    (row.links, row.coverage as f32, row.back as f32, row.closed)
                 })
             })
             .collect();
@@ -89,8 +78,39 @@ impl ReceiverLinks {
     }
 }
 
-/// True when none of 64 stratified cosine-weighted rays from the receiver escapes the scene.
-fn enclosed(gatherer: &Gatherer, r: &Receiver) -> bool {
-    samples::cosine_directions(r.normal, 8)
-        .all(|d| !gatherer.occluder.escapes(r.point, r.normal, d))
+/// One point's gather row, normalised when the point is enclosed.
+pub struct Row {
+    pub links: Vec<Link>,
+    /// Coverage before normalisation.
+    pub coverage: f64,
+    /// Back-face fraction (after normalisation).
+    pub back: f64,
+    pub closed: bool,
+}
+
+/// The links seen from `p` (unit normal `n`), with the closure rule of this module.
+pub fn gather_row(gatherer: &Gatherer, p: DVec3, n: DVec3) -> Row {
+    let mut links = Vec::new();
+    let c = gatherer.links(p, n, &mut links);
+    let closed = c.total >= 0.999 || (c.total > 0.05 && enclosed(gatherer, p, n));
+    let mut back = c.back;
+    if closed && c.total > 0.0 {
+        let scale = 1.0 / c.total;
+        for l in &mut links {
+            l.coeff *= scale as f32;
+            l.grad = l.grad.map(|g| g * scale as f32);
+        }
+        back *= scale;
+    }
+    Row {
+        links,
+        coverage: c.total,
+        back,
+        closed,
+    }
+}
+
+/// True when none of 64 stratified cosine-weighted rays from the point escapes the scene.
+fn enclosed(gatherer: &Gatherer, p: DVec3, n: DVec3) -> bool {
+    samples::cosine_directions(n, 8).all(|d| !gatherer.occluder.escapes(p, n, d))
 }

@@ -1,0 +1,176 @@
+//! Where the probes are: glTF nodes whose `extras.probe` is true (what Blender writes for a custom
+//! property `probe` on an Empty), a grid over the floor (`--probe-grid`), probes given explicitly
+//! (`--probes FILE.csv`), and the report's working plane (`--working-plane`).
+//!
+//! Input: the scene, the settings, and the solved scene's occluder (to find the floor and to skip
+//! grid points inside objects). Output: the list of [`Probe`]s, in that order, and warnings.
+//!
+//! A node probe takes the node's world position and its world rotation (scale removed) unless its
+//! `extras.probe` is an object with `"aligned": true`, which keeps the cube aligned with the world
+//! axes; `extras.toward` ([x, y, z], probe axes) adds a semi-cylindrical illuminance toward that
+//! direction. Grid points: every `spacing` over the scene's horizontal extent (+Y up), `height`
+//! above the first upward surface below it (found with a ray from underneath the scene); points
+//! with no floor below, or inside an object (a back face is the nearest surface in some axis
+//! direction), are skipped and counted in a warning.
+
+use super::{Probe, ProbeOrigin};
+use crate::bake::Solution;
+use crate::progress::Progress;
+use crate::scene::Scene;
+use crate::settings::{ProbeGrid, Settings};
+use crate::visibility::Occluder;
+use glam::{DMat3, DVec3};
+
+/// All probes of a bake, in order: nodes, grid, explicit, working plane.
+pub fn all(
+    scene: &Scene,
+    settings: &Settings,
+    solution: &Solution,
+    progress: &dyn Progress,
+) -> Vec<Probe> {
+    let mut out = node_probes(scene);
+    let occ = &solution.occluder;
+    if let Some(g) = settings.probe_grid {
+        out.extend(grid(
+            scene,
+            occ,
+            &g,
+            "grid",
+            ProbeOrigin::Grid {
+                layer: "grid".into(),
+            },
+            progress,
+        ));
+    }
+    out.extend(settings.extra_probes.iter().cloned());
+    if let Some(g) = settings.working_plane {
+        out.extend(grid(
+            scene,
+            occ,
+            &g,
+            "working_plane",
+            ProbeOrigin::WorkingPlane,
+            progress,
+        ));
+    }
+    out
+}
+
+/// Nodes whose `extras.probe` is `true` (or an object).
+pub fn node_probes(scene: &Scene) -> Vec<Probe> {
+    let mut out = Vec::new();
+    for (i, node) in scene.nodes.iter().enumerate() {
+        let Some(extras) = &node.extras else { continue };
+        let marked = &extras["probe"];
+        let on = marked.as_bool().unwrap_or(false) || marked.is_object();
+        if !on {
+            continue;
+        }
+        let aligned = marked["aligned"].as_bool().unwrap_or(false);
+        let m = node.world_from_local;
+        let rotation = if aligned {
+            DMat3::IDENTITY
+        } else {
+            orthonormal(DMat3::from_mat4(m))
+        };
+        let toward = extras["toward"]
+            .as_array()
+            .filter(|a| a.len() == 3)
+            .and_then(|a| {
+                let v: Vec<f64> = a.iter().filter_map(|x| x.as_f64()).collect();
+                (v.len() == 3).then(|| DVec3::new(v[0], v[1], v[2]))
+            })
+            .and_then(|v| v.try_normalize());
+        out.push(Probe {
+            name: node.name.clone().unwrap_or_else(|| format!("node {i}")),
+            position: m.w_axis.truncate(),
+            world_from_probe: rotation,
+            origin: ProbeOrigin::Node { node: i },
+            toward,
+        });
+    }
+    out
+}
+
+/// Rotation part of a transform with scale (and mirroring) removed: Gram–Schmidt on X then Y.
+fn orthonormal(m: DMat3) -> DMat3 {
+    let x = m.x_axis.try_normalize().unwrap_or(DVec3::X);
+    let y = (m.y_axis - x * m.y_axis.dot(x))
+        .try_normalize()
+        .unwrap_or_else(|| x.any_orthonormal_vector());
+    DMat3::from_cols(x, y, x.cross(y))
+}
+
+/// A horizontal grid of world-aligned probes `height` above the floor.
+pub fn grid(
+    scene: &Scene,
+    occ: &Occluder,
+    g: &ProbeGrid,
+    name: &str,
+    origin: ProbeOrigin,
+    progress: &dyn Progress,
+) -> Vec<Probe> {
+    let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+    for p in scene.surfaces.iter().flat_map(|s| s.positions.iter()) {
+        lo = lo.min(*p);
+        hi = hi.max(*p);
+    }
+    if lo.x > hi.x {
+        return Vec::new();
+    }
+    let (nx, nz) = (
+        ((hi.x - lo.x) / g.spacing).floor() as usize,
+        ((hi.z - lo.z) / g.spacing).floor() as usize,
+    );
+    // Centre the grid in the extent.
+    let (x0, z0) = (
+        lo.x + (hi.x - lo.x - nx as f64 * g.spacing) / 2.0,
+        lo.z + (hi.z - lo.z - nz as f64 * g.spacing) / 2.0,
+    );
+    let below = lo.y - 1e-3 * (hi - lo).length() - 1.0;
+    let (mut out, mut inside, mut no_floor) = (Vec::new(), 0, 0);
+    for i in 0..=nx {
+        for k in 0..=nz {
+            let (x, z) = (x0 + i as f64 * g.spacing, z0 + k as f64 * g.spacing);
+            // The floor: the first surface a ray from underneath the scene meets.
+            let Some(hit) = occ.closest(DVec3::new(x, below, z), DVec3::Y) else {
+                no_floor += 1;
+                continue;
+            };
+            let p = DVec3::new(x, below + hit.distance + g.height, z);
+            if is_inside(occ, p) {
+                inside += 1;
+                continue;
+            }
+            out.push(Probe {
+                name: format!("{name}_{i}_{k}"),
+                position: p,
+                world_from_probe: DMat3::IDENTITY,
+                origin: origin.clone(),
+                toward: None,
+            });
+        }
+    }
+    if inside + no_floor > 0 {
+        progress.warn(&format!(
+            "{name}: {inside} grid point(s) inside objects and {no_floor} with no floor below were skipped ({} kept)",
+            out.len()
+        ));
+    }
+    out
+}
+
+/// True when, along some axis direction, the nearest surface shows `p` its back: `p` is inside a
+/// closed object (or behind a single-sided face).
+fn is_inside(occ: &Occluder, p: DVec3) -> bool {
+    [
+        DVec3::X,
+        DVec3::NEG_X,
+        DVec3::Y,
+        DVec3::NEG_Y,
+        DVec3::Z,
+        DVec3::NEG_Z,
+    ]
+    .into_iter()
+    .any(|d| occ.closest(p, d).is_some_and(|h| h.normal.dot(d) > 0.0))
+}
