@@ -218,6 +218,7 @@ pub fn scene() -> (Scene, BakeResult) {
         ],
         summary: json!({"patches": 12, "iterations": 3, "meanIlluminance": 250.5}),
         timings: Vec::new(),
+        probes: Vec::new(),
     };
     let scene = Scene {
         source_file: "fixture.gltf".into(),
