@@ -46,6 +46,7 @@ fn flat_result(scene: &Scene) -> BakeResult {
         surfaces,
         summary: json!({}),
         timings: Vec::new(),
+        probes: Vec::new(),
     }
 }
 
