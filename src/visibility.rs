@@ -1,19 +1,24 @@
-//! Visibility: shadow-ray queries against the scene's triangles, answered by an `obvhs` BVH
-//! that is built once and shared by every stage.
+//! Visibility: shadow-ray queries against the scene's triangles, answered by `obvhs` BVHs that
+//! are built once and shared by every stage.
 //!
 //! Input: every surface triangle of the scene (world space, m). Output: an [`Occluder`] answering
-//! "is the segment between two surface points clear?" and "does a ray escape the scene?".
+//! "is the segment between two points clear?", "does a ray escape the scene?" and "what does a
+//! ray hit first?".
 //!
-//! Robustness: the BVH works in f32 on coordinates re-centred on the scene's bounding box and
+//! Skipping what a scene does not need: the planes that have the whole scene (every vertex,
+//! light and luminaire opening) on their front side bound a convex hull — the room's shell. A
+//! segment between two points inside that hull can never cross a shell face (it could only graze
+//! it), so segments between inner points are traced against the other triangles only: the
+//! furniture. An empty convex room (or a single plane) has no such triangles, and its segments
+//! are clear without tracing. Rays that may leave the hull (escape tests, points outside) use all
+//! triangles.
+//!
+//! Robustness: the BVHs work in f32 on coordinates re-centred on the scene's bounding box and
 //! scaled to a fixed size, so a room far from the origin keeps its precision and the traversal's
-//! built-in absolute epsilon means the same in every unit. Segment ends are pulled off their surfaces by
-//! ε = 10⁻⁵ × the scene's diagonal (along the normals, towards each other), so a scene in
-//! millimetres and one in kilometres behave alike. Single-sided triangles block light from both
-//! sides. Answers do not depend on the BVH's layout, so they are deterministic.
-//!
-//! When every triangle has the whole scene (and every light) in front of or on its plane, the
-//! scene is a convex enclosure with nothing inside: no segment between two of its points can be
-//! blocked, and the occluder answers "clear" without tracing (the visible flag says so).
+//! built-in absolute epsilon means the same in every unit. Segment ends are pulled off their
+//! surfaces by ε = 10⁻⁵ × the scene's diagonal (along the normals, towards each other), so a
+//! scene in millimetres and one in kilometres behave alike. Single-sided triangles block light
+//! from both sides. Answers do not depend on the BVHs' layout, so they are deterministic.
 
 use crate::scene::Scene;
 use glam::{DVec3, Vec3A};
@@ -25,6 +30,7 @@ use obvhs::{
     ray::{Ray, RayHit},
     triangle::Triangle,
 };
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Duration;
 
 /// The BVH works on the scene mapped to this diagonal. obvhs's wide-BVH traversal skips boxes
@@ -40,29 +46,73 @@ pub struct Hit {
     pub normal: DVec3,
 }
 
-pub struct Occluder {
+/// A BVH over a set of triangles in the occluder's mapped coordinates.
+#[derive(Default)]
+struct Tracer {
     bvh: Option<CwBvh>,
-    /// Triangles in BVH primitive order, re-centred on `center`.
+    /// Triangles in BVH primitive order.
     triangles: Vec<Triangle>,
     /// For each of them, its index in the constructor's input.
     ids: Vec<u32>,
+}
+
+impl Tracer {
+    fn new(tris: Vec<(u32, Triangle)>) -> Self {
+        // Boxes padded by a millionth of the scene: a flat box (a wall) seen by a ray that starts
+        // a hair away from it otherwise slips through the slab test in f32 and the ray leaks.
+        let pad = (1e-6 * BVH_DIAGONAL) as f32;
+        let padded: Vec<Padded> = tris.iter().map(|(_, t)| Padded { tri: *t, pad }).collect();
+        let bvh = (!tris.is_empty()).then(|| {
+            build_cwbvh(
+                &padded,
+                BvhBuildParams::medium_build(),
+                &mut Duration::default(),
+            )
+        });
+        let order: Vec<usize> = bvh
+            .as_ref()
+            .map(|b| b.primitive_indices.iter().map(|&i| i as usize).collect())
+            .unwrap_or_default();
+        Tracer {
+            bvh,
+            triangles: order.iter().map(|&i| tris[i].1).collect(),
+            ids: order.iter().map(|&i| tris[i].0).collect(),
+        }
+    }
+
+    fn miss(&self, ray: Ray) -> bool {
+        match &self.bvh {
+            Some(bvh) => bvh.ray_traverse_miss(ray, |r, id| intersect(&self.triangles[id], r)),
+            None => true,
+        }
+    }
+}
+
+pub struct Occluder {
+    /// Every triangle.
+    all: Tracer,
+    /// The triangles not on the convex shell: the only possible blockers between inner points.
+    interior: Tracer,
+    /// The shell's planes (unit normal n, offset d: inside is n·x ≥ d).
+    shell: Vec<(DVec3, f64)>,
     center: DVec3,
     /// World metres → BVH units (the scene is mapped to a diagonal of [`BVH_DIAGONAL`]).
     scale: f64,
     /// Offset that pulls segment ends off their surfaces (m).
     pub epsilon: f64,
-    /// True when no segment between surface points can be blocked (convex empty enclosure or a
-    /// single plane); queries between surface points then skip tracing.
+    /// True when no segment between points inside the shell can be blocked (an empty convex
+    /// enclosure or a single plane): such queries skip tracing.
     pub convex_empty: bool,
     /// Scene bounding-box diagonal (m).
     pub diagonal: f64,
-    rays: std::sync::atomic::AtomicU64,
+    rays: AtomicU64,
 }
 
 /// Options for building the occluder.
 #[derive(Debug, Clone, Copy, Default)]
 pub struct OccluderOptions {
-    /// Trace every query even in a convex empty enclosure (for tests of the tracing itself).
+    /// Ignore the convex shell: trace every segment against every triangle (for tests of the
+    /// tracing itself, and to measure what the shell saves).
     pub always_trace: bool,
 }
 
@@ -77,13 +127,23 @@ impl Occluder {
                     .map(|t| t.map(|v| s.positions[v as usize]))
             })
             .collect();
-        let convex_empty = !options.always_trace && is_convex_empty(scene);
-        Self::from_triangles(&tris, convex_empty)
+        let shell = if options.always_trace {
+            None
+        } else {
+            shell_planes(scene, &tris)
+        };
+        Self::with_shell(&tris, shell)
     }
 
     /// An occluder over arbitrary world triangles (e.g. the refined patches, for closest-hit
     /// look-ups); zero-area triangles are left out. Hits report indices into `tris`.
     pub fn from_triangles(tris: &[[DVec3; 3]], convex_empty: bool) -> Self {
+        let mut occ = Self::with_shell(tris, None);
+        occ.convex_empty = convex_empty;
+        occ
+    }
+
+    fn with_shell(tris: &[[DVec3; 3]], shell: Option<Vec<(DVec3, f64)>>) -> Self {
         let mut lo = DVec3::splat(f64::INFINITY);
         let mut hi = DVec3::splat(f64::NEG_INFINITY);
         for p in tris.iter().flatten() {
@@ -97,120 +157,69 @@ impl Occluder {
         let center = (lo + hi) * 0.5;
         let diagonal = (hi - lo).length();
         let scale = BVH_DIAGONAL / diagonal.max(1e-300);
+        let tol = 1e-7 * diagonal.max(1e-12);
         let f = |p: DVec3| {
             let q = (p - center) * scale;
             Vec3A::new(q.x as f32, q.y as f32, q.z as f32)
         };
-        let mut kept = Vec::new();
-        let mut ids = Vec::new();
+        let (mut all, mut interior) = (Vec::new(), Vec::new());
         for (k, [a, b, c]) in tris.iter().enumerate() {
-            if (*b - *a).cross(*c - *a).length_squared() > 0.0 {
-                kept.push(Triangle {
+            let n = (*b - *a).cross(*c - *a);
+            if n.length_squared() <= 0.0 {
+                continue;
+            }
+            let t = (
+                k as u32,
+                Triangle {
                     v0: f(*a),
                     v1: f(*b),
                     v2: f(*c),
-                });
-                ids.push(k as u32);
+                },
+            );
+            let on_shell = shell.as_ref().is_some_and(|planes| {
+                planes
+                    .iter()
+                    .any(|(m, d)| [a, b, c].iter().all(|p| (m.dot(**p) - d).abs() <= tol))
+            });
+            if !on_shell {
+                interior.push(t);
             }
+            all.push(t);
         }
-        // Boxes padded by a millionth of the scene: a flat box (a wall) seen by a ray that starts
-        // a hair away from it otherwise slips through the slab test in f32 and the ray leaks.
-        let pad = (1e-6 * BVH_DIAGONAL) as f32;
-        let padded: Vec<Padded> = kept.iter().map(|t| Padded { tri: *t, pad }).collect();
-        let bvh = (!kept.is_empty()).then(|| {
-            build_cwbvh(
-                &padded,
-                BvhBuildParams::medium_build(),
-                &mut Duration::default(),
-            )
-        });
-        let order: Vec<usize> = bvh
-            .as_ref()
-            .map(|b| b.primitive_indices.iter().map(|&i| i as usize).collect())
-            .unwrap_or_default();
+        let shell_present = shell.is_some();
+        let all = Tracer::new(all);
+        let interior = if shell_present {
+            Tracer::new(interior)
+        } else {
+            Tracer::default()
+        };
         Occluder {
-            bvh,
-            triangles: order.iter().map(|&i| kept[i]).collect(),
-            ids: order.iter().map(|&i| ids[i]).collect(),
+            convex_empty: shell_present && interior.bvh.is_none(),
+            interior: if shell_present {
+                interior
+            } else {
+                Tracer::default()
+            },
+            shell: shell.unwrap_or_default(),
+            all,
             center,
             scale,
             epsilon: 1e-5 * diagonal.max(1e-9),
-            convex_empty,
             diagonal,
-            rays: Default::default(),
+            rays: AtomicU64::new(0),
         }
     }
 
-    /// The nearest triangle a ray from `origin` along the unit `dir` hits: its index (as given to
-    /// the constructor), distance (m) and unit geometric normal (by its winding).
-    pub fn closest(&self, origin: DVec3, dir: DVec3) -> Option<Hit> {
-        let bvh = self.bvh.as_ref()?;
-        self.rays.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    /// True when `p` is inside (or on) the convex shell, so only interior triangles can block
+    /// segments from it to another inner point.
+    fn inside_shell(&self, p: DVec3) -> bool {
+        let tol = 1e-6 * self.diagonal;
+        !self.shell.is_empty() && self.shell.iter().all(|(n, d)| n.dot(p) - d >= -tol)
+    }
+
+    fn ray(&self, origin: DVec3, dir: DVec3, tmax: f64) -> Ray {
         let o = (origin - self.center) * self.scale;
-        let ray = Ray::new(
-            Vec3A::new(o.x as f32, o.y as f32, o.z as f32),
-            Vec3A::new(dir.x as f32, dir.y as f32, dir.z as f32),
-            0.0,
-            f32::INFINITY,
-        );
-        let mut hit = RayHit::none();
-        if !bvh.ray_traverse(ray, &mut hit, |r, id| intersect(&self.triangles[id], r)) {
-            return None;
-        }
-        let t = &self.triangles[hit.primitive_id as usize];
-        let n = (t.v1 - t.v0).cross(t.v2 - t.v0);
-        Some(Hit {
-            triangle: self.ids[hit.primitive_id as usize] as usize,
-            distance: hit.t as f64 / self.scale,
-            normal: DVec3::new(n.x as f64, n.y as f64, n.z as f64).normalize_or_zero(),
-        })
-    }
-
-    /// Number of rays traced so far.
-    pub fn rays_traced(&self) -> u64 {
-        self.rays.load(std::sync::atomic::Ordering::Relaxed)
-    }
-
-    /// Is the segment from surface point `a` (normal `na`) to surface point `b` (normal `nb`)
-    /// free of blockers? Either normal may be zero (a point in free space, e.g. a light).
-    pub fn clear(&self, a: DVec3, na: DVec3, b: DVec3, nb: DVec3) -> bool {
-        if self.convex_empty {
-            return true;
-        }
-        self.trace_segment(a, na, b, nb)
-    }
-
-    /// Like [`Occluder::clear`] but always traces (for lights, which may sit outside a convex room).
-    pub fn trace_segment(&self, a: DVec3, na: DVec3, b: DVec3, nb: DVec3) -> bool {
-        let d = b - a;
-        let side_a = if na.dot(d) >= 0.0 { 1.0 } else { -1.0 };
-        let side_b = if nb.dot(d) <= 0.0 { 1.0 } else { -1.0 };
-        let from = a + na * (self.epsilon * side_a);
-        let to = b + nb * (self.epsilon * side_b);
-        let dir = to - from;
-        let len = dir.length();
-        if len <= self.epsilon {
-            return true;
-        }
-        let tmax = len - self.epsilon;
-        self.miss(from, dir / len, tmax)
-    }
-
-    /// Does a ray from surface point `a` (normal `na`) in direction `dir` leave the scene?
-    pub fn escapes(&self, a: DVec3, na: DVec3, dir: DVec3) -> bool {
-        let side = if na.dot(dir) >= 0.0 { 1.0 } else { -1.0 };
-        self.miss(
-            a + na * (self.epsilon * side),
-            dir.normalize(),
-            f64::INFINITY,
-        )
-    }
-
-    fn miss(&self, origin: DVec3, dir: DVec3, tmax: f64) -> bool {
-        let Some(bvh) = &self.bvh else { return true };
-        self.rays.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-        let o = (origin - self.center) * self.scale;
-        let ray = Ray::new(
+        Ray::new(
             Vec3A::new(o.x as f32, o.y as f32, o.z as f32),
             Vec3A::new(dir.x as f32, dir.y as f32, dir.z as f32),
             0.0,
@@ -219,8 +228,66 @@ impl Occluder {
             } else {
                 f32::INFINITY
             },
-        );
-        bvh.ray_traverse_miss(ray, |r, id| intersect(&self.triangles[id], r))
+        )
+    }
+
+    /// The nearest triangle a ray from `origin` along the unit `dir` hits: its index (as given to
+    /// the constructor), distance (m) and unit geometric normal (by its winding).
+    pub fn closest(&self, origin: DVec3, dir: DVec3) -> Option<Hit> {
+        let bvh = self.all.bvh.as_ref()?;
+        self.rays.fetch_add(1, Ordering::Relaxed);
+        let mut hit = RayHit::none();
+        let found = bvh.ray_traverse(self.ray(origin, dir, f64::INFINITY), &mut hit, |r, id| {
+            intersect(&self.all.triangles[id], r)
+        });
+        if !found {
+            return None;
+        }
+        let t = &self.all.triangles[hit.primitive_id as usize];
+        let n = (t.v1 - t.v0).cross(t.v2 - t.v0);
+        Some(Hit {
+            triangle: self.all.ids[hit.primitive_id as usize] as usize,
+            distance: hit.t as f64 / self.scale,
+            normal: DVec3::new(n.x as f64, n.y as f64, n.z as f64).normalize_or_zero(),
+        })
+    }
+
+    /// Number of rays traced so far.
+    pub fn rays_traced(&self) -> u64 {
+        self.rays.load(Ordering::Relaxed)
+    }
+
+    /// Is the segment from point `a` (surface normal `na`) to point `b` (normal `nb`) free of
+    /// blockers? Either normal may be zero (a point in free space, e.g. a light).
+    pub fn clear(&self, a: DVec3, na: DVec3, b: DVec3, nb: DVec3) -> bool {
+        let d = b - a;
+        let side_a = if na.dot(d) >= 0.0 { 1.0 } else { -1.0 };
+        let side_b = if nb.dot(d) <= 0.0 { 1.0 } else { -1.0 };
+        let from = a + na * (self.epsilon * side_a);
+        let to = b + nb * (self.epsilon * side_b);
+        let inner = self.inside_shell(a) && self.inside_shell(b);
+        let tracer = if inner { &self.interior } else { &self.all };
+        if tracer.bvh.is_none() {
+            return true;
+        }
+        let dir = to - from;
+        let len = dir.length();
+        if len <= self.epsilon {
+            return true;
+        }
+        self.rays.fetch_add(1, Ordering::Relaxed);
+        tracer.miss(self.ray(from, dir / len, len - self.epsilon))
+    }
+
+    /// Does a ray from point `a` (surface normal `na`) in direction `dir` leave the scene?
+    pub fn escapes(&self, a: DVec3, na: DVec3, dir: DVec3) -> bool {
+        let side = if na.dot(dir) >= 0.0 { 1.0 } else { -1.0 };
+        self.rays.fetch_add(1, Ordering::Relaxed);
+        self.all.miss(self.ray(
+            a + na * (self.epsilon * side),
+            dir.normalize(),
+            f64::INFINITY,
+        ))
     }
 }
 
@@ -275,15 +342,12 @@ fn intersect(t: &Triangle, ray: &Ray) -> f32 {
     }
 }
 
-/// True when every triangle's plane has all scene vertices, all point/spot lights and all
-/// luminaire openings on its front side (within tolerance): a convex enclosure with nothing inside, an open convex shell, or a
-/// single plane. Gives up (false) when the check would be too costly.
-fn is_convex_empty(scene: &Scene) -> bool {
-    let mut points: Vec<DVec3> = scene
-        .surfaces
-        .iter()
-        .flat_map(|s| s.positions.iter().copied())
-        .collect();
+/// The planes of the scene's triangles that have every vertex, every point or spot light and
+/// every luminaire opening on their front side (within tolerance): the faces of the convex shell.
+/// `None` when the check would be too costly, or when a double-sided surface lies on one (it is
+/// seen from outside too).
+fn shell_planes(scene: &Scene, tris: &[[DVec3; 3]]) -> Option<Vec<(DVec3, f64)>> {
+    let mut points: Vec<DVec3> = tris.iter().flatten().copied().collect();
     points.extend(
         scene
             .lights
@@ -291,7 +355,6 @@ fn is_convex_empty(scene: &Scene) -> bool {
             .filter(|l| l.kind != crate::scene::LightKind::Directional)
             .map(|l| l.position),
     );
-    // Luminaires: every corner of their (possibly overridden) opening, where sub-sources lie.
     for l in &scene.luminaires {
         let o = l
             .opening
@@ -301,43 +364,43 @@ fn is_convex_empty(scene: &Scene) -> bool {
             points.push(l.position + l.world_from_photometric * DVec3::new(x, y, 0.0));
         }
     }
-    let mut planes: Vec<(DVec3, f64)> = Vec::new();
     let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
     for p in &points {
         lo = lo.min(*p);
         hi = hi.max(*p);
     }
     let tol = 1e-7 * (hi - lo).length().max(1e-12);
-    for s in &scene.surfaces {
-        for t in &s.triangles {
-            let [a, b, c] = t.map(|v| s.positions[v as usize]);
-            let n = (b - a).cross(c - a).normalize_or_zero();
-            if n == DVec3::ZERO {
-                continue;
-            }
-            let d = n.dot(a);
-            if !planes
-                .iter()
-                .any(|(m, e)| (m.dot(n) > 1.0 - 1e-12) && (e - d).abs() <= tol)
-            {
-                planes.push((n, d));
-                if planes.len() * points.len() > 50_000_000 {
-                    return false;
-                }
-            }
-        }
-    }
-    let double_sided = scene
+    let double_sided: Vec<bool> = scene
         .surfaces
         .iter()
-        .any(|s| scene.materials[s.material].double_sided);
-    if double_sided && planes.len() > 1 {
-        // A double-sided surface inside a shell is seen from both sides; keep it simple.
-        return false;
+        .flat_map(|s| {
+            std::iter::repeat_n(scene.materials[s.material].double_sided, s.triangles.len())
+        })
+        .collect();
+    let mut candidates: Vec<(DVec3, f64, bool)> = Vec::new();
+    for (k, [a, b, c]) in tris.iter().enumerate() {
+        let n = (*b - *a).cross(*c - *a).normalize_or_zero();
+        if n == DVec3::ZERO {
+            continue;
+        }
+        let d = n.dot(*a);
+        match candidates
+            .iter_mut()
+            .find(|(m, e, _)| m.dot(n) > 1.0 - 1e-12 && (e - d).abs() <= tol)
+        {
+            Some(c) => c.2 |= double_sided[k],
+            None => candidates.push((n, d, double_sided[k])),
+        }
+        if candidates.len() * points.len() > 50_000_000 {
+            return None;
+        }
     }
-    planes
-        .iter()
-        .all(|(n, d)| points.iter().all(|p| n.dot(*p) - d >= -tol))
+    let shell: Vec<(DVec3, f64)> = candidates
+        .into_iter()
+        .filter(|(n, d, two_sided)| !two_sided && points.iter().all(|p| n.dot(*p) - d >= -tol))
+        .map(|(n, d, _)| (n, d))
+        .collect();
+    Some(shell)
 }
 
 #[cfg(test)]
