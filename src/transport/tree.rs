@@ -42,11 +42,14 @@ impl TreeNode {
     }
 
     /// Range of n·(x − p) over the node's bounding box: how far below/above the plane through
-    /// `p` with normal `n` the node reaches.
+    /// `p` with normal `n` the node reaches. The range is narrowed by a rounding tolerance
+    /// (10⁻⁹ of the distance) so a node that touches the plane counts as touching at every scale,
+    /// not as crossing it at some and not at others.
     pub fn height_range(&self, p: DVec3, n: DVec3) -> (f64, f64) {
         let mid = n.dot(self.center - p);
         let half = n.abs().dot((self.hi - self.lo) * 0.5);
-        (mid - half, mid + half)
+        let tol = 1e-9 * ((self.center - p).length() + self.radius);
+        (mid - half + tol, mid + half - tol)
     }
 
     /// `Some(true)` when every patch of the node faces point `p` (p is in front of each), `Some(false)`
@@ -205,22 +208,29 @@ fn split_key<'a>(
         .iter()
         .map(|&p| normal(p).dot(mean).clamp(-1.0, 1.0).acos())
         .fold(0.0, f64::max);
-    let (by_normal, axis) = if spread > SPLIT_CONE || mean == DVec3::ZERO {
-        (true, longest_axis(nhi - nlo))
+    let (by_normal, axis, origin, span) = if spread > SPLIT_CONE || mean == DVec3::ZERO {
+        (true, longest_axis(nhi - nlo), -1.0, 2.0)
     } else {
         let (lo, hi) = bounds(patches.iter().map(|&p| centroid(p)));
-        (false, longest_axis(hi - lo))
+        let axis = longest_axis(hi - lo);
+        (false, axis, lo[axis], (hi[axis] - lo[axis]).max(1e-300))
     };
+    // Keys are quantised relative to the node's extent, so coordinates that are equal up to
+    // rounding sort as equal (then by patch index) whatever the scene's scale: the hierarchy does
+    // not change when a room is modelled in millimetres instead of metres.
     move |p: u32| {
         let v = if by_normal { normal(p) } else { centroid(p) };
-        v[axis]
+        ((v[axis] - origin) / span * 4_294_967_296.0).round()
     }
 }
 
+/// The axis of the largest extent; extents equal within 10⁻⁹ count as equal (lower axis wins),
+/// so rounding at another scale does not change the choice.
 fn longest_axis(extent: DVec3) -> usize {
-    if extent.x >= extent.y && extent.x >= extent.z {
+    let m = extent.max_element() * (1.0 - 1e-9);
+    if extent.x >= m {
         0
-    } else if extent.y >= extent.z {
+    } else if extent.y >= m {
         1
     } else {
         2

@@ -1,0 +1,274 @@
+//! Numerical stability: reflectance near 1, huge and tiny scales, degenerate and overlapping
+//! geometry, open scenes, a light shut in a box, a scene without light, and random closed boxes
+//! (property test) against Sumpner's balance Φ/(S(1−ρ)).
+
+use glam::DVec3;
+use luxbake::bake::bake;
+use luxbake::fixtures::{self, SceneBuilder, box_faces};
+use luxbake::progress::Progress;
+use luxbake::result::BakeResult;
+use luxbake::scene::Scene;
+use luxbake::settings::{Quality, Settings};
+use proptest::prelude::*;
+use std::sync::Mutex;
+
+fn rel(a: f64, b: f64) -> f64 {
+    (a - b).abs() / b.abs().max(1e-300)
+}
+
+/// Records warnings.
+#[derive(Default)]
+struct Warnings(Mutex<Vec<String>>);
+
+impl Progress for Warnings {
+    fn stage(&self, _: &str, _: u64) {}
+    fn advance(&self, _: u64) {}
+    fn warn(&self, m: &str) {
+        self.0.lock().unwrap().push(m.to_string());
+    }
+}
+
+fn run(scene: &Scene, quality: Quality) -> BakeResult {
+    let r = bake(
+        scene,
+        &Settings {
+            quality,
+            ..Default::default()
+        },
+        &Warnings::default(),
+    )
+    .unwrap();
+    for s in &r.surfaces {
+        assert!(
+            s.illuminance
+                .iter()
+                .chain(&s.luminance)
+                .all(|x| x.is_finite() && *x >= 0.0)
+        );
+        assert!(s.color.iter().flatten().all(|c| (0.0..=1.0).contains(c)));
+    }
+    r
+}
+
+fn area_mean(r: &BakeResult) -> f64 {
+    let (mut sum, mut total) = (0.0, 0.0);
+    for s in &r.surfaces {
+        for t in &s.triangles {
+            let p = t.map(|v| s.positions[v as usize]);
+            let a = (p[1] - p[0]).cross(p[2] - p[0]).length() / 2.0;
+            for &v in t {
+                sum += s.illuminance[v as usize] as f64 * a / 3.0;
+                total += a / 3.0;
+            }
+        }
+    }
+    sum / total
+}
+
+fn energy(r: &BakeResult, key: &str) -> f64 {
+    r.summary["energy"][key].as_f64().unwrap()
+}
+
+#[test]
+fn reflectance_0_999_converges_and_reports_its_residual() {
+    let size = DVec3::new(3.0, 2.5, 4.0);
+    let r = run(
+        &fixtures::closed_box_with_panel(size, 0.999, 0.6, 2000.0),
+        Quality::Draft,
+    );
+    let s = 2.0 * (3.0 * 2.5 + 3.0 * 4.0 + 2.5 * 4.0);
+    let want = std::f64::consts::PI * 2000.0 * 0.36 / (s * 0.001);
+    let solver = &r.summary["solver"];
+    eprintln!(
+        "ρ 0.999: mean {:.1} vs {want:.1}, solver {solver}",
+        area_mean(&r)
+    );
+    assert!(solver["converged"].as_bool().unwrap());
+    assert!(solver["relativeResidual"].as_f64().unwrap() < 1e-4);
+    assert!(
+        rel(area_mean(&r), want) < 0.02,
+        "{} vs {want}",
+        area_mean(&r)
+    );
+}
+
+/// The same room at 1 mm, 1 m and 1 km scale: lux from an area source depends only on angles;
+/// from a point source scaled as I·s², likewise.
+#[test]
+fn millimetre_metre_and_kilometre_scenes_agree() {
+    let build = |s: f64| {
+        let mut b = SceneBuilder::new();
+        let walls = b.material("walls", 0.5);
+        let lamp = b.emitter("lamp", 0.5, 1000.0);
+        b.axis_box(
+            "room",
+            DVec3::ZERO,
+            DVec3::new(4.0, 3.0, 5.0) * s,
+            true,
+            walls,
+        );
+        let c = |x: f64, z: f64| DVec3::new(x, 2.9, z) * s;
+        b.quad(
+            "panel",
+            [c(1.5, 2.0), c(2.5, 2.0), c(2.5, 3.0), c(1.5, 3.0)].map(|p| p),
+            lamp,
+        );
+        b.point_light("bulb", DVec3::new(1.0, 1.5, 1.0) * s, 500.0 * s * s);
+        // A table, so shadows and rays matter too.
+        b.axis_box(
+            "table",
+            DVec3::new(2.5, 0.7, 3.0) * s,
+            DVec3::new(3.5, 0.75, 4.0) * s,
+            false,
+            walls,
+        );
+        b.build()
+    };
+    // Exact per-vertex equality is not to be had: rounding at another scale breaks ties in the
+    // patch hierarchy differently, and flips the shadow ray of a vertex lying right on a shadow
+    // edge. So: every surface's mean within 0.2 %, and 99 % of vertices within 1 %.
+    let reference = run(&build(1.0), Quality::Draft);
+    let mean = |s: &luxbake::result::BakedSurface| {
+        s.illuminance.iter().map(|e| *e as f64).sum::<f64>() / s.illuminance.len() as f64
+    };
+    for s in [1e-3, 1e3] {
+        let r = run(&build(s), Quality::Draft);
+        let mut diffs = Vec::new();
+        for (a, b) in reference.surfaces.iter().zip(&r.surfaces) {
+            assert!(
+                rel(mean(b), mean(a)) < 2e-3,
+                "scale {s}: surface mean {} vs {}",
+                mean(b),
+                mean(a)
+            );
+            for (x, y) in a.illuminance.iter().zip(&b.illuminance) {
+                diffs.push((x - y).abs() as f64 / (*x as f64).max(1.0));
+            }
+        }
+        diffs.sort_by(f64::total_cmp);
+        let p99 = diffs[diffs.len() * 99 / 100];
+        eprintln!(
+            "scale {s}: 99th percentile vertex difference {p99:.2e}, worst {:.2e}",
+            diffs.last().unwrap()
+        );
+        assert!(p99 < 1e-2, "scale {s}: {p99}");
+    }
+}
+
+/// Slivers (aspect 10⁴), zero-area and duplicate triangles, and coplanar overlapping faces: the
+/// bake stays finite and its energy balance closes.
+#[test]
+fn degenerate_and_overlapping_geometry() {
+    let mut b = SceneBuilder::new();
+    let walls = b.material("walls", 0.6);
+    let lamp = b.emitter("lamp", 0.0, 1000.0);
+    let faces = box_faces(DVec3::ZERO, DVec3::new(4.0, 3.0, 4.0));
+    for (i, f) in faces.iter().enumerate() {
+        b.quad(&format!("face_{i}"), *f, if i == 1 { lamp } else { walls });
+    }
+    // A sliver 2 m long and 0.2 mm wide on the floor, a zero-area triangle, a duplicated quad
+    // and a quad overlapping the floor (coplanar, half its size).
+    let y = 1e-9;
+    let sliver = vec![
+        DVec3::new(1.0, y, 1.0),
+        DVec3::new(3.0, y, 1.0),
+        DVec3::new(2.0, y, 1.0002),
+    ];
+    b.surface(
+        "sliver",
+        sliver.clone(),
+        vec![DVec3::Y; 3],
+        vec![[0, 2, 1]],
+        walls,
+    );
+    let flat = vec![
+        DVec3::new(1.0, 1.0, 1.0),
+        DVec3::new(2.0, 1.0, 1.0),
+        DVec3::new(3.0, 1.0, 1.0),
+    ];
+    b.surface("zero area", flat, vec![DVec3::Y; 3], vec![[0, 1, 2]], walls);
+    b.quad("duplicate wall", faces[2], walls);
+    b.floor("overlap", 1.0, 0.0, walls);
+    let r = run(&b.build(), Quality::Draft);
+    let balance = energy(&r, "balanceErrorRelative");
+    eprintln!("degenerate: balance {balance:.2e}");
+    assert!(balance < 0.02, "{balance}");
+}
+
+/// An open scene: a floor under a point light lets light escape; the balance still closes.
+#[test]
+fn open_scene_balance_closes_with_escape() {
+    let mut b = SceneBuilder::new();
+    let floor = b.material("floor", 0.5);
+    b.floor("floor", 3.0, 0.0, floor);
+    b.point_light("bulb", DVec3::new(0.0, 2.0, 0.0), 1000.0);
+    let r = run(&b.build(), Quality::Default);
+    let (emitted, escaped) = (energy(&r, "emittedLm"), energy(&r, "escapedLm"));
+    eprintln!(
+        "open: emitted {emitted:.1} escaped {escaped:.1} balance {:.2e}",
+        energy(&r, "balanceErrorRelative")
+    );
+    // Half the bulb's flux goes up; of the rest, the floor reflects half and all of that escapes.
+    assert!(escaped > 0.5 * emitted && escaped < emitted);
+    assert!(energy(&r, "balanceErrorRelative") < 5e-3);
+}
+
+/// A light shut inside a closed box within a room: the room stays dark, the box absorbs all.
+#[test]
+fn light_inside_a_closed_box_stays_inside() {
+    let mut b = SceneBuilder::new();
+    let walls = b.material("walls", 0.7);
+    b.axis_box("room", DVec3::ZERO, DVec3::new(4.0, 3.0, 4.0), true, walls);
+    b.axis_box("crate", DVec3::splat(1.0), DVec3::splat(2.0), false, walls);
+    b.point_light("trapped", DVec3::splat(1.5), 1000.0);
+    let r = run(&b.build(), Quality::Draft);
+    let room_max = r.surfaces[..6]
+        .iter()
+        .flat_map(|s| s.illuminance.iter())
+        .fold(0.0f32, |m, e| m.max(*e));
+    assert_eq!(room_max, 0.0, "light leaked out of the crate");
+    // The crate's faces point outward, so the light hits their backs and is absorbed there.
+    assert!(rel(energy(&r, "absorbedLm"), energy(&r, "emittedLm")) < 2e-3);
+}
+
+#[test]
+fn scene_without_light_is_dark_and_warned() {
+    let mut b = SceneBuilder::new();
+    let walls = b.material("walls", 0.5);
+    b.axis_box("room", DVec3::ZERO, DVec3::splat(3.0), true, walls);
+    let warnings = Warnings::default();
+    let r = bake(&b.build(), &Settings::default(), &warnings).unwrap();
+    assert!(
+        r.surfaces
+            .iter()
+            .all(|s| s.illuminance.iter().all(|e| *e == 0.0))
+    );
+    let w = warnings.0.lock().unwrap();
+    assert!(w.iter().any(|m| m.contains("no light source")), "{w:?}");
+}
+
+proptest! {
+    // A fixed seed: the same 24 boxes every run, so CI cannot flake (change the seed to explore).
+    #![proptest_config(ProptestConfig {
+        cases: 24,
+        rng_seed: proptest::test_runner::RngSeed::Fixed(0x1b_a4e5),
+        failure_persistence: None,
+        ..ProptestConfig::default()
+    })]
+    /// Random closed boxes (1–8 m, shafts included) with a random ceiling panel and uniform
+    /// reflectance: the mean illuminance at the vertices is Φ/(S(1−ρ)) within 0.5 % (default
+    /// quality; at draft quality a small panel at the top of a narrow shaft errs by ~2 %: the
+    /// vertex quadrature of its steep direct light, not the solution).
+    #[test]
+    fn random_closed_boxes_obey_sumpner(
+        w in 1.0f64..8.0, h in 1.0f64..5.0, d in 1.0f64..8.0,
+        rho in 0.05f64..0.95, panel in 0.1f64..0.9, l in 10.0f64..5000.0,
+    ) {
+        let size = DVec3::new(w, h, d);
+        let side = panel * w.min(d);
+        let r = run(&fixtures::closed_box_with_panel(size, rho, side, l), Quality::Default);
+        let s = 2.0 * (w * h + w * d + h * d);
+        let want = std::f64::consts::PI * l * side * side / (s * (1.0 - rho));
+        prop_assert!(rel(area_mean(&r), want) < 5e-3, "mean {} vs {}", area_mean(&r), want);
+    }
+}
