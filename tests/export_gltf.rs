@@ -23,7 +23,13 @@ fn validator_finds_no_errors_or_warnings() {
     let dir = scratch("validate");
     for (name, unlit) in [("lit.gltf", true), ("lit.glb", true), ("pbr.gltf", false)] {
         let path = dir.join(name);
-        write(&path, &ExportOptions { unlit });
+        write(
+            &path,
+            &ExportOptions {
+                unlit,
+                ..Default::default()
+            },
+        );
         let report = tools::validate(&path);
         // Unlit materials carry LUXBAKE_material in extras (the validator warns about any other
         // extension beside KHR_materials_unlit), so both modes have no warning at all.
@@ -265,7 +271,13 @@ fn output_is_byte_identical_on_a_second_write() {
 fn lit_materials_are_kept_when_unlit_is_off() {
     let dir = scratch("lit");
     let path = dir.join("room.gltf");
-    write(&path, &ExportOptions { unlit: false });
+    write(
+        &path,
+        &ExportOptions {
+            unlit: false,
+            ..Default::default()
+        },
+    );
     let j = gltf_read::read(&path).json;
     let m0 = &j["materials"][0];
     assert!(m0["extensions"].get("KHR_materials_unlit").is_none());

@@ -122,7 +122,16 @@ fn round_trip_keeps_luminaires_and_profiles() {
     let result = flat_result(&scene);
     for (name, unlit) in [("out.gltf", true), ("out.glb", true), ("pbr.gltf", false)] {
         let path = dir.join(name);
-        export::write(&path, &scene, &result, &ExportOptions { unlit }).unwrap();
+        export::write(
+            &path,
+            &scene,
+            &result,
+            &ExportOptions {
+                unlit,
+                ..Default::default()
+            },
+        )
+        .unwrap();
         let again = load_ok(&path);
         assert_same_luminaires(&scene.luminaires, &again.luminaires, name);
         assert_same_profiles(&scene, &again, name);
@@ -317,7 +326,16 @@ fn validator_finds_no_errors_or_warnings() {
     let result = flat_result(&scene);
     for (name, unlit) in [("lit.gltf", true), ("lit.glb", true), ("pbr.gltf", false)] {
         let path = dir.join(name);
-        export::write(&path, &scene, &result, &ExportOptions { unlit }).unwrap();
+        export::write(
+            &path,
+            &scene,
+            &result,
+            &ExportOptions {
+                unlit,
+                ..Default::default()
+            },
+        )
+        .unwrap();
         let report = tools::validate(&path);
         assert_eq!(
             (report.errors, report.warnings),

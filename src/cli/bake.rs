@@ -51,6 +51,8 @@ pub struct BakeArgs {
     /// Record stage timings in the output's extras (makes bakes differ from run to run).
     #[arg(long)]
     timings_in_output: bool,
+    #[command(flatten)]
+    probes: super::probes::ProbeArgs,
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -76,7 +78,7 @@ fn settings(args: &BakeArgs) -> Result<Settings> {
             })?,
         },
     };
-    let settings = Settings {
+    let mut settings = Settings {
         quality: match args.quality {
             QualityArg::Draft => Quality::Draft,
             QualityArg::Default => Quality::Default,
@@ -94,6 +96,7 @@ fn settings(args: &BakeArgs) -> Result<Settings> {
         record_timings: args.timings_in_output,
         ..Settings::default()
     };
+    args.probes.apply(&mut settings)?;
     settings.validate()?;
     Ok(settings)
 }
@@ -112,7 +115,12 @@ pub fn run(args: &BakeArgs) -> Result<()> {
             obj_up: settings.obj_up,
         },
     )?;
-    let extra: Vec<&Path> = args.summary_json.iter().map(|p| p.as_path()).collect();
+    let extra: Vec<&Path> = args
+        .summary_json
+        .iter()
+        .map(|p| p.as_path())
+        .chain(args.probes.out_path())
+        .collect();
     export::check(output, &scene, &extra)?;
     for w in &scene.warnings {
         progress.warn(w);
@@ -127,8 +135,12 @@ pub fn run(args: &BakeArgs) -> Result<()> {
     let result = pool.install(|| luxbake::bake::bake(&scene, &settings, &progress))?;
     let options = ExportOptions {
         unlit: !settings.keep_lit_materials,
+        probe_glyphs: settings
+            .probe_glyphs
+            .then(|| export::glyph_scale(&settings)),
     };
     pool.install(|| export::write(output, &scene, &result, &options))?;
+    args.probes.write_out(&result.probes)?;
     progress.done();
     let total = start.elapsed().as_secs_f64();
     if let Some(path) = &args.summary_json {
@@ -144,6 +156,7 @@ pub fn run(args: &BakeArgs) -> Result<()> {
     }
     if !args.quiet {
         report(&result.summary, output, total);
+        super::probes::report(&result.probes);
     }
     Ok(())
 }

@@ -3,4 +3,5 @@
 
 pub mod bake;
 pub mod luminaire;
+pub mod probes;
 pub mod progress;

@@ -1,6 +1,7 @@
 //! Assembling the glTF document: the root JSON object and its binary buffer.
 //!
-//! Input: the [`Scene`], the [`BakeResult`] and the [`ExportOptions`]. Output: a [`Document`]:
+//! Input: the [`Scene`], the [`BakeResult`] (surfaces and probes) and the [`ExportOptions`].
+//! Output: a [`Document`]:
 //! the root JSON (without `buffers`, whose URI depends on the container) and the buffer bytes.
 //! Invariants: fields are inserted in one fixed order and arrays follow scene order, so equal
 //! inputs give equal documents; empty arrays are omitted (glTF forbids them); `extensionsUsed`
@@ -8,7 +9,7 @@
 //! `extensionsRequired` is never written (Blender refuses files requiring extensions it does not
 //! know, such as `EXT_lights_ies` and `LUXBAKE_luminaire`).
 
-use super::{ExportOptions, buffer::Binary, luminaires, material, mesh, nodes};
+use super::{ExportOptions, buffer::Binary, luminaires, material, mesh, nodes, probes};
 use crate::{Result, result::BakeResult, scene::Scene};
 use serde_json::{Map, Value, json};
 use std::collections::{BTreeMap, BTreeSet};
@@ -28,9 +29,22 @@ pub fn build(scene: &Scene, result: &BakeResult, options: &ExportOptions) -> Res
     let meshes = mesh::build(scene, result, &mut binary)?;
     let (textures, images, samplers) = material::textures(scene, &mut binary);
     let profiles = luminaires::profiles(scene, &mut binary);
-    let materials = material::materials(scene, &meshes.back_baked, options, &profiles);
-    let nodes = nodes::nodes(scene, &meshes.node_mesh, &profiles.node_extensions(scene));
-    let scenes = vec![nodes::scene(scene, &result.summary)];
+    let mut materials = material::materials(scene, &meshes.back_baked, options, &profiles);
+    let mut nodes = nodes::nodes(scene, &meshes.node_mesh, &profiles.node_extensions(scene));
+    let mut scenes = vec![nodes::scene(scene, &result.summary)];
+    let mut mesh_json = meshes.json;
+    probes::add(
+        scene,
+        &result.probes,
+        options.probe_glyphs,
+        &mut binary,
+        probes::Arrays {
+            nodes: &mut nodes,
+            meshes: &mut mesh_json,
+            materials: &mut materials,
+            scene: &mut scenes[0],
+        },
+    )?;
     let lights = nodes::lights(scene);
     let (bin, views, accessors) = binary.finish();
 
@@ -48,7 +62,7 @@ pub fn build(scene: &Scene, result: &BakeResult, options: &ExportOptions) -> Res
         ("scenes", scenes),
         ("nodes", nodes),
         ("cameras", scene.cameras.clone()),
-        ("meshes", meshes.json),
+        ("meshes", mesh_json),
         ("materials", materials),
         ("textures", textures),
         ("images", images),

@@ -7,7 +7,8 @@
 //! inconsistent bake results). Layout of the output (one concern per module):
 //! [`target`] (paths and the input-overwrite guard), [`document`] (the root JSON) built from
 //! [`mesh`] (+ [`geometry`], [`buffer`]), [`material`], [`nodes`], [`luminaires`] (profiles and
-//! luminaire extensions) and [`extras`], packed by
+//! luminaire extensions), [`probes`] (probe nodes and their results, + [`glyphs`]) and
+//! [`extras`], packed by
 //! [`container`] and written by [`atomic`].
 
 pub mod atomic;
@@ -16,11 +17,15 @@ mod container;
 mod document;
 mod extras;
 mod geometry;
+mod glyphs;
 mod luminaires;
 mod material;
 mod mesh;
 mod nodes;
+mod probes;
 mod target;
+
+pub use glyphs::scale as glyph_scale;
 
 use crate::{Result, result::BakeResult, scene::Scene};
 use std::path::Path;
@@ -31,11 +36,16 @@ use target::{Format, Target};
 pub struct ExportOptions {
     /// Switch every material to `KHR_materials_unlit` (default), so any viewer shows the bake.
     pub unlit: bool,
+    /// Add a glyph mesh per probe at this scale s (m; see [`glyph_scale`]); `None`: no glyphs.
+    pub probe_glyphs: Option<f64>,
 }
 
 impl Default for ExportOptions {
     fn default() -> Self {
-        ExportOptions { unlit: true }
+        ExportOptions {
+            unlit: true,
+            probe_glyphs: None,
+        }
     }
 }
 

@@ -8,10 +8,12 @@
 //! A node probe takes the node's world position and its world rotation (scale removed) unless its
 //! `extras.probe` is an object with `"aligned": true`, which keeps the cube aligned with the world
 //! axes; `extras.toward` ([x, y, z], probe axes) adds a semi-cylindrical illuminance toward that
-//! direction. Grid points: every `spacing` over the scene's horizontal extent (+Y up), `height`
+//! direction. Grid points: every `spacing` over the scene's horizontal extent (+Y up), centred in
+//! it and at least half a spacing from its edges (a 5 m room at 1 m: 0.5, 1.5, … 4.5), `height`
 //! above the first upward surface below it (found with a ray from underneath the scene); points
 //! with no floor below, or inside an object (a back face is the nearest surface in some axis
-//! direction), are skipped and counted in a warning.
+//! direction), are skipped and counted in a warning. Explicit probes are kept wherever they are,
+//! with a warning for each one inside an object.
 
 use super::{Probe, ProbeOrigin};
 use crate::bake::Solution;
@@ -41,6 +43,18 @@ pub fn all(
             },
             progress,
         ));
+    }
+    for p in &settings.extra_probes {
+        if is_inside(occ, p.position) {
+            progress.warn(&format!(
+                "probe '{}' ({}) is inside an object or behind a one-sided surface: its faces may read 0 lx",
+                p.name,
+                match p.origin {
+                    ProbeOrigin::File { line } => format!("line {line} of the probes file"),
+                    _ => "given explicitly".into(),
+                }
+            ));
+        }
     }
     out.extend(settings.extra_probes.iter().cloned());
     if let Some(g) = settings.working_plane {
@@ -118,19 +132,18 @@ pub fn grid(
     if lo.x > hi.x {
         return Vec::new();
     }
-    let (nx, nz) = (
-        ((hi.x - lo.x) / g.spacing).floor() as usize,
-        ((hi.z - lo.z) / g.spacing).floor() as usize,
-    );
-    // Centre the grid in the extent.
+    // floor(extent / spacing) points per axis (at least one), centred in the extent: at least
+    // half a spacing from its edges, so no point lies in a bounding wall.
+    let count = |extent: f64| ((extent / g.spacing).floor() as usize).max(1);
+    let (nx, nz) = (count(hi.x - lo.x), count(hi.z - lo.z));
     let (x0, z0) = (
-        lo.x + (hi.x - lo.x - nx as f64 * g.spacing) / 2.0,
-        lo.z + (hi.z - lo.z - nz as f64 * g.spacing) / 2.0,
+        lo.x + (hi.x - lo.x - (nx - 1) as f64 * g.spacing) / 2.0,
+        lo.z + (hi.z - lo.z - (nz - 1) as f64 * g.spacing) / 2.0,
     );
     let below = lo.y - 1e-3 * (hi - lo).length() - 1.0;
     let (mut out, mut inside, mut no_floor) = (Vec::new(), 0, 0);
-    for i in 0..=nx {
-        for k in 0..=nz {
+    for i in 0..nx {
+        for k in 0..nz {
             let (x, z) = (x0 + i as f64 * g.spacing, z0 + k as f64 * g.spacing);
             // The floor: the first surface a ray from underneath the scene meets.
             let Some(hit) = occ.closest(DVec3::new(x, below, z), DVec3::Y) else {

@@ -13,11 +13,18 @@
 //!   err), and Cuttle's constant estimate of the indirect part for comparison.
 //!
 //! Face order everywhere: `[+x, −x, +y, −y, +z, −z]` (probe axes).
+//!
+//! Input and output: [`csv`] reads probes from a `--probes` file; [`output`] makes the JSON object
+//! written to the glTF's `extras.luxbake` and to `--probes-out FILE.json`; [`table`] the
+//! `--probes-out FILE.csv` table.
 
+pub mod csv;
 pub mod evaluate;
 pub mod gather;
 pub mod metrics;
+pub mod output;
 pub mod sphere;
+pub mod table;
 
 use glam::{DMat3, DVec3};
 

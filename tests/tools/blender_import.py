@@ -7,7 +7,7 @@ The file is imported with `bpy.ops.import_scene.gltf(filepath=FILE)` into an emp
 receives one JSON object (Blender's own log lines are sent to stderr):
   {"blender": "5.0.1",
    "scene": {"name", "properties"},                 # scene custom properties (glTF scene extras)
-   "objects": [{"name", "type", "parent"}],         # every object, sorted by name
+   "objects": [{"name", "type", "parent", "properties"}],  # every object, sorted by name
    "meshes": [{"name", "mesh", "vertex_count", "corner_count", "properties",
                "attributes": [{"name", "domain", "data_type"}],
                "values": {ATTRIBUTE: {...}}}]}      # for _ILLUMINANCE, _ILLUMINANCE_DIRECT,
@@ -120,7 +120,12 @@ def main(argv):
             "blender": bpy.app.version_string,
             "scene": {"name": scene.name, "properties": properties(scene)},
             "objects": [
-                {"name": o.name, "type": o.type, "parent": o.parent.name if o.parent else None}
+                {
+                    "name": o.name,
+                    "type": o.type,
+                    "parent": o.parent.name if o.parent else None,
+                    "properties": properties(o),
+                }
                 for o in sorted(bpy.data.objects, key=lambda o: o.name)
             ],
             "meshes": [
