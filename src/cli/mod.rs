@@ -4,3 +4,4 @@
 pub mod bake;
 pub mod luminaire;
 pub mod progress;
+pub mod report;

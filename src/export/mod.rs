@@ -15,7 +15,7 @@ mod buffer;
 mod container;
 mod document;
 mod extras;
-mod geometry;
+pub(crate) mod geometry;
 mod luminaires;
 mod material;
 mod mesh;

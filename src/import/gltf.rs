@@ -13,6 +13,7 @@
 //! [`Material::default_material`], appended once after the file's materials when needed.
 
 mod accessor;
+mod baked;
 mod buffers;
 mod document;
 mod lights;
@@ -29,6 +30,8 @@ use super::context::Ctx;
 use crate::Result;
 use crate::scene::{Material, Scene};
 use serde_json::Value;
+
+pub(crate) use baked::load as load_baked;
 
 pub(crate) fn load(ctx: &mut Ctx, bytes: &[u8]) -> Result<Scene> {
     let document::Parsed { doc, raw, bin } = document::parse(ctx, bytes)?;

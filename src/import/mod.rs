@@ -59,3 +59,21 @@ pub fn load(path: &Path, options: &ImportOptions) -> Result<Scene> {
         )),
     }
 }
+
+/// Read a luxbake output (`.gltf`, `.glb`) back for the report: see `gltf/baked.rs`.
+pub fn load_baked(path: &Path) -> Result<crate::report::ReportInput> {
+    let extension = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    if !matches!(extension.as_deref(), Some("gltf" | "glb")) {
+        return Err(Error::input(
+            path,
+            "",
+            "not a luxbake output: the report reads the .gltf or .glb files bake writes",
+        ));
+    }
+    let mut ctx = context::Ctx::new(path)?;
+    let bytes = ctx.read_input()?;
+    gltf::load_baked(&mut ctx, &bytes)
+}
