@@ -1,5 +1,6 @@
 //! `bake IN -o OUT`: raw arguments → validated [`Settings`] → import → bake → export, with a
-//! progress bar on stderr (when it is a terminal) and a short report.
+//! progress bar on stderr (when it is a terminal) and a short summary; with `--report`, the
+//! lighting report on stdout (made by `cli::report`, the code path of `bake report`).
 
 use super::progress::CliProgress;
 use super::report::{ByArg, FormatArg};

@@ -8,9 +8,10 @@
 //! one light per node placing a `KHR_lights_punctual` light (`lights`), photometric profiles
 //! (`profiles`: read first, parsed last, so that every index into them is checked before any
 //! file is parsed) and one luminaire per node carrying `EXT_lights_ies` / `LUXBAKE_luminaire`
-//! (`luminaires`). Cameras and `extras` are kept verbatim. Surfaces and lights come only from the nodes of the imported scene; other nodes
-//! are kept (with their transforms) but instantiate nothing. Primitives without a material use
-//! [`Material::default_material`], appended once after the file's materials when needed.
+//! (`luminaires`). Cameras and `extras` are kept verbatim. Surfaces and lights come only from the
+//! nodes of the imported scene; other nodes are kept (with their transforms) but instantiate
+//! nothing. Primitives without a material use [`Material::default_material`], appended once after
+//! the file's materials when needed. `baked` reads a luxbake *output* back for the report instead.
 
 mod accessor;
 mod baked;

@@ -4,7 +4,8 @@
 //! Input: a path and [`ImportOptions`]. Output: a [`Scene`] meeting the invariants documented in
 //! `crate::scene`, or an [`crate::Error::Input`] naming the file and the element (a JSON pointer
 //! for glTF). Every file read is listed, canonicalised, in `Scene::input_files`; no file outside
-//! the input file's folder is ever read.
+//! the input file's folder is ever read. [`load_baked`] reads a luxbake output back (same parser,
+//! same confinement) into the report's input.
 
 mod context;
 mod geometry;
