@@ -27,6 +27,8 @@ struct Cli {
 enum Command {
     /// Summarise a photometric file (.ies, .ldt) and optionally draw its polar curve.
     Luminaire(cli::luminaire::LuminaireArgs),
+    /// Print the lighting report of a baked output (per material, per node, working plane).
+    Report(cli::report::ReportArgs),
 }
 
 fn main() {
@@ -52,6 +54,7 @@ fn main() {
     let result = match &args.command {
         None => cli::bake::run(&args.bake),
         Some(Command::Luminaire(a)) => cli::luminaire::run(a),
+        Some(Command::Report(a)) => cli::report::run(a),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");

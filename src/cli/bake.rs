@@ -1,7 +1,9 @@
 //! `bake IN -o OUT`: raw arguments → validated [`Settings`] → import → bake → export, with a
-//! progress bar on stderr (when it is a terminal) and a short report.
+//! progress bar on stderr (when it is a terminal) and a short summary; with `--report`, the
+//! lighting report on stdout (made by `cli::report`, the code path of `bake report`).
 
 use super::progress::CliProgress;
+use super::report::{ByArg, FormatArg};
 use anyhow::{Context, Result};
 use clap::{Args, ValueEnum};
 use luxbake::export::{self, ExportOptions};
@@ -53,6 +55,20 @@ pub struct BakeArgs {
     timings_in_output: bool,
     #[command(flatten)]
     probes: super::probes::ProbeArgs,
+    /// Print the lighting report after baking, as `bake report OUT` would (FORMAT: table,
+    /// markdown, csv, json; default table).
+    #[arg(long, value_enum, value_name = "FORMAT", num_args = 0..=1, default_missing_value = "table")]
+    report: Option<FormatArg>,
+    /// Write the report to this file instead of standard output (implies --report).
+    #[arg(long, value_name = "FILE")]
+    report_out: Option<PathBuf>,
+    /// The report's surface sections (implies --report; default both).
+    #[arg(long, value_enum, value_name = "BY")]
+    report_by: Option<ByArg>,
+    /// Design targets for the report: a JSON object of average illuminances in lx (implies
+    /// --report).
+    #[arg(long, value_name = "FILE")]
+    targets: Option<PathBuf>,
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -115,9 +131,22 @@ pub fn run(args: &BakeArgs) -> Result<()> {
             obj_up: settings.obj_up,
         },
     )?;
+    let wants_report = args.report.is_some()
+        || args.report_out.is_some()
+        || args.report_by.is_some()
+        || args.targets.is_some();
+    let report_options = wants_report
+        .then(|| {
+            super::report::options(
+                args.report_by.unwrap_or(ByArg::Both),
+                args.targets.as_deref(),
+            )
+        })
+        .transpose()?;
     let extra: Vec<&Path> = args
         .summary_json
         .iter()
+        .chain(&args.report_out)
         .map(|p| p.as_path())
         .chain(args.probes.out_path())
         .collect();
@@ -133,6 +162,15 @@ pub fn run(args: &BakeArgs) -> Result<()> {
         .build()
         .context("cannot start worker threads")?;
     let result = pool.install(|| luxbake::bake::bake(&scene, &settings, &progress))?;
+    // The report is made before anything is written (a bad target fails the run cleanly).
+    let report_text = match &report_options {
+        Some(o) => {
+            let input = luxbake::report::ReportInput::from_bake(&scene, &result)?;
+            let format = args.report.unwrap_or(FormatArg::Table);
+            Some(super::report::render(&input, o, format)?)
+        }
+        None => None,
+    };
     let options = ExportOptions {
         unlit: !settings.keep_lit_materials,
         probe_glyphs: settings
@@ -157,6 +195,12 @@ pub fn run(args: &BakeArgs) -> Result<()> {
     if !args.quiet {
         report(&result.summary, output, total);
         super::probes::report(&result.probes);
+    }
+    if let Some(text) = report_text {
+        match &args.report_out {
+            Some(path) => export::atomic::write_atomic(path, text.as_bytes())?,
+            None => print!("{text}"),
+        }
     }
     Ok(())
 }

@@ -5,3 +5,4 @@ pub mod bake;
 pub mod luminaire;
 pub mod probes;
 pub mod progress;
+pub mod report;

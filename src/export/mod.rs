@@ -16,7 +16,7 @@ mod buffer;
 mod container;
 mod document;
 mod extras;
-mod geometry;
+pub(crate) mod geometry;
 mod glyphs;
 mod luminaires;
 mod material;

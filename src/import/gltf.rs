@@ -8,11 +8,13 @@
 //! one light per node placing a `KHR_lights_punctual` light (`lights`), photometric profiles
 //! (`profiles`: read first, parsed last, so that every index into them is checked before any
 //! file is parsed) and one luminaire per node carrying `EXT_lights_ies` / `LUXBAKE_luminaire`
-//! (`luminaires`). Cameras and `extras` are kept verbatim. Surfaces and lights come only from the nodes of the imported scene; other nodes
-//! are kept (with their transforms) but instantiate nothing. Primitives without a material use
-//! [`Material::default_material`], appended once after the file's materials when needed.
+//! (`luminaires`). Cameras and `extras` are kept verbatim. Surfaces and lights come only from the
+//! nodes of the imported scene; other nodes are kept (with their transforms) but instantiate
+//! nothing. Primitives without a material use [`Material::default_material`], appended once after
+//! the file's materials when needed. `baked` reads a luxbake *output* back for the report instead.
 
 mod accessor;
+mod baked;
 mod buffers;
 mod document;
 mod lights;
@@ -29,6 +31,8 @@ use super::context::Ctx;
 use crate::Result;
 use crate::scene::{Material, Scene};
 use serde_json::Value;
+
+pub(crate) use baked::load as load_baked;
 
 pub(crate) fn load(ctx: &mut Ctx, bytes: &[u8]) -> Result<Scene> {
     let document::Parsed { doc, raw, bin } = document::parse(ctx, bytes)?;

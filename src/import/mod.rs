@@ -4,7 +4,8 @@
 //! Input: a path and [`ImportOptions`]. Output: a [`Scene`] meeting the invariants documented in
 //! `crate::scene`, or an [`crate::Error::Input`] naming the file and the element (a JSON pointer
 //! for glTF). Every file read is listed, canonicalised, in `Scene::input_files`; no file outside
-//! the input file's folder is ever read.
+//! the input file's folder is ever read. [`load_baked`] reads a luxbake output back (same parser,
+//! same confinement) into the report's input.
 
 mod context;
 mod geometry;
@@ -58,4 +59,22 @@ pub fn load(path: &Path, options: &ImportOptions) -> Result<Scene> {
             "unsupported file type: luxbake reads .gltf, .glb and .obj files",
         )),
     }
+}
+
+/// Read a luxbake output (`.gltf`, `.glb`) back for the report: see `gltf/baked.rs`.
+pub fn load_baked(path: &Path) -> Result<crate::report::ReportInput> {
+    let extension = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    if !matches!(extension.as_deref(), Some("gltf" | "glb")) {
+        return Err(Error::input(
+            path,
+            "",
+            "not a luxbake output: the report reads the .gltf or .glb files bake writes",
+        ));
+    }
+    let mut ctx = context::Ctx::new(path)?;
+    let bytes = ctx.read_input()?;
+    gltf::load_baked(&mut ctx, &bytes)
 }

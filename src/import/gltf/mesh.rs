@@ -189,7 +189,7 @@ fn normal_matrix(world: DMat4) -> Option<DMat3> {
 }
 
 /// Triangles of a primitive from its vertex sequence.
-fn assemble(mode: Mode, v: &[u32]) -> Vec<[u32; 3]> {
+pub(super) fn assemble(mode: Mode, v: &[u32]) -> Vec<[u32; 3]> {
     match mode {
         Mode::TriangleStrip => (0..v.len().saturating_sub(2))
             .map(|i| {

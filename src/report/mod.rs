@@ -1,0 +1,102 @@
+//! The lighting report: per-surface figures like the seed paper's Table 2, the working plane, and
+//! design targets beside what the bake achieved.
+//!
+//! Input: a [`ReportInput`] — the data a luxbake output glTF holds, built either from a bake in
+//! memory ([`ReportInput::from_bake`]) or from an output file ([`crate::import::load_baked`]);
+//! both give the same values, so `bake report OUT` prints exactly what `bake … --report` printed.
+//! Output: a [`Report`] with up to four sections:
+//! - surfaces **by material** and **by node** ([`rows`]): area, area-weighted reflectance,
+//!   average / minimum / maximum illuminance, average direct and indirect, uniformity
+//!   U₀ = E_min/E_avg, average luminance (averages are area integrals of the piecewise-linear
+//!   vertex values; minima and maxima over vertices);
+//! - the **working plane** (the `+y` face of the bake's working-plane probes): points, average,
+//!   minimum, maximum, U₀, direct and indirect averages, height and spacing;
+//! - **targets** ([`targets`]), only when given: target, achieved average, ratio.
+//!
+//! It renders as an aligned plain-text table, Markdown, CSV or JSON ([`Format`]).
+
+mod csv;
+pub mod input;
+pub mod rows;
+pub mod targets;
+mod text;
+
+pub use input::ReportInput;
+pub use rows::{Filter, PlaneRow, Row};
+pub use targets::{TargetRow, Targets};
+
+use crate::Result;
+
+/// Which surface sections to include.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum By {
+    Node,
+    Material,
+    #[default]
+    Both,
+}
+
+/// How the report is written.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Format {
+    /// Aligned columns for the terminal.
+    #[default]
+    Table,
+    Markdown,
+    /// One table per section, each with a `section` column, separated by blank lines.
+    Csv,
+    Json,
+}
+
+/// What to put in the report.
+#[derive(Debug, Clone, Default)]
+pub struct Options {
+    pub by: By,
+    pub targets: Option<Targets>,
+}
+
+/// The report's sections (absent ones are `None`).
+#[derive(Debug, Clone, PartialEq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub struct Report {
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub by_material: Option<Vec<Row>>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub by_node: Option<Vec<Row>>,
+    /// `null` when the bake measured no working plane.
+    pub working_plane: Option<PlaneRow>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub targets: Option<Vec<TargetRow>>,
+}
+
+/// Compute the report (errors only for targets naming nothing in the bake).
+pub fn build(input: &ReportInput, options: &Options) -> Result<Report> {
+    let want = |b: By| options.by == b || options.by == By::Both;
+    let working_plane = input.working_plane.as_ref().map(rows::plane);
+    let targets = match &options.targets {
+        Some(t) => Some(t.rows(input, working_plane.as_ref().map(|p| p.e_avg))?),
+        None => None,
+    };
+    Ok(Report {
+        by_material: want(By::Material).then(|| rows::by_material(input, &Filter::All)),
+        by_node: want(By::Node).then(|| rows::by_node(input, &Filter::All)),
+        working_plane,
+        targets,
+    })
+}
+
+impl Report {
+    /// The report as text in `format` (ends with a newline).
+    pub fn render(&self, format: Format) -> String {
+        match format {
+            Format::Table => text::render(self, false),
+            Format::Markdown => text::render(self, true),
+            Format::Csv => csv::render(self),
+            Format::Json => {
+                let mut s = serde_json::to_string_pretty(self).expect("the report serialises");
+                s.push('\n');
+                s
+            }
+        }
+    }
+}

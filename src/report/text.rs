@@ -1,0 +1,186 @@
+//! The report for people: an aligned plain-text table (terminal) or Markdown. Illuminances in
+//! whole lx, areas to 0.01 m², reflectance and U₀ to two decimals, luminance to 0.1 cd/m²;
+//! a missing value shows as `—`.
+
+use super::{PlaneRow, Report, Row, TargetRow};
+
+/// One section: a title, column headers (the first column left-aligned, the others right) and
+/// rows of cells.
+struct Section {
+    title: &'static str,
+    headers: Vec<&'static str>,
+    cells: Vec<Vec<String>>,
+}
+
+pub(super) fn render(report: &Report, markdown: bool) -> String {
+    let mut sections = Vec::new();
+    if let Some(rows) = &report.by_material {
+        sections.push(surfaces("Surfaces by material", "material", rows));
+    }
+    if let Some(rows) = &report.by_node {
+        sections.push(surfaces("Surfaces by node", "node", rows));
+    }
+    if let Some(p) = &report.working_plane {
+        sections.push(plane(p));
+    }
+    if let Some(t) = &report.targets {
+        sections.push(targets(t));
+    }
+    let blocks: Vec<String> = sections
+        .iter()
+        .map(|s| {
+            if markdown {
+                to_markdown(s)
+            } else {
+                to_table(s)
+            }
+        })
+        .collect();
+    blocks.join("\n")
+}
+
+fn surfaces(title: &'static str, what: &'static str, rows: &[Row]) -> Section {
+    Section {
+        title,
+        headers: vec![
+            what,
+            "area m²",
+            "ρ",
+            "E avg lx",
+            "E min lx",
+            "E max lx",
+            "direct lx",
+            "indirect lx",
+            "U₀",
+            "L avg cd/m²",
+        ],
+        cells: rows
+            .iter()
+            .map(|r| {
+                vec![
+                    r.name.clone(),
+                    format!("{:.2}", r.area),
+                    format!("{:.2}", r.reflectance),
+                    lux(r.e_avg),
+                    lux(r.e_min),
+                    lux(r.e_max),
+                    lux(r.e_direct_avg),
+                    lux(r.e_indirect_avg),
+                    format!("{:.2}", r.uniformity),
+                    format!("{:.1}", r.l_avg),
+                ]
+            })
+            .collect(),
+    }
+}
+
+fn plane(p: &PlaneRow) -> Section {
+    let metres = |m: Option<f64>| m.map_or("—".into(), |m| format!("{m:.2}"));
+    Section {
+        title: "Working plane",
+        headers: vec![
+            "height m",
+            "spacing m",
+            "points",
+            "E avg lx",
+            "E min lx",
+            "E max lx",
+            "direct lx",
+            "indirect lx",
+            "U₀",
+        ],
+        cells: vec![vec![
+            metres(p.height),
+            metres(p.spacing),
+            p.points.to_string(),
+            lux(p.e_avg),
+            lux(p.e_min),
+            lux(p.e_max),
+            lux(p.e_direct_avg),
+            lux(p.e_indirect_avg),
+            format!("{:.2}", p.uniformity),
+        ]],
+    }
+}
+
+fn targets(rows: &[TargetRow]) -> Section {
+    Section {
+        title: "Targets",
+        headers: vec!["target", "E target lx", "E avg lx", "ratio"],
+        cells: rows
+            .iter()
+            .map(|t| {
+                vec![
+                    t.name.clone(),
+                    lux(t.target),
+                    t.achieved.map_or("—".into(), lux),
+                    t.ratio.map_or("—".into(), |r| format!("{r:.2}")),
+                ]
+            })
+            .collect(),
+    }
+}
+
+/// Whole lx (never "-0").
+fn lux(x: f64) -> String {
+    if x.abs() < 0.5 {
+        "0".into()
+    } else {
+        format!("{x:.0}")
+    }
+}
+
+fn width(s: &str) -> usize {
+    s.chars().count()
+}
+
+/// Title, header, a rule of dashes, rows; columns two spaces apart.
+fn to_table(s: &Section) -> String {
+    let mut widths: Vec<usize> = s.headers.iter().map(|h| width(h)).collect();
+    for row in &s.cells {
+        for (w, c) in widths.iter_mut().zip(row) {
+            *w = (*w).max(width(c));
+        }
+    }
+    let line = |cells: &[String]| {
+        let padded: Vec<String> = cells
+            .iter()
+            .zip(&widths)
+            .enumerate()
+            .map(|(k, (c, &w))| {
+                let pad = " ".repeat(w - width(c));
+                if k == 0 {
+                    format!("{c}{pad}")
+                } else {
+                    format!("{pad}{c}")
+                }
+            })
+            .collect();
+        padded.join("  ").trim_end().to_string() + "\n"
+    };
+    let headers: Vec<String> = s.headers.iter().map(|h| h.to_string()).collect();
+    let rule: Vec<String> = widths.iter().map(|&w| "-".repeat(w)).collect();
+    let mut out = format!("{}\n", s.title);
+    out += &line(&headers);
+    out += &line(&rule);
+    for row in &s.cells {
+        out += &line(row);
+    }
+    out
+}
+
+/// `### Title`, then a Markdown table (numbers right-aligned).
+fn to_markdown(s: &Section) -> String {
+    let escape = |c: &str| c.replace('|', "\\|");
+    let mut out = format!("### {}\n\n", s.title);
+    out += &format!("| {} |\n", s.headers.join(" | "));
+    let aligns: Vec<&str> = (0..s.headers.len())
+        .map(|k| if k == 0 { "---" } else { "---:" })
+        .collect();
+    out += &format!("| {} |\n", aligns.join(" | "));
+    for row in &s.cells {
+        let cells: Vec<String> = row.iter().map(|c| escape(c)).collect();
+        out += &format!("| {} |\n", cells.join(" | "));
+    }
+    out
+}
