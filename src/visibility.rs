@@ -213,7 +213,7 @@ impl Occluder {
     /// True when `p` is inside (or on) the convex shell, so only interior triangles can block
     /// segments from it to another inner point.
     fn inside_shell(&self, p: DVec3) -> bool {
-        let tol = 1e-6 * self.diagonal;
+        let tol = 1e-7 * self.diagonal;
         !self.shell.is_empty() && self.shell.iter().all(|(n, d)| n.dot(p) - d >= -tol)
     }
 
@@ -265,7 +265,9 @@ impl Occluder {
         let side_b = if nb.dot(d) <= 0.0 { 1.0 } else { -1.0 };
         let from = a + na * (self.epsilon * side_a);
         let to = b + nb * (self.epsilon * side_b);
-        let inner = self.inside_shell(a) && self.inside_shell(b);
+        // The pulled-off ends decide: a face on the shell looking out (the top of a fitting
+        // flush with the ceiling) pulls its end outside, and then the shell must count.
+        let inner = self.inside_shell(from) && self.inside_shell(to);
         let tracer = if inner { &self.interior } else { &self.all };
         if tracer.bvh.is_none() {
             return true;

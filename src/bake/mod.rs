@@ -313,7 +313,11 @@ fn light_patch_flux(sources: &[DirectSource], mesh: &PatchMesh, occ: &Occluder) 
             let corners = p.corners(&mesh.receivers);
             sources
                 .iter()
-                .map(|s| s.patch_flux(occ, &corners, p.normal))
+                .map(|s| {
+                    let (front, back) = s.patch_flux(occ, &corners, p.normal);
+                    // A double-sided patch's back is its twin, which takes that light as front.
+                    (front, if p.double_sided { 0.0 } else { back })
+                })
                 .collect()
         })
         .collect();

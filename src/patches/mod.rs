@@ -27,6 +27,9 @@ pub struct Patch {
     pub group: u32,
     pub area: f64,
     pub normal: DVec3,
+    /// The surface is double-sided: this patch has a coincident twin facing the other way, which
+    /// receives and sends what reaches or leaves this patch's back. Its own back is never seen.
+    pub double_sided: bool,
 }
 
 impl Patch {
@@ -129,6 +132,7 @@ pub fn build(scene: &Scene, h: f64) -> PatchMesh {
                     uv0: uv0.clone(),
                     uv1: uv1.clone(),
                     h,
+                    double_sided: sides.len() == 2,
                 },
             );
         }
@@ -188,6 +192,7 @@ struct GroupInput<'a> {
     uv0: Option<Vec<DVec2>>,
     uv1: Option<Vec<DVec2>>,
     h: f64,
+    double_sided: bool,
 }
 
 fn add_group(mesh: &mut PatchMesh, g: GroupInput) {
@@ -218,6 +223,7 @@ fn add_group(mesh: &mut PatchMesh, g: GroupInput) {
             group,
             area: a,
             normal,
+            double_sided: g.double_sided,
         });
     }
     let nudge = 1e-4 * g.h;

@@ -76,6 +76,9 @@ impl Gatherer<'_> {
                 let level = sample_level(node.radius, dist, self.tau);
                 let vis = self.patch_visibility(p, n, patch_index, level);
                 let front = patch.normal.dot(p - node.moments.centroid) > 0.0;
+                if !front && patch.double_sided {
+                    continue; // its twin, facing this way, is counted instead
+                }
                 coverage.total += f * vis;
                 if !front {
                     coverage.back += f * vis;
@@ -98,9 +101,13 @@ impl Gatherer<'_> {
                     continue;
                 }
                 let f = node.moments.form_factor(p, n).abs();
-                coverage.total += f * vis;
-                if !front {
-                    coverage.back += f * vis;
+                if front {
+                    coverage.total += f * vis;
+                } else {
+                    // Only single-sided backs cover anything (double-sided ones have twins).
+                    let share = node.single_sided_area / node.moments.area.max(1e-300);
+                    coverage.total += f * vis * share;
+                    coverage.back += f * vis * share;
                 }
                 if front && vis > 0.0 && f > 0.0 {
                     let g = node.moments.density_gradient(p, n) * vis;

@@ -31,6 +31,9 @@ pub struct TreeNode {
     pub cone_axis: DVec3,
     pub cone_angle: f64,
     pub children: [u32; 2],
+    /// Area of the node's single-sided patches: only their backs absorb (a double-sided patch's
+    /// back is its twin, counted on its own).
+    pub single_sided_area: f64,
     /// Range into `PatchTree::order`.
     pub start: u32,
     pub end: u32,
@@ -124,6 +127,7 @@ impl PatchTree {
             radius: 0.0,
             cone_axis: DVec3::Y,
             cone_angle: 0.0,
+            single_sided_area: 0.0,
             children: [NO_CHILD; 2],
             start,
             end,
@@ -159,6 +163,7 @@ impl PatchTree {
                 node.radius = (hi - lo).length() * 0.5;
                 node.cone_axis = patch.normal;
                 node.cone_angle = 0.0;
+                node.single_sided_area = if patch.double_sided { 0.0 } else { patch.area };
             } else {
                 let [a, b] = node.children.map(|c| &self.nodes[c as usize]);
                 let moments = a.moments.combine(&b.moments);
@@ -169,7 +174,9 @@ impl PatchTree {
                 let spread =
                     |c: &TreeNode| c.cone_axis.dot(axis).clamp(-1.0, 1.0).acos() + c.cone_angle;
                 let cone_angle = spread(a).max(spread(b)).min(std::f64::consts::PI);
+                let single = a.single_sided_area + b.single_sided_area;
                 let node = &mut self.nodes[i];
+                node.single_sided_area = single;
                 node.moments = moments;
                 node.lo = lo;
                 node.hi = hi;
