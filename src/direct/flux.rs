@@ -13,7 +13,7 @@
 //! disagree: a piece whose corners all see the source is taken to see it wholly.
 
 use crate::visibility::Occluder;
-use glam::DVec3;
+use glam::{DMat3, DVec3};
 
 /// How a radiator's intensity behaves over a piece of its sphere of directions.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -22,9 +22,9 @@ pub enum Spread {
     Zero,
     /// This intensity everywhere in the piece (cd, or lx for a directional light).
     Uniform(f64),
-    /// It varies: `mean` estimates its average over the piece, `lo` and `hi` bracket it (`hi` an
-    /// upper bound, `lo` the smallest sample).
-    Varies { mean: f64, lo: f64, hi: f64 },
+    /// It varies: `mean` estimates its average over the piece, within about `error`; `hi` bounds
+    /// it from above.
+    Varies { mean: f64, error: f64, hi: f64 },
 }
 
 /// A source the integrator can ask about directions and visibility.
@@ -50,19 +50,28 @@ pub const ANGULAR_RESOLUTION: f64 = 0.04;
 /// Relative spread of a piece's sampled intensities below which it counts as uniform.
 const SMOOTH: f64 = 2e-3;
 
+/// A large piece can hide a narrow beam between its samples only if the bound over its
+/// directions exceeds the samples by more than this factor (beams stand far above their
+/// surroundings: a spot's peak is tens of times its spill).
+const HIDDEN_PEAK: f64 = 2.0;
+
+/// Refinement stops when a piece's possible error is below this share of the whole patch's.
+const PATCH_SHARE: f64 = 3e-3;
+
+/// A piece is accurate enough when its estimated error is this fraction of its value.
+const RELATIVE: f64 = 3e-3;
+
 /// The spread of a tabulated distribution over a piece: `dirs` its unit corner directions (from
-/// the source), `intensity` the distribution, `bound` an upper bound of the intensity over a
-/// widened piece (used when the piece is larger than [`ANGULAR_RESOLUTION`]).
+/// the source), `intensity` the distribution, `bound(size, enough)` an upper bound of the
+/// intensity over the piece widened by `size` (used when the piece is larger than
+/// [`ANGULAR_RESOLUTION`]; it may stop refining once it is below `enough`).
 pub fn sampled_spread(
     dirs: &[DVec3; 3],
     intensity: impl Fn(DVec3) -> f64,
-    bound: impl FnOnce(f64) -> f64,
+    bound: impl FnOnce(f64, f64) -> f64,
 ) -> Spread {
     let centre = (dirs[0] + dirs[1] + dirs[2]).normalize_or_zero();
-    let size = dirs
-        .iter()
-        .map(|d| d.dot(centre).clamp(-1.0, 1.0).acos())
-        .fold(0.0, f64::max);
+    let min_cos = dirs.iter().map(|d| d.dot(centre)).fold(1.0, f64::min);
     let values = [
         intensity(dirs[0]),
         intensity(dirs[1]),
@@ -72,68 +81,149 @@ pub fn sampled_spread(
     let (lo, hi) = values
         .iter()
         .fold((f64::INFINITY, 0.0f64), |(a, b), v| (a.min(*v), b.max(*v)));
-    let flat = hi > 0.0 && hi - lo <= SMOOTH * hi;
-    let mean = values.iter().sum::<f64>() / 4.0;
-    if size > ANGULAR_RESOLUTION {
-        // A large piece is taken as uniform only when its samples agree and the band bound
-        // rules out a peak between them (a narrow beam inside the piece).
-        let b = bound(size);
+    // The mean of a smooth distribution over the piece, and its error: corners and centre agree
+    // for a linear variation, so their disagreement measures what the estimate misses.
+    let corners = (values[0] + values[1] + values[2]) / 3.0;
+    let mean = (corners + values[3]) / 2.0;
+    let smooth = Spread::Varies {
+        mean,
+        error: (corners - values[3]).abs(),
+        hi,
+    };
+    if min_cos < ANGULAR_RESOLUTION.cos() {
+        // A large piece: its samples speak for it only when the (γ, C) bound rules out a peak
+        // between them (a narrow beam inside the piece).
+        let b = bound(min_cos.clamp(-1.0, 1.0).acos(), hi * HIDDEN_PEAK);
         return if b <= 0.0 {
             Spread::Zero
-        } else if flat && b <= hi * (1.0 + 4.0 * SMOOTH) {
-            Spread::Uniform(mean)
+        } else if hi > 0.0 && b <= hi * HIDDEN_PEAK {
+            if hi - lo <= SMOOTH * hi {
+                Spread::Uniform(mean)
+            } else {
+                smooth
+            }
         } else {
             Spread::Varies {
                 mean,
-                lo,
+                error: b - lo,
                 hi: b.max(hi),
             }
         };
     }
     if hi <= 0.0 {
         Spread::Zero
-    } else if flat {
+    } else if hi - lo <= SMOOTH * hi {
         Spread::Uniform(mean)
     } else {
-        Spread::Varies { mean, lo, hi }
+        smooth
     }
 }
 
-/// Upper bounds of a distribution's intensity per 1° band of γ (angle from the nadir, photometric
-/// −Z), sampled every 0.25° in γ and 1° in C, each band also covering its neighbours' edges.
-pub struct GammaBounds(Vec<f64>);
+/// Upper bounds of a distribution's intensity on cells of 1° in γ (angle from the nadir,
+/// photometric −Z) by 10° in C (azimuth from photometric +X toward +Y), sampled every 0.25° in γ
+/// and 1° in C, each cell also covering its neighbours' edges.
+pub struct AngleBounds {
+    cells: Vec<[f64; 36]>,
+    /// Per band, the maximum over all C.
+    bands: Vec<f64>,
+}
 
-impl GammaBounds {
+impl AngleBounds {
     pub fn new(intensity: impl Fn(DVec3) -> f64) -> Self {
-        let mut max = vec![0.0f64; 180];
+        let mut max = vec![[0.0f64; 36]; 180];
         for ig in 0..=720 {
             let g = (ig as f64 / 4.0).to_radians();
             let band = (ig / 4).min(179);
             for ic in 0..360 {
                 let c = (ic as f64).to_radians();
                 let i = intensity(DVec3::new(g.sin() * c.cos(), g.sin() * c.sin(), -g.cos()));
-                max[band] = max[band].max(i);
-                if ig % 4 == 0 && band > 0 {
-                    max[band - 1] = max[band - 1].max(i);
+                let sector = ic / 10;
+                for b in [Some(band), (ig % 4 == 0 && band > 0).then(|| band - 1)]
+                    .into_iter()
+                    .flatten()
+                {
+                    max[b][sector] = max[b][sector].max(i);
+                    if ic % 10 == 0 {
+                        let prev = (sector + 35) % 36;
+                        max[b][prev] = max[b][prev].max(i);
+                    }
                 }
             }
         }
-        GammaBounds(max)
+        AngleBounds {
+            bands: max
+                .iter()
+                .map(|row| row.iter().fold(0.0f64, |a, b| a.max(*b)))
+                .collect(),
+            cells: max,
+        }
     }
 
-    /// Bound over directions within `size` (rad) of the unit `dirs`, γ measured from `nadir`.
-    pub fn over(&self, nadir: DVec3, dirs: &[DVec3; 3], size: f64) -> f64 {
-        let gammas = dirs.map(|d| d.dot(nadir).clamp(-1.0, 1.0).acos().to_degrees());
+    /// Bound over directions within `size` (rad) of the unit world `dirs`, for a distribution
+    /// placed by `world_from_photometric`. When the bound over whole γ bands is already at most
+    /// `enough`, that coarser bound is returned without looking at C.
+    pub fn over(
+        &self,
+        world_from_photometric: &DMat3,
+        dirs: &[DVec3; 3],
+        size: f64,
+        enough: f64,
+    ) -> f64 {
+        let local = dirs.map(|d| world_from_photometric.transpose() * d);
+        let gammas = local.map(|d| (-d.z).clamp(-1.0, 1.0).acos().to_degrees());
         let (lo, hi) = gammas
             .iter()
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), g| {
                 (a.min(*g), b.max(*g))
             });
         let widen = size.to_degrees() + 1.0;
-        let from = ((lo - widen).max(0.0).floor() as usize).min(179);
-        let to = ((hi + widen).ceil() as usize).clamp(from + 1, 180);
-        self.0[from..to].iter().fold(0.0, |a, b| a.max(*b))
+        let (g0, g1) = ((lo - widen).max(0.0), (hi + widen).min(180.0));
+        let from = (g0.floor() as usize).min(179);
+        let to = (g1.ceil() as usize).clamp(from + 1, 180);
+        let coarse = self.bands[from..to].iter().fold(0.0f64, |a, b| a.max(*b));
+        if coarse <= enough {
+            return coarse;
+        }
+        let sectors = c_sectors(&local, g0, g1, widen);
+        if sectors.len() == 36 {
+            return coarse;
+        }
+        let mut b = 0.0f64;
+        for band in &self.cells[from..to] {
+            for s in &sectors {
+                b = b.max(band[*s]);
+            }
+        }
+        b
     }
+}
+
+/// The 10° C sectors a piece with these photometric-frame corner directions may cover (all of
+/// them near the poles, where C changes fast).
+fn c_sectors(local: &[DVec3; 3], g0: f64, g1: f64, widen: f64) -> Vec<usize> {
+    if g0 <= 2.0 || g1 >= 178.0 {
+        return (0..36).collect();
+    }
+    let mut c: Vec<f64> = local
+        .iter()
+        .map(|d| d.y.atan2(d.x).to_degrees().rem_euclid(360.0))
+        .collect();
+    c.sort_by(f64::total_cmp);
+    // The covered arc is the complement of the largest gap between corner azimuths.
+    let gaps = [(c[1] - c[0], 1), (c[2] - c[1], 2), (c[0] + 360.0 - c[2], 0)];
+    let (gap, start) = gaps
+        .iter()
+        .fold((0.0, 0), |m, g| if g.0 > m.0 { *g } else { m });
+    let w = widen / g0.min(180.0 - g1).to_radians().sin().max(1e-3);
+    let span = 360.0 - gap + 2.0 * w;
+    if span >= 360.0 {
+        return (0..36).collect();
+    }
+    let first = (c[start] - w).rem_euclid(360.0);
+    let n = ((span + (first % 10.0)) / 10.0).ceil() as usize + 1;
+    (0..n.min(36))
+        .map(|k| ((first / 10.0).floor() as usize + k) % 36)
+        .collect()
 }
 
 /// `(front, back)` flux into the triangle `corners` (unit normal `normal`); `facing` says whether
@@ -151,7 +241,17 @@ pub fn patch_flux(
     let c = (corners[0] + corners[1] + corners[2]) / 3.0;
     let t = corners.map(|v| v + (c - v) * 1e-4);
     let vis = t.map(|p| r.sees(occ, p, normal));
-    let flux = integrate(r, occ, normal, &t, r.spread(&t), vis, 0, budget);
+    let spread = r.spread(&t);
+    // Pieces are refined until their possible error is below the source's budget or a small
+    // share of what the whole patch could receive (a shadow edge across a patch is followed to a
+    // few per mille of the patch's flux, not to the source's millionth).
+    let top = match spread {
+        Spread::Zero => return (0.0, 0.0),
+        Spread::Uniform(i) => i,
+        Spread::Varies { hi, .. } => hi,
+    } * r.measure(&t, normal);
+    let tolerance = budget.max(PATCH_SHARE * top);
+    let flux = integrate(r, occ, normal, &t, spread, vis, 0, tolerance);
     if facing { (flux, 0.0) } else { (0.0, flux) }
 }
 
@@ -174,9 +274,11 @@ fn integrate(
         Spread::Zero => return 0.0,
         Spread::Uniform(i) if same => return if vis[0] { i * measure } else { 0.0 },
         Spread::Uniform(i) => (i, i),
-        Spread::Varies { mean, lo, hi } => (mean, if same { hi - lo } else { hi }),
+        Spread::Varies { mean, error, hi } => (mean, if same { error } else { hi }),
     };
-    if depth >= MAX_DEPTH || error * measure < budget {
+    // Stop when the piece's possible error is negligible against the source (the budget) or
+    // against the piece itself (relative accuracy; shadow edges get the full bound as error).
+    if depth >= MAX_DEPTH || error * measure < budget || error <= RELATIVE * value {
         return value * measure * seen;
     }
     let m = [

@@ -15,7 +15,7 @@
 //! soft shadows. Round openings are treated as the square of equal area. Sub-sources lie in the
 //! photometric XY plane through the luminaire's position.
 
-use super::flux::{self, GammaBounds, Radiator, Spread};
+use super::flux::{self, AngleBounds, Radiator, Spread};
 use crate::geom::lambert;
 use crate::photometry::{Opening, OpeningShape, Photometry};
 use crate::scene::{Luminaire, Scene};
@@ -51,7 +51,7 @@ pub struct Source<'a> {
     /// Half sizes of the (square-equivalent) opening along photometric X and Y (m).
     pub half: [f64; 2],
     /// Bounds of the unscaled distribution per band of γ, for refinement.
-    bounds: GammaBounds,
+    bounds: AngleBounds,
     /// Flux of the scaled distribution (lm).
     pub flux: f64,
 }
@@ -70,7 +70,7 @@ impl<'a> Source<'a> {
             position: l.position,
             world_from_photometric: l.world_from_photometric,
             half: half_sizes(&opening),
-            bounds: GammaBounds::new(|d| photometry.intensity(d)),
+            bounds: AngleBounds::new(|d| photometry.intensity(d)),
             flux: l.multiplier * photometry.flux(),
         }
     }
@@ -137,8 +137,9 @@ impl<'a> Source<'a> {
         }
         let radius = (self.half[0].hypot(self.half[1]) / dist).min(1.0).asin();
         let dir = d / dist;
-        let nadir = -self.world_from_photometric.z_axis;
-        self.bounds.over(nadir, &[dir; 3], radius) > 0.0
+        self.bounds
+            .over(&self.world_from_photometric, &[dir; 3], radius, 0.0)
+            > 0.0
     }
 
     /// Illuminance (lx, photometric) at point `p` with unit normal `n`.
@@ -221,11 +222,19 @@ impl Radiator for SubSource<'_, '_> {
     fn spread(&self, t: &[DVec3; 3]) -> Spread {
         let dirs = t.map(|v| (v - self.position).normalize_or_zero());
         let s = self.source;
-        let nadir = -s.world_from_photometric.z_axis;
         flux::sampled_spread(
             &dirs,
             |d| self.intensity(d),
-            |size| self.share * s.scale * s.bounds.over(nadir, &dirs, size),
+            |size, enough| {
+                let scale = self.share * s.scale;
+                scale
+                    * s.bounds.over(
+                        &s.world_from_photometric,
+                        &dirs,
+                        size,
+                        enough / scale.max(1e-300),
+                    )
+            },
         )
     }
 

@@ -7,7 +7,7 @@
 //! they are direct sources: evaluated at receivers and integrated into patches, with each patch
 //! split into sub-triangles near the receiver (the same near-field rule as luminaire openings).
 
-use super::flux::{self, GammaBounds, Radiator, Spread};
+use super::flux::{self, AngleBounds, Radiator, Spread};
 use super::luminaire::NEAR_FIELD_RATIO;
 use crate::geom::lambert;
 use crate::patches::PatchMesh;
@@ -36,7 +36,7 @@ pub struct Surface<'a> {
     pub photometry: &'a Photometry,
     pub color: DVec3,
     patches: Vec<Patch>,
-    bounds: GammaBounds,
+    bounds: AngleBounds,
     /// Total flux (lm).
     pub flux: f64,
 }
@@ -77,7 +77,7 @@ impl<'a> Surface<'a> {
                 }
             }
             out.push(Surface {
-                bounds: GammaBounds::new(|d| photometry.intensity(d)),
+                bounds: AngleBounds::new(|d| photometry.intensity(d)),
                 name: material.name.clone(),
                 source_path: material.source_path.clone(),
                 photometry,
@@ -220,11 +220,19 @@ impl Radiator for SubPatch<'_, '_> {
         if dirs.iter().all(|d| self.patch.normal.dot(*d) <= 0.0) {
             return Spread::Zero;
         }
-        let nadir = self.patch.normal;
         flux::sampled_spread(
             &dirs,
             |d| self.intensity(d),
-            |size| self.patch.scale * self.share * self.surface.bounds.over(nadir, &dirs, size),
+            |size, enough| {
+                let scale = self.patch.scale * self.share;
+                scale
+                    * self.surface.bounds.over(
+                        &self.patch.frame,
+                        &dirs,
+                        size,
+                        enough / scale.max(1e-300),
+                    )
+            },
         )
     }
 

@@ -132,9 +132,11 @@ impl Radiator for Punctual<'_> {
                     Spread::Uniform(light.intensity)
                 } else {
                     let centre = (dirs[0] + dirs[1] + dirs[2]).normalize_or_zero();
+                    let values = dirs.map(|d| intensity(light, d));
+                    let lo = values.iter().fold(light.intensity, |a, b| a.min(*b));
                     Spread::Varies {
                         mean: intensity(light, centre),
-                        lo: 0.0,
+                        error: light.intensity - lo,
                         hi: light.intensity,
                     }
                 }
