@@ -38,6 +38,42 @@ use std::time::Duration;
 /// resolution, so short shadow rays near corners are not lost, whatever the scene's units.
 const BVH_DIAGONAL: f64 = 1e4;
 
+/// Rays traced, counted per worker thread: one shared atomic bounced its cache line between the
+/// cores on every ray (millions per bake). The total does not depend on the thread count.
+struct RayCount {
+    shards: Vec<Shard>,
+}
+
+#[repr(align(128))]
+#[derive(Default)]
+struct Shard(AtomicU64);
+
+impl Default for RayCount {
+    fn default() -> Self {
+        // One shard per rayon worker, and one for calls from outside the pool.
+        let n = rayon::current_num_threads() + 1;
+        RayCount {
+            shards: (0..n).map(|_| Shard::default()).collect(),
+        }
+    }
+}
+
+impl RayCount {
+    #[inline]
+    fn add(&self) {
+        let n = self.shards.len();
+        let i = rayon::current_thread_index().map_or(n - 1, |i| i % (n - 1).max(1));
+        self.shards[i].0.fetch_add(1, Ordering::Relaxed);
+    }
+
+    fn total(&self) -> u64 {
+        self.shards
+            .iter()
+            .map(|s| s.0.load(Ordering::Relaxed))
+            .sum()
+    }
+}
+
 /// A closest-hit answer.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Hit {
@@ -105,7 +141,7 @@ pub struct Occluder {
     pub convex_empty: bool,
     /// Scene bounding-box diagonal (m).
     pub diagonal: f64,
-    rays: AtomicU64,
+    rays: RayCount,
 }
 
 /// Options for building the occluder.
@@ -206,7 +242,7 @@ impl Occluder {
             scale,
             epsilon: 1e-5 * diagonal.max(1e-9),
             diagonal,
-            rays: AtomicU64::new(0),
+            rays: RayCount::default(),
         }
     }
 
@@ -235,7 +271,7 @@ impl Occluder {
     /// the constructor), distance (m) and unit geometric normal (by its winding).
     pub fn closest(&self, origin: DVec3, dir: DVec3) -> Option<Hit> {
         let bvh = self.all.bvh.as_ref()?;
-        self.rays.fetch_add(1, Ordering::Relaxed);
+        self.rays.add();
         let mut hit = RayHit::none();
         let found = bvh.ray_traverse(self.ray(origin, dir, f64::INFINITY), &mut hit, |r, id| {
             intersect(&self.all.triangles[id], r)
@@ -254,7 +290,7 @@ impl Occluder {
 
     /// Number of rays traced so far.
     pub fn rays_traced(&self) -> u64 {
-        self.rays.load(Ordering::Relaxed)
+        self.rays.total()
     }
 
     /// Is the segment from point `a` (surface normal `na`) to point `b` (normal `nb`) free of
@@ -277,14 +313,14 @@ impl Occluder {
         if len <= self.epsilon {
             return true;
         }
-        self.rays.fetch_add(1, Ordering::Relaxed);
+        self.rays.add();
         tracer.miss(self.ray(from, dir / len, len - self.epsilon))
     }
 
     /// Does a ray from point `a` (surface normal `na`) in direction `dir` leave the scene?
     pub fn escapes(&self, a: DVec3, na: DVec3, dir: DVec3) -> bool {
         let side = if na.dot(dir) >= 0.0 { 1.0 } else { -1.0 };
-        self.rays.fetch_add(1, Ordering::Relaxed);
+        self.rays.add();
         self.all.miss(self.ray(
             a + na * (self.epsilon * side),
             dir.normalize(),

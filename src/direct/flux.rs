@@ -32,7 +32,14 @@ pub trait Radiator {
     /// Intensity (cd) toward the unit direction `dir` (pointing away from the source).
     fn intensity(&self, dir: DVec3) -> f64;
     /// What the intensity does over the spherical triangle spanned by the piece `t` (world points).
-    fn spread(&self, t: &[DVec3; 3]) -> Spread;
+    /// `at`, when given, holds the intensities toward the corners (`intensity(toward(t[k]))`,
+    /// known from the parent piece), so they are not looked up again.
+    fn spread(&self, t: &[DVec3; 3], at: Option<&[f64; 3]>) -> Spread;
+    /// Whether [`Radiator::spread`] samples the intensity at the corners (then refinement hands
+    /// the corner values down to the pieces).
+    fn samples_corners(&self) -> bool {
+        false
+    }
     /// The geometric measure of the piece: its solid angle seen from the source (sr), or, for a
     /// directional light, its area projected across the beam (m²).
     fn measure(&self, t: &[DVec3; 3], n: DVec3) -> f64;
@@ -67,17 +74,17 @@ const RELATIVE: f64 = 3e-3;
 /// [`ANGULAR_RESOLUTION`]; it may stop refining once it is below `enough`).
 pub fn sampled_spread(
     dirs: &[DVec3; 3],
+    at: Option<&[f64; 3]>,
     intensity: impl Fn(DVec3) -> f64,
     bound: impl FnOnce(f64, f64) -> f64,
 ) -> Spread {
     let centre = (dirs[0] + dirs[1] + dirs[2]).normalize_or_zero();
     let min_cos = dirs.iter().map(|d| d.dot(centre)).fold(1.0, f64::min);
-    let values = [
-        intensity(dirs[0]),
-        intensity(dirs[1]),
-        intensity(dirs[2]),
-        intensity(centre),
-    ];
+    let c = match at {
+        Some(at) => *at,
+        None => dirs.map(&intensity),
+    };
+    let values = [c[0], c[1], c[2], intensity(centre)];
     let (lo, hi) = values
         .iter()
         .fold((f64::INFINITY, 0.0f64), |(a, b), v| (a.min(*v), b.max(*v)));
@@ -123,9 +130,11 @@ pub fn sampled_spread(
 /// photometric −Z) by 10° in C (azimuth from photometric +X toward +Y), sampled every 0.25° in γ
 /// and 1° in C, each cell also covering its neighbours' edges.
 pub struct AngleBounds {
-    cells: Vec<[f64; 36]>,
-    /// Per band, the maximum over all C.
-    bands: Vec<f64>,
+    /// `cells[k][b][s]`: the maximum over the γ bands `b .. b + 2^k` of C sector `s` (a sparse
+    /// table: any band range is the union of two overlapping power-of-two runs).
+    cells: Vec<Vec<[f64; 36]>>,
+    /// `bands[k][b]`: the same over all C.
+    bands: Vec<Vec<f64>>,
 }
 
 impl AngleBounds {
@@ -150,13 +159,25 @@ impl AngleBounds {
                 }
             }
         }
-        AngleBounds {
-            bands: max
-                .iter()
-                .map(|row| row.iter().fold(0.0f64, |a, b| a.max(*b)))
-                .collect(),
-            cells: max,
+        let mut cells = vec![max];
+        while 1usize << cells.len() <= 180 {
+            let half = 1usize << (cells.len() - 1);
+            let last = cells.last().expect("level 0 exists");
+            let next: Vec<[f64; 36]> = (0..last.len() - half)
+                .map(|b| std::array::from_fn(|s| last[b][s].max(last[b + half][s])))
+                .collect();
+            cells.push(next);
         }
+        let bands = cells
+            .iter()
+            .map(|level| {
+                level
+                    .iter()
+                    .map(|row| row.iter().fold(0.0f64, |a, b| a.max(*b)))
+                    .collect()
+            })
+            .collect();
+        AngleBounds { cells, bands }
     }
 
     /// Bound over directions within `size` (rad) of the unit world `dirs`, for a distribution
@@ -180,34 +201,30 @@ impl AngleBounds {
         let (g0, g1) = ((lo - widen).max(0.0), (hi + widen).min(180.0));
         let from = (g0.floor() as usize).min(179);
         let to = (g1.ceil() as usize).clamp(from + 1, 180);
-        let coarse = self.bands[from..to].iter().fold(0.0f64, |a, b| a.max(*b));
+        // The two power-of-two runs covering bands from..to.
+        let k = (usize::BITS - 1 - (to - from).leading_zeros()) as usize;
+        let (a, b) = (from, to - (1 << k));
+        let coarse = self.bands[k][a].max(self.bands[k][b]);
         if coarse <= enough {
             return coarse;
         }
-        let sectors = c_sectors(&local, g0, g1, widen);
-        if sectors.len() == 36 {
+        let Some((first, count)) = c_sectors(&local, g0, g1, widen) else {
             return coarse;
-        }
-        let mut b = 0.0f64;
-        for band in &self.cells[from..to] {
-            for s in &sectors {
-                b = b.max(band[*s]);
-            }
-        }
-        b
+        };
+        let (ra, rb) = (&self.cells[k][a], &self.cells[k][b]);
+        (0..count)
+            .map(|i| (first + i) % 36)
+            .fold(0.0f64, |m, s| m.max(ra[s]).max(rb[s]))
     }
 }
 
-/// The 10° C sectors a piece with these photometric-frame corner directions may cover (all of
-/// them near the poles, where C changes fast).
-fn c_sectors(local: &[DVec3; 3], g0: f64, g1: f64, widen: f64) -> Vec<usize> {
+/// The run of 10° C sectors (first, count) a piece with these photometric-frame corner directions
+/// may cover; `None` when it may cover all of them (always near the poles, where C changes fast).
+fn c_sectors(local: &[DVec3; 3], g0: f64, g1: f64, widen: f64) -> Option<(usize, usize)> {
     if g0 <= 2.0 || g1 >= 178.0 {
-        return (0..36).collect();
+        return None;
     }
-    let mut c: Vec<f64> = local
-        .iter()
-        .map(|d| d.y.atan2(d.x).to_degrees().rem_euclid(360.0))
-        .collect();
+    let mut c = local.map(|d| d.y.atan2(d.x).to_degrees().rem_euclid(360.0));
     c.sort_by(f64::total_cmp);
     // The covered arc is the complement of the largest gap between corner azimuths.
     let gaps = [(c[1] - c[0], 1), (c[2] - c[1], 2), (c[0] + 360.0 - c[2], 0)];
@@ -217,13 +234,14 @@ fn c_sectors(local: &[DVec3; 3], g0: f64, g1: f64, widen: f64) -> Vec<usize> {
     let w = widen / g0.min(180.0 - g1).to_radians().sin().max(1e-3);
     let span = 360.0 - gap + 2.0 * w;
     if span >= 360.0 {
-        return (0..36).collect();
+        return None;
     }
     let first = (c[start] - w).rem_euclid(360.0);
     let n = ((span + (first % 10.0)) / 10.0).ceil() as usize + 1;
-    (0..n.min(36))
-        .map(|k| ((first / 10.0).floor() as usize + k) % 36)
-        .collect()
+    if n >= 36 {
+        return None;
+    }
+    Some(((first / 10.0).floor() as usize % 36, n))
 }
 
 /// `(front, back)` flux into the triangle `corners` (unit normal `normal`); `facing` says whether
@@ -241,7 +259,10 @@ pub fn patch_flux(
     let c = (corners[0] + corners[1] + corners[2]) / 3.0;
     let t = corners.map(|v| v + (c - v) * 1e-4);
     let vis = t.map(|p| r.sees(occ, p, normal));
-    let spread = r.spread(&t);
+    let at = r
+        .samples_corners()
+        .then(|| t.map(|p| r.intensity(r.toward(p))));
+    let spread = r.spread(&t, at.as_ref());
     // Pieces are refined until their possible error is below the source's budget or a small
     // share of what the whole patch could receive (a shadow edge across a patch is followed to a
     // few per mille of the patch's flux, not to the source's millionth).
@@ -251,7 +272,7 @@ pub fn patch_flux(
         Spread::Varies { hi, .. } => hi,
     } * r.measure(&t, normal);
     let tolerance = budget.max(PATCH_SHARE * top);
-    let flux = integrate(r, occ, normal, &t, spread, vis, 0, tolerance);
+    let flux = integrate(r, occ, normal, &t, spread, at, vis, 0, tolerance);
     if facing { (flux, 0.0) } else { (0.0, flux) }
 }
 
@@ -262,6 +283,7 @@ fn integrate(
     n: DVec3,
     t: &[DVec3; 3],
     spread: Spread,
+    at: Option<[f64; 3]>,
     vis: [bool; 3],
     depth: u32,
     budget: f64,
@@ -292,7 +314,18 @@ fn integrate(
         [m[2], m[1], t[2]],
         [m[0], m[1], m[2]],
     ];
-    let spreads = pieces.map(|p| r.spread(&p));
+    // Corner intensities of the pieces: the parent's corners and the three midpoints.
+    let ats = at.map(|a| {
+        let am = m.map(|p| r.intensity(r.toward(p)));
+        [
+            [a[0], am[0], am[2]],
+            [am[0], a[1], am[1]],
+            [am[2], am[1], a[2]],
+            [am[0], am[1], am[2]],
+        ]
+    });
+    let spreads: [Spread; 4] =
+        std::array::from_fn(|k| r.spread(&pieces[k], ats.as_ref().map(|a| &a[k])));
     // Shadow rays only where some light can arrive, and only where the corners disagree: a
     // piece whose corners all see the source (or none does) is refined for its intensity alone,
     // its pieces inheriting that visibility.
@@ -311,6 +344,47 @@ fn integrate(
         [mv[0], mv[1], mv[2]],
     ];
     (0..4)
-        .map(|k| integrate(r, occ, n, &pieces[k], spreads[k], vis[k], depth + 1, budget))
+        .map(|k| {
+            let at = ats.map(|a| a[k]);
+            integrate(
+                r,
+                occ,
+                n,
+                &pieces[k],
+                spreads[k],
+                at,
+                vis[k],
+                depth + 1,
+                budget,
+            )
+        })
         .sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn range_bounds_equal_the_maximum_over_the_cells() {
+        // A lumpy distribution: the sparse table must give the plain maximum over any range.
+        let b = AngleBounds::new(|d| {
+            let g = (-d.z).clamp(-1.0, 1.0).acos();
+            let c = d.y.atan2(d.x);
+            1.0 + (5.0 * g).sin().abs() * (1.0 + (3.0 * c).cos())
+        });
+        for from in [0usize, 1, 7, 90, 150, 178] {
+            for to in [from + 1, from + 2, from + 5, from + 33, 180] {
+                let to = to.min(180);
+                let k = (usize::BITS - 1 - (to - from).leading_zeros()) as usize;
+                for s in 0..36 {
+                    let plain = (from..to).fold(0.0f64, |m, g| m.max(b.cells[0][g][s]));
+                    let table = b.cells[k][from][s].max(b.cells[k][to - (1 << k)][s]);
+                    assert_eq!(plain, table, "bands {from}..{to} sector {s}");
+                }
+                let plain = (from..to).fold(0.0f64, |m, g| m.max(b.bands[0][g]));
+                assert_eq!(plain, b.bands[k][from].max(b.bands[k][to - (1 << k)]));
+            }
+        }
+    }
 }

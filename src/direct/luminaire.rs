@@ -22,6 +22,7 @@ use crate::scene::{Luminaire, Scene};
 use crate::visibility::Occluder;
 use glam::{DMat3, DVec3};
 use std::f64::consts::PI;
+use std::sync::Arc;
 
 /// A rectangle of the opening is split while its longer side exceeds this fraction of its
 /// distance to the receiver.
@@ -51,13 +52,24 @@ pub struct Source<'a> {
     /// Half sizes of the (square-equivalent) opening along photometric X and Y (m).
     pub half: [f64; 2],
     /// Bounds of the unscaled distribution per band of γ, for refinement.
-    bounds: AngleBounds,
+    bounds: Arc<AngleBounds>,
     /// Flux of the scaled distribution (lm).
     pub flux: f64,
 }
 
 impl<'a> Source<'a> {
     pub fn new(scene: &'a Scene, l: &'a Luminaire) -> Self {
+        let photometry = &scene.profiles[l.profile].photometry;
+        Self::with_bounds(
+            scene,
+            l,
+            Arc::new(AngleBounds::new(|d| photometry.intensity(d))),
+        )
+    }
+
+    /// `new` with the bounds of the luminaire's profile already built (they depend on the
+    /// profile only; a 721 × 360 sampling each).
+    fn with_bounds(scene: &'a Scene, l: &'a Luminaire, bounds: Arc<AngleBounds>) -> Self {
         let photometry = &scene.profiles[l.profile].photometry;
         let opening = l.opening.unwrap_or_else(|| photometry.opening());
         Source {
@@ -70,17 +82,24 @@ impl<'a> Source<'a> {
             position: l.position,
             world_from_photometric: l.world_from_photometric,
             half: half_sizes(&opening),
-            bounds: AngleBounds::new(|d| photometry.intensity(d)),
+            bounds,
             flux: l.multiplier * photometry.flux(),
         }
     }
 
     /// All luminaires of a scene.
     pub fn all(scene: &'a Scene) -> Vec<Source<'a>> {
+        let mut bounds: Vec<Option<Arc<AngleBounds>>> = vec![None; scene.profiles.len()];
         scene
             .luminaires
             .iter()
-            .map(|l| Source::new(scene, l))
+            .map(|l| {
+                let b = bounds[l.profile].get_or_insert_with(|| {
+                    let photometry = &scene.profiles[l.profile].photometry;
+                    Arc::new(AngleBounds::new(|d| photometry.intensity(d)))
+                });
+                Source::with_bounds(scene, l, b.clone())
+            })
             .collect()
     }
 
@@ -219,11 +238,16 @@ impl Radiator for SubSource<'_, '_> {
         self.share * self.source.intensity(dir)
     }
 
-    fn spread(&self, t: &[DVec3; 3]) -> Spread {
+    fn samples_corners(&self) -> bool {
+        true
+    }
+
+    fn spread(&self, t: &[DVec3; 3], at: Option<&[f64; 3]>) -> Spread {
         let dirs = t.map(|v| (v - self.position).normalize_or_zero());
         let s = self.source;
         flux::sampled_spread(
             &dirs,
+            at,
             |d| self.intensity(d),
             |size, enough| {
                 let scale = self.share * s.scale;

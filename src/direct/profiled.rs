@@ -215,13 +215,18 @@ impl Radiator for SubPatch<'_, '_> {
                 .intensity(self.patch.frame.transpose() * dir)
     }
 
-    fn spread(&self, t: &[DVec3; 3]) -> Spread {
+    fn samples_corners(&self) -> bool {
+        true
+    }
+
+    fn spread(&self, t: &[DVec3; 3], at: Option<&[f64; 3]>) -> Spread {
         let dirs = t.map(|v| (v - self.position).normalize_or_zero());
         if dirs.iter().all(|d| self.patch.normal.dot(*d) <= 0.0) {
             return Spread::Zero;
         }
         flux::sampled_spread(
             &dirs,
+            at,
             |d| self.intensity(d),
             |size, enough| {
                 let scale = self.patch.scale * self.share;

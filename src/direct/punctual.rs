@@ -118,7 +118,7 @@ impl Radiator for Punctual<'_> {
         }
     }
 
-    fn spread(&self, t: &[DVec3; 3]) -> Spread {
+    fn spread(&self, t: &[DVec3; 3], _at: Option<&[f64; 3]>) -> Spread {
         let light = self.0;
         match light.kind {
             LightKind::Point | LightKind::Directional => Spread::Uniform(light.intensity),
