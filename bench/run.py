@@ -1,0 +1,986 @@
+#!/usr/bin/env python3
+"""luxbake benchmark harness: one command, see bench/README.md.
+
+    python3 bench/run.py            # the full run (~20 min on 2 cores), writes bench/results/
+    python3 bench/run.py --quick    # a quick subset (~3 min), writes bench/work/quick-results/
+
+Runs `bake` on a set of scenes at several quality settings and records wall time, CPU time, peak
+memory, patch/link/ray counts and the error against a reference (closed form where one exists,
+else a converged high-quality bake), runs RADIANCE's rtrace on the office at the same points at
+several -ab/-ad settings, and writes results.md, results.json, time_vs_error.svg and
+scaling.svg. Python standard library only; RADIANCE comes from PyPI `pyradiance`, installed into
+bench/.venv by this script when missing.
+"""
+
+import argparse
+import datetime
+import hashlib
+import json
+import math
+import os
+import platform
+import shutil
+import subprocess
+import sys
+import time
+
+BENCH = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(BENCH)
+sys.path.insert(0, BENCH)
+
+import measure  # noqa: E402
+import radiance  # noqa: E402
+import scenes  # noqa: E402
+import svgplot  # noqa: E402
+
+PYRADIANCE = "pyradiance==1.3.1"
+FACES = ["+x", "-x", "+y", "-y", "+z", "-z"]
+FACE_DIRS = {"+x": (1, 0, 0), "-x": (-1, 0, 0), "+y": (0, 1, 0), "-y": (0, -1, 0),
+             "+z": (0, 0, 1), "-z": (0, 0, -1)}
+
+OFFICE = os.path.join(ROOT, "samples", "office", "office.gltf")
+OFFICE_IES = {"CNS70 1/50W": os.path.join(ROOT, "samples", "office", "profiles",
+                                          "cns70_50w.ies"),
+              "Miral 1/58W louvred": os.path.join(ROOT, "samples", "office", "profiles",
+                                                  "miral_58w.ies")}
+OFFICE_PROBES = os.path.join(BENCH, "data", "office_probes.csv")
+OFFICE_WP = ["--working-plane", "0.8", "--working-plane-spacing", "0.5"]
+CORNELL = os.path.join(ROOT, "samples", "cornell-box", "cornell-box.obj")
+CORNELL_WP = ["--working-plane", "0.05", "--working-plane-spacing", "0.05"]
+OPENPLAN_WP = ["--working-plane", "0.8", "--working-plane-spacing", "0.5"]
+
+# RADIANCE: direct part computed the same way in every run (fine source subdivision, every
+# source tested), only the indirect settings -ab/-ad vary; -aa 0: no irradiance caching (each
+# point is path traced: unbiased apart from the bounce limit, and nothing to tune besides -ab/-ad).
+RAD_COMMON = ["-ds", "0.05", "-dt", "0", "-dc", "1", "-dj", "0", "-aa", "0"]
+
+# Settings of a full and of a quick run.
+PLANS = {
+    "full": {
+        "office_runs": ["draft", "default", "high"],
+        "office_ref": ["--quality", "high", "--patch-size", "0.1"],
+        "office_ref_name": "high, patch 0.1 m",
+        "rad_sweep": [(2, 128), (3, 256), (5, 512), (8, 1024)],
+        "rad_ref": (12, 2048, "1e-5"),
+        "cie_rhos": [0.5, 0.9, 0.99],
+        "cie_runs": ["draft", "default", "high"],
+        "cornell_runs": ["draft", "default", "high"],
+        "cornell_ref": ["--quality", "high", "--patch-size", "0.011"],
+        "cornell_ref_name": "high, patch 0.011 m",
+        "openplan_sizes": ["small", "medium", "large"],
+        "openplan_runs": ["draft", "default", "high"],
+        "openplan_ref": ["--quality", "high"],
+        "openplan_ref_name": "high",
+    },
+    "quick": {
+        "office_runs": ["draft", "default"],
+        "office_ref": ["--quality", "high"],
+        "office_ref_name": "high (quick: not converged)",
+        "rad_sweep": [(2, 128), (4, 256)],
+        "rad_ref": (6, 512, "1e-4"),
+        "cie_rhos": [0.5, 0.99],
+        "cie_runs": ["draft", "default"],
+        "cornell_runs": ["draft"],
+        "cornell_ref": ["--quality", "default"],
+        "cornell_ref_name": "default (quick: not converged)",
+        "openplan_sizes": ["small"],
+        "openplan_runs": ["draft"],
+        "openplan_ref": ["--quality", "default"],
+        "openplan_ref_name": "default (quick: not converged)",
+    },
+}
+
+# Time limits (s): a run longer than this is stopped and reported as such (the harness must
+# finish in ~20 minutes; a 10^6-triangle bake five times over its 60 s target is a miss anyway).
+TIMEOUT_DEFAULT = 900
+TIMEOUT_OPENPLAN = {"small": 600, "medium": 150, "large": 150}
+
+
+def log(msg):
+    print(msg, flush=True)
+
+
+# ------------------------------------------------------------------ environment
+
+def sh(cmd, **kw):
+    return subprocess.run(cmd, capture_output=True, text=True, **kw)
+
+
+def ensure_venv(venv):
+    """bench/.venv with pyradiance (RADIANCE binaries); created on first use. Returns the
+    pyradiance package directory (bin/ and lib/ inside it)."""
+    py = os.path.join(venv, "bin", "python")
+    probe = [py, "-c", "import os, pyradiance; print(os.path.dirname(pyradiance.__file__))"]
+    if os.path.exists(py):
+        r = sh(probe)
+        if r.returncode == 0:
+            return r.stdout.strip()
+    log(f"creating {os.path.relpath(venv, ROOT)} with {PYRADIANCE} (RADIANCE binaries)")
+    subprocess.run([sys.executable, "-m", "venv", venv], check=True)
+    subprocess.run([py, "-m", "pip", "install", "--quiet", PYRADIANCE], check=True)
+    r = sh(probe)
+    if r.returncode != 0:
+        raise SystemExit("pyradiance did not install: " + r.stderr.strip())
+    return r.stdout.strip()
+
+
+def build_bake():
+    """cargo build --release (honours CARGO_TARGET_DIR); returns the binary's path."""
+    log("cargo build --release")
+    subprocess.run(["cargo", "build", "--release", "--quiet"], cwd=ROOT, check=True)
+    target = os.environ.get("CARGO_TARGET_DIR") or os.path.join(ROOT, "target")
+    if not os.path.isabs(target):
+        target = os.path.join(ROOT, target)
+    return os.path.join(target, "release", "bake")
+
+
+def has_subcommand(bake, name):
+    """Whether `bake --help` lists the subcommand (asking `bake NAME --help` would not do:
+    NAME would be taken as the input file and --help answered anyway)."""
+    text = sh([bake, "--help"]).stdout
+    if "Commands:" not in text:
+        return False
+    section = text.split("Commands:", 1)[1].split("\n\n", 1)[0]
+    return any(line.split()[0] == name for line in section.splitlines() if line.strip())
+
+
+def machine(bake, rad):
+    info = {}
+    model = None
+    try:
+        with open("/proc/cpuinfo", encoding="utf-8") as f:
+            for line in f:
+                if line.startswith("model name"):
+                    model = line.split(":", 1)[1].strip()
+                    break
+    except OSError:
+        pass
+    info["cpu"] = model or platform.processor() or platform.machine()
+    info["cores"] = os.cpu_count()
+    try:
+        with open("/proc/meminfo", encoding="utf-8") as f:
+            kib = int(f.readline().split()[1])
+        info["ramGiB"] = round(kib / 1024 ** 2, 1)
+    except (OSError, ValueError, IndexError):
+        info["ramGiB"] = None
+    osname = platform.platform()
+    try:
+        with open("/etc/os-release", encoding="utf-8") as f:
+            for line in f:
+                if line.startswith("PRETTY_NAME="):
+                    osname = line.split("=", 1)[1].strip().strip('"') + ", Linux " + \
+                        platform.release()
+    except OSError:
+        pass
+    info["os"] = osname
+    virt = []
+    if shutil.which("systemd-detect-virt"):
+        v = sh(["systemd-detect-virt"]).stdout.strip()
+        if v and v != "none":
+            virt.append(v)
+    if shutil.which("lscpu"):
+        lscpu = dict(line.split(":", 1) for line in sh(["lscpu"]).stdout.splitlines()
+                     if ":" in line)
+        lscpu = {k.strip(): v.strip() for k, v in lscpu.items()}
+        if lscpu.get("Hypervisor vendor"):
+            virt.append(f"{lscpu['Hypervisor vendor']} virtual machine")
+        fam, mod = lscpu.get("CPU family"), lscpu.get("Model")
+        if fam and mod:
+            info["cpu"] += f" (family {fam}, model {mod}; {lscpu.get('Thread(s) per core', '?')}"\
+                           f" thread(s) per core; L3 {lscpu.get('L3 cache', '?')})"
+    info["virtualisation"] = ", ".join(virt) or "none detected"
+    info["rustc"] = sh(["rustc", "--version"]).stdout.strip()
+    info["python"] = platform.python_version()
+    commit = sh(["git", "rev-parse", "HEAD"], cwd=ROOT).stdout.strip()
+    dirty = sh(["git", "status", "--porcelain", "--untracked-files=no"], cwd=ROOT).stdout.strip()
+    info["gitCommit"] = commit + (" (with uncommitted changes)" if dirty else "")
+    info["gitBranch"] = sh(["git", "rev-parse", "--abbrev-ref", "HEAD"], cwd=ROOT).stdout.strip()
+    info["luxbake"] = sh([bake, "--version"]).stdout.strip()
+    if rad:
+        env = dict(os.environ, RAYPATH=rad[1])
+        info["radiance"] = sh([os.path.join(rad[0], "rtrace"), "-version"],
+                              env=env).stdout.strip()
+        info["pyradiance"] = PYRADIANCE
+    else:
+        info["radiance"] = "not used"
+        info["pyradiance"] = "—"
+    with open(os.path.join(ROOT, "Cargo.lock"), "rb") as f:
+        info["cargoLockSha256"] = hashlib.sha256(f.read()).hexdigest()[:16]
+    return info
+
+
+def loadavg():
+    try:
+        return [round(v, 2) for v in os.getloadavg()]
+    except OSError:
+        return None
+
+
+# ------------------------------------------------------------------ running bake
+
+class Ctx:
+    def __init__(self, bake, work, threads):
+        self.bake = bake
+        self.work = work
+        self.threads = threads
+        self.has_diff = has_subcommand(bake, "diff")
+
+
+def bake_run(ctx, scene, tag, inp, args, repeats=1, timeout=TIMEOUT_DEFAULT, probes=False):
+    """One bake of inp with args (plus the measuring options). Returns a record: settings,
+    measured resources (the fastest of `repeats` runs if the first is under 3 s), counts,
+    stage timings and the report/probe values the errors are computed from."""
+    d = os.path.join(ctx.work, scene, tag)
+    os.makedirs(d, exist_ok=True)
+    out = os.path.join(d, "out.gltf")
+    summary = os.path.join(d, "summary.json")
+    report = os.path.join(d, "report.json")
+    cmd = [ctx.bake, inp, "-o", out, "-q", "--summary-json", summary, "--report", "json",
+           "--report-out", report] + args
+    if ctx.threads:
+        cmd += ["--threads", str(ctx.threads)]
+    probes_path = os.path.join(d, "probes.json")
+    if probes:
+        cmd += ["--probes-out", probes_path]
+    samples = []
+    for k in range(max(1, repeats)):
+        la = loadavg()
+        m = measure.run(cmd, stderr_path=os.path.join(d, "stderr.txt"), timeout=timeout)
+        m["loadavgBefore"] = la
+        samples.append(m)
+        if m["timedOut"] or m["returncode"] != 0 or m["wall"] > 3.0:
+            break
+    best = min(samples, key=lambda s: s["wall"])
+    rec = {"scene": scene, "tag": tag, "tool": "luxbake", "outDir": d,
+           "command": " ".join(os.path.relpath(c, ROOT) if os.path.isabs(c) else c
+                               for c in cmd),
+           "wall": best["wall"], "cpu": best["cpu"], "user": best["user"], "sys": best["sys"],
+           "peakMiB": best["peakMiB"], "wallSamples": [round(s["wall"], 4) for s in samples],
+           "loadavgBefore": best["loadavgBefore"], "timedOut": best["timedOut"],
+           "returncode": best["returncode"]}
+    if best["timedOut"]:
+        log(f"  {scene}/{tag}: stopped after {timeout} s")
+        return rec
+    if best["returncode"] != 0:
+        with open(os.path.join(d, "stderr.txt"), encoding="utf-8", errors="replace") as f:
+            rec["error"] = f.read()[-2000:]
+        log(f"  {scene}/{tag}: bake failed ({best['returncode']}): {rec['error'][-300:]}")
+        return rec
+    with open(summary, encoding="utf-8") as f:
+        s = json.load(f)
+    with open(report, encoding="utf-8") as f:
+        r = json.load(f)
+    rec["patchSize"] = s.get("patchSize")
+    rec["counts"] = s.get("counts")
+    rec["solver"] = s.get("solver")
+    rec["threads"] = s.get("threads")
+    rec["stageSeconds"] = s.get("timingsSeconds")
+    rec["balanceErrorRelative"] = s.get("energy", {}).get("balanceErrorRelative")
+    rec["report"] = {"byMaterial": r.get("byMaterial"), "byNode": r.get("byNode"),
+                     "workingPlane": r.get("workingPlane")}
+    if probes:
+        with open(probes_path, encoding="utf-8") as f:
+            p = json.load(f)
+        rec["workingPlanePoints"] = [
+            {"position": x["probe"]["position"], "E": x["faces"]["+y"],
+             "direct": x["facesDirect"]["+y"]}
+            for x in p if x["probe"]["origin"]["kind"] == "workingPlane"]
+        rec["probes"] = {x["probe"]["name"]: {"position": x["probe"]["position"],
+                                              "faces": x["faces"],
+                                              "facesDirect": x["facesDirect"]}
+                         for x in p if x["probe"]["origin"]["kind"] != "workingPlane"}
+    c = rec["counts"] or {}
+    log(f"  {scene}/{tag}: {rec['wall']:.2f} s wall, {rec['cpu']:.2f} s CPU, "
+        f"{rec['peakMiB']:.0f} MiB, {c.get('patches')} patches, {c.get('rays')} rays")
+    return rec
+
+
+def quality_args(q):
+    return ["--quality", q]
+
+
+# ------------------------------------------------------------------ errors
+
+def rel(a, b):
+    return (a - b) / b if b else float("nan")
+
+
+def wp_errors(run, ref):
+    """Working-plane errors of run against ref (same grid): the mean's signed relative error,
+    and RMS and max over points of the per-point relative error."""
+    a = run["workingPlanePoints"]
+    b = ref["workingPlanePoints"]
+    if len(a) != len(b):
+        raise SystemExit(f"working planes differ: {len(a)} vs {len(b)} points")
+    ma = sum(p["E"] for p in a) / len(a)
+    mb = sum(p["E"] for p in b) / len(b)
+    e = [rel(p["E"], q["E"]) for p, q in zip(a, b)]
+    return {"wpMean": ma, "wpMeanRef": mb, "wpMeanErr": rel(ma, mb),
+            "wpRms": math.sqrt(sum(x * x for x in e) / len(e)),
+            "wpMax": max(abs(x) for x in e), "wpPoints": len(a)}
+
+
+def probe_errors(run, ref):
+    """Largest relative error over every face of every probe; and per probe."""
+    worst, where, per = 0.0, None, {}
+    for name, p in ref["probes"].items():
+        q = run["probes"][name]
+        e = max(abs(rel(q["faces"][f], p["faces"][f])) for f in FACES)
+        per[name] = e
+        for f in FACES:
+            x = abs(rel(q["faces"][f], p["faces"][f]))
+            if x > worst:
+                worst, where = x, f"{name} {f}"
+    return {"probeMax": worst, "probeWorst": where, "probePerProbe": per}
+
+
+def surface_errors(run, ref):
+    """Largest relative error of the area-weighted mean illuminance over the report's nodes."""
+    rb = {x["name"]: x for x in ref["report"]["byNode"]}
+    worst, where = 0.0, None
+    for x in run["report"]["byNode"]:
+        y = rb.get(x["name"])
+        if y and y["eAvg"] > 0:
+            e = abs(rel(x["eAvg"], y["eAvg"]))
+            if e > worst:
+                worst, where = e, x["name"]
+    return {"surfaceMax": worst, "surfaceWorst": where}
+
+
+def strip(rec):
+    """The record without the bulky per-point values (kept for references only)."""
+    return {k: v for k, v in rec.items()
+            if k not in ("workingPlanePoints", "probes", "report", "outDir")}
+
+
+def bake_diff(ctx, run, ref):
+    """`bake diff RUN REF --mode means --json` when this bake has the subcommand (branch diff):
+    its figures are kept in results.json beside the harness's own probe comparison."""
+    if not ctx.has_diff or "outDir" not in run or "outDir" not in ref:
+        return
+    r = sh([ctx.bake, "diff", os.path.join(run["outDir"], "out.gltf"),
+            os.path.join(ref["outDir"], "out.gltf"), "--mode", "means", "--json"])
+    if r.returncode in (0, 1):
+        try:
+            run["bakeDiff"] = json.loads(r.stdout)
+        except ValueError:
+            run["bakeDiff"] = {"unparsed": r.stdout[-2000:]}
+    else:
+        run["bakeDiff"] = {"error": r.stderr.strip()[-500:]}
+
+
+# ------------------------------------------------------------------ scenes
+
+def bench_office(ctx, plan, rad, results):
+    log("office (samples/office/office.gltf)")
+    probe_args = OFFICE_WP + ["--probes", OFFICE_PROBES]
+    ref = bake_run(ctx, "office", "reference", OFFICE, plan["office_ref"] + probe_args,
+                   probes=True)
+    if "workingPlanePoints" not in ref:
+        results["notes"].append("office: the luxbake reference failed; office skipped")
+        return
+    runs = []
+    for q in plan["office_runs"]:
+        r = bake_run(ctx, "office", q, OFFICE, quality_args(q) + probe_args, repeats=3,
+                     probes=True)
+        if "workingPlanePoints" in r:
+            r["errors"] = {**wp_errors(r, ref), **probe_errors(r, ref),
+                           **surface_errors(r, ref)}
+            r["plotError"] = r["errors"]["wpRms"]
+            bake_diff(ctx, r, ref)
+        runs.append(r)
+    office = {"reference": {**strip(ref), "name": plan["office_ref_name"],
+                            "workingPlane": ref["report"]["workingPlane"],
+                            "probes": ref["probes"]},
+              "runs": [strip(r) for r in runs],
+              "errorMeasure": "RMS over the working-plane points of the relative error"}
+    results["scenes"]["office"] = office
+    if rad is not None:
+        office["radiance"] = bench_radiance(ctx, plan, rad, ref)
+
+
+def rad_options(ab, ad, lw):
+    return RAD_COMMON + ["-ab", str(ab), "-ad", str(ad), "-lw", str(lw)]
+
+
+def bench_radiance(ctx, plan, rad, lux_ref):
+    """RADIANCE on the office at luxbake's working-plane points (upward) and probe faces."""
+    rad_bin, rad_lib = rad
+    log("office in RADIANCE (pyradiance rtrace -I)")
+    d = os.path.join(ctx.work, "office", "radiance")
+    if os.path.exists(d):
+        shutil.rmtree(d)
+    os.makedirs(d)
+    t0 = time.perf_counter()
+    conv = radiance.convert(OFFICE, d, rad_bin, {"CNS70 1/50W": OFFICE_IES["CNS70 1/50W"]})
+    m_oconv = measure.run([os.path.join(rad_bin, "oconv"), "scene.rad"], cwd=d,
+                          env=dict(os.environ, RAYPATH=os.pathsep.join([".", rad_lib])),
+                          stdout_path=os.path.join(d, "scene.oct"),
+                          stderr_path=os.path.join(d, "oconv.err"))
+    if m_oconv["returncode"] != 0:
+        raise SystemExit("oconv failed: see " + os.path.join(d, "oconv.err"))
+    conv_seconds = time.perf_counter() - t0
+    points, keys = [], []
+    for i, p in enumerate(lux_ref["workingPlanePoints"]):
+        points.append(tuple(p["position"]) + (0.0, 1.0, 0.0))
+        keys.append(("wp", i))
+    for name, p in lux_ref["probes"].items():
+        for f in FACES:
+            points.append(tuple(p["position"]) + FACE_DIRS[f])
+            keys.append(("probe", name, f))
+
+    def run(tag, options):
+        wd = os.path.join(d, tag)
+        os.makedirs(wd)
+        vals, m, cmd = radiance.run_rtrace(rad_bin, rad_lib, os.path.join(d, "scene.oct"),
+                                          points, options, wd, threads=ctx.threads or
+                                          os.cpu_count())
+        rec = {"scene": "office", "tag": tag, "tool": "RADIANCE", "options": " ".join(options),
+               "command": "rtrace " + " ".join(cmd[1:-1]) + " scene.oct < points",
+               "wall": m["wall"] + m_oconv["wall"], "cpu": m["cpu"] + m_oconv["cpu"],
+               "rtraceWall": m["wall"], "oconvWall": m_oconv["wall"],
+               "peakMiB": max(m["peakMiB"], m_oconv["peakMiB"]), "points": len(points)}
+        wp = [None] * len(lux_ref["workingPlanePoints"])
+        probes = {name: {"position": p["position"], "faces": {}}
+                  for name, p in lux_ref["probes"].items()}
+        for k, v in zip(keys, vals):
+            if k[0] == "wp":
+                wp[k[1]] = {"position": lux_ref["workingPlanePoints"][k[1]]["position"], "E": v}
+            else:
+                probes[k[1]]["faces"][k[2]] = v
+        rec["workingPlanePoints"] = wp
+        rec["probes"] = probes
+        log(f"  radiance/{tag}: {rec['wall']:.1f} s wall, {rec['cpu']:.1f} s CPU, "
+            f"WP mean {sum(p['E'] for p in wp) / len(wp):.2f} lx")
+        return rec
+
+    # direct only (-ab 0): to compare the two tools' direct parts
+    direct = run("ab0", RAD_COMMON + ["-ab", "0"])
+    ref_ab, ref_ad, ref_lw = plan["rad_ref"]
+    ref = run(f"ab{ref_ab}_ad{ref_ad}", rad_options(ref_ab, ref_ad, ref_lw))
+    runs = []
+    for ab, ad in plan["rad_sweep"]:
+        r = run(f"ab{ab}_ad{ad}", rad_options(ab, ad, f"{1.0 / ad:.3g}"))
+        r["errors"] = {**wp_errors(r, ref), **probe_errors(r, ref)}
+        r["errorsVsLuxbakeReference"] = {**wp_errors(r, lux_ref), **probe_errors(r, lux_ref)}
+        r["plotError"] = r["errors"]["wpRms"]
+        runs.append(r)
+    # agreement of the two references, total and direct parts
+    lux_direct = {"workingPlanePoints": [{"E": p["direct"]} for p in
+                                         lux_ref["workingPlanePoints"]],
+                  "probes": {n: {"faces": p["facesDirect"]} for n, p in lux_ref["probes"].items()}}
+    agreement = {
+        "total": {**wp_errors(ref, lux_ref), **probe_errors(ref, lux_ref)},
+        "direct": {**wp_errors(direct, lux_direct), **probe_errors(direct, lux_direct)},
+    }
+    wp_ind_rad = sum(a["E"] - b["E"] for a, b in zip(ref["workingPlanePoints"],
+                                                   direct["workingPlanePoints"]))
+    wp_ind_lux = sum(p["E"] - p["direct"] for p in lux_ref["workingPlanePoints"])
+    agreement["indirectWpMean"] = {"radiance": wp_ind_rad / len(ref["workingPlanePoints"]),
+                                   "luxbake": wp_ind_lux / len(ref["workingPlanePoints"])}
+    agreement["indirectWpMean"]["relDiff"] = rel(agreement["indirectWpMean"]["radiance"],
+                                                 agreement["indirectWpMean"]["luxbake"])
+    return {"conversion": {**conv, "seconds": conv_seconds},
+            "reference": {**strip(ref), "name": f"-ab {ref_ab} -ad {ref_ad} -lw {ref_lw}",
+                          "workingPlaneMean": sum(p["E"] for p in ref["workingPlanePoints"])
+                          / len(ref["workingPlanePoints"]),
+                          "probes": ref["probes"]},
+            "directOnly": {**strip(direct),
+                           "workingPlaneMean": sum(p["E"] for p in direct["workingPlanePoints"])
+                           / len(direct["workingPlanePoints"])},
+            "runs": [strip(r) for r in runs],
+            "referenceAgreement": agreement,
+            "errorMeasure": "RMS over the working-plane points of the relative error against "
+                            "RADIANCE's own reference"}
+
+
+def bench_cie(ctx, plan, results):
+    for rho in plan["cie_rhos"]:
+        name = f"cie5.8_rho{rho}"
+        log(f"{name} (CIE 171 test 5.8, closed form)")
+        d = os.path.join(ctx.work, name)
+        os.makedirs(d, exist_ok=True)
+        inp = os.path.join(d, "scene.gltf")
+        with open(inp, "w", encoding="utf-8") as f:
+            f.write(scenes.cie_5_8_gltf(rho))
+        exact = scenes.cie_5_8_indirect(rho)
+        runs = []
+        for q in plan["cie_runs"]:
+            r = bake_run(ctx, name, q, inp, quality_args(q), repeats=3)
+            if "report" in r:
+                walls = [x for x in r["report"]["byMaterial"] if x["name"] == "walls"][0]
+                r["errors"] = {"meanIndirect": walls["eIndirectAvg"], "exact": exact,
+                               "meanIndirectErr": rel(walls["eIndirectAvg"], exact)}
+                r["plotError"] = abs(r["errors"]["meanIndirectErr"])
+            runs.append(strip(r))
+        results["scenes"][name] = {
+            "reference": {"name": "closed form rho*PHI/(S(1-rho))", "value": exact},
+            "runs": runs,
+            "errorMeasure": "relative error of the area-weighted mean indirect illuminance"}
+
+
+def bench_cornell(ctx, plan, results):
+    log("cornell-box (samples/cornell-box)")
+    ref = bake_run(ctx, "cornell-box", "reference", CORNELL, plan["cornell_ref"] + CORNELL_WP,
+                   probes=True)
+    if "workingPlanePoints" not in ref:
+        results["notes"].append("cornell-box: the reference failed; scene skipped")
+        return
+    runs = []
+    for q in plan["cornell_runs"]:
+        r = bake_run(ctx, "cornell-box", q, CORNELL, quality_args(q) + CORNELL_WP, repeats=3,
+                     probes=True)
+        if "workingPlanePoints" in r:
+            r["errors"] = {**wp_errors(r, ref), **surface_errors(r, ref)}
+            r["plotError"] = r["errors"]["wpRms"]
+            bake_diff(ctx, r, ref)
+        runs.append(strip(r))
+    results["scenes"]["cornell-box"] = {
+        "reference": {**strip(ref), "name": plan["cornell_ref_name"],
+                      "workingPlane": ref["report"]["workingPlane"]},
+        "runs": runs,
+        "errorMeasure": "RMS over the working-plane points (5 cm above the floor, 5 cm grid) "
+                        "of the relative error"}
+
+
+def bench_openplan(ctx, plan, results):
+    if not has_subcommand(ctx.bake, "generate"):
+        note = ("open-plan floors skipped: this bake has no `generate` subcommand (the "
+                "generator `bake generate openplan` is not merged yet)")
+        log(note)
+        results["notes"].append(note)
+        results["generatorMissing"] = True
+        return
+    scaling = []
+    for size in plan["openplan_sizes"]:
+        name = f"openplan-{size}"
+        d = os.path.join(ctx.work, name)
+        os.makedirs(d, exist_ok=True)
+        inp = os.path.join(d, "scene.gltf")
+        g = measure.run([ctx.bake, "generate", "openplan", "--size", size, "-o", inp],
+                        stderr_path=os.path.join(d, "generate.txt"), timeout=600)
+        if g["returncode"] != 0:
+            results["notes"].append(f"{name}: `bake generate` failed; skipped")
+            continue
+        with open(os.path.join(d, "generate.txt"), encoding="utf-8", errors="replace") as f:
+            gen_text = f.read().strip()
+        triangles = count_triangles(inp)
+        log(f"{name}: {triangles} triangles ({gen_text.splitlines()[-1] if gen_text else ''})")
+        # the scaling point: a plain default-quality bake
+        r = bake_run(ctx, name, "default-plain", inp, quality_args("default"),
+                     timeout=TIMEOUT_OPENPLAN[size])
+        r["triangles"] = triangles
+        scaling.append(strip(r))
+        if size != "small" or not ctx.openplan_errors:
+            continue
+        ref = bake_run(ctx, name, "reference", inp, plan["openplan_ref"] + OPENPLAN_WP,
+                       probes=True, timeout=TIMEOUT_DEFAULT)
+        if "workingPlanePoints" not in ref:
+            results["notes"].append(f"{name}: the reference failed; error curve skipped")
+            continue
+        runs = []
+        for q in plan["openplan_runs"]:
+            rr = bake_run(ctx, name, q, inp, quality_args(q) + OPENPLAN_WP, probes=True,
+                          timeout=TIMEOUT_DEFAULT)
+            if "workingPlanePoints" in rr:
+                rr["errors"] = {**wp_errors(rr, ref), **surface_errors(rr, ref)}
+                rr["plotError"] = rr["errors"]["wpRms"]
+                bake_diff(ctx, rr, ref)
+            runs.append(strip(rr))
+        results["scenes"][name] = {
+            "triangles": triangles,
+            "reference": {**strip(ref), "name": plan["openplan_ref_name"],
+                          "workingPlane": ref["report"]["workingPlane"]},
+            "runs": runs,
+            "errorMeasure": "RMS over the working-plane points (0.8 m, 0.5 m grid) of the "
+                            "relative error"}
+    results["scaling"] = scaling
+
+
+def count_triangles(path):
+    g = radiance.Gltf(path)
+    n = 0
+    for _, node, _ in g.walk():
+        if "mesh" in node:
+            for prim in g.doc["meshes"][node["mesh"]]["primitives"]:
+                if prim.get("mode", 4) == 4:
+                    acc = prim.get("indices", prim["attributes"]["POSITION"])
+                    n += g.doc["accessors"][acc]["count"] // 3
+    return n
+
+
+# ------------------------------------------------------------------ targets
+
+def targets(results):
+    rows = []
+    sc = results["scenes"]
+
+    def find(scene, tag):
+        for r in sc.get(scene, {}).get("runs", []):
+            if r["tag"] == tag:
+                return r
+        return None
+
+    o = find("office", "default")
+    if o and "errors" in o:
+        e = o["errors"]
+        rows.append(["Office, default quality: working-plane mean within 1 % of the converged "
+                     "reference", "≤ 1 %", f"{100 * e['wpMeanErr']:+.3f} %",
+                     abs(e["wpMeanErr"]) <= 0.01])
+        rows.append(["Office, default quality: every probe (each face) within 3 %", "≤ 3 %",
+                     f"{100 * e['probeMax']:.3f} % (worst: {e['probeWorst']})",
+                     e["probeMax"] <= 0.03])
+        rows.append(["Office, default quality: wall time", "< 1 s",
+                     f"{o['wall']:.2f} s ({o['cpu']:.2f} s CPU)", o["wall"] < 1.0])
+    else:
+        rows.append(["Office targets", "—", "not measured", None])
+    c = find("cie5.8_rho0.99", "default")
+    if c and "errors" in c:
+        rows.append(["CIE 171 test 5.8, ρ = 0.99, default quality: mean indirect within 0.5 %",
+                     "≤ 0.5 %", f"{100 * c['errors']['meanIndirectErr']:+.3f} %",
+                     abs(c["errors"]["meanIndirectErr"]) <= 0.005])
+        rows.append(["CIE 171 test 5.8, ρ = 0.99, default quality: wall time", "< 1 s",
+                     f"{c['wall']:.2f} s", c["wall"] < 1.0])
+    rad = sc.get("office", {}).get("radiance")
+    if o and rad and "errors" in o:
+        for measure_key, label in (("wpRms", "per-point RMS"), ("wpMeanErr", "mean")):
+            lux_e = abs(o["errors"][measure_key])
+            ok = [r for r in rad["runs"] if abs(r["errors"][measure_key]) <= lux_e]
+            if ok:
+                best = min(ok, key=lambda r: r["wall"])
+                ratio = best["wall"] / o["wall"]
+                measured = (f"{ratio:.1f}× (RADIANCE {best['tag']}: {best['wall']:.1f} s at "
+                            f"{100 * abs(best['errors'][measure_key]):.3f} % vs luxbake "
+                            f"{o['wall']:.2f} s at {100 * lux_e:.3f} %)")
+                met = ratio >= 20
+            else:
+                slowest = max(rad["runs"], key=lambda r: r["wall"])
+                ratio = slowest["wall"] / o["wall"]
+                measured = (f"> {ratio:.1f}×: no RADIANCE setting reached luxbake's "
+                            f"{100 * lux_e:.3f} % (best {100 * min(abs(r['errors'][measure_key]) for r in rad['runs']):.3f} %, "
+                            f"slowest {slowest['tag']} {slowest['wall']:.1f} s)")
+                met = True if ratio >= 20 else None
+            rows.append([f"Office working plane ({label} error), luxbake default vs RADIANCE at "
+                         f"equal or better error: speed-up", "≥ 20×", measured, met])
+    sc_rows = results.get("scaling") or []
+    large = [r for r in sc_rows if r["scene"] == "openplan-large"]
+    if large:
+        r = large[0]
+        if r.get("timedOut"):
+            rows.append(["10⁶-triangle floor, default quality: wall time", "< 60 s",
+                         f"> {r['wall']:.0f} s (stopped)", False])
+        else:
+            rows.append(["10⁶-triangle floor, default quality: wall time", "< 60 s",
+                         f"{r['wall']:.1f} s", r["wall"] < 60])
+        rows.append(["10⁶-triangle floor, default quality: peak memory", "< 4 GiB",
+                     f"{r['peakMiB'] / 1024:.2f} GiB" + (" (until stopped)" if r.get("timedOut")
+                                                         else ""),
+                     (r["peakMiB"] < 4096) if not r.get("timedOut") else None])
+    else:
+        why = ("not measured (`bake generate` not available)" if results.get("generatorMissing")
+               else "not run (--quick or --scenes)")
+        rows.append(["10⁶-triangle floor: < 60 s and < 4 GiB at default quality", "< 60 s, < 4 GiB",
+                     why, None])
+    done = [r for r in sc_rows if not r.get("timedOut") and r.get("returncode") == 0]
+    if len(done) >= 2:
+        a, b = done[0], done[-1]
+        na, nb = a["triangles"], b["triangles"]
+        nlogn = (nb * math.log(nb)) / (na * math.log(na))
+        ratio = b["wall"] / a["wall"]
+        slope = math.log(ratio) / math.log(nb / na)
+        rows.append([f"Time from {na} to {nb} triangles grows no worse than N log N",
+                     f"≤ {nlogn:.0f}× (N log N)", f"{ratio:.0f}× (log-log slope {slope:.2f})",
+                     ratio <= 1.25 * nlogn])
+    else:
+        why = ("not measured (`bake generate` not available)" if results.get("generatorMissing")
+               else "fewer than two floor sizes finished" if results.get("scaling")
+               else "not run (--quick or --scenes)")
+        rows.append(["Time grows no worse than N log N from 10⁴ to 10⁶ triangles", "N log N",
+                     why, None])
+    return rows
+
+
+# ------------------------------------------------------------------ output
+
+def pct(x, digits=3):
+    return "—" if x is None else f"{100 * x:.{digits}f}"
+
+
+def rad_ref_name(results):
+    rad = results["scenes"].get("office", {}).get("radiance")
+    return f"rtrace {rad['reference']['name']}" if rad else "not run"
+
+
+def write_plots(results, out):
+    series = []
+    sc = results["scenes"]
+    for name, s in sc.items():
+        pts = [(r["wall"], r["plotError"] * 100, r["tag"]) for r in s["runs"] if "plotError" in r]
+        if pts:
+            series.append({"name": f"{name} (luxbake)", "points": pts})
+        if name == "office" and s.get("radiance"):
+            rp = [(r["wall"], r["plotError"] * 100, r["tag"].replace("_", " "))
+                  for r in s["radiance"]["runs"]]
+            series.append({"name": "office (RADIANCE rtrace)", "points": rp, "dash": True})
+    svgplot.plot(os.path.join(out, "time_vs_error.svg"), series,
+                 "luxbake: wall time against error (one curve per scene)",
+                 "wall time, s (log)", "error, % (log)",
+                 caption=["office, Cornell box, open plan: RMS over the working-plane points of "
+                          "the relative error against a converged bake;",
+                          "RADIANCE: against its own reference "
+                          f"({rad_ref_name(results)}), at the same points.",
+                          "CIE 171 test 5.8: relative error of the mean indirect illuminance "
+                          "against the closed form. Hollow points lie below the axis floor.",
+                          f"Machine: {results['machine']['cpu'].split(' (')[0]}, "
+                          f"{results['machine']['cores']} cores (shared); see results.md."])
+    sc_rows = [r for r in results.get("scaling") or [] if r.get("returncode") == 0 or
+               r.get("timedOut")]
+    if sc_rows:
+        pts = [(r["triangles"], r["wall"], ("stopped " if r.get("timedOut") else "") +
+                r["scene"].replace("openplan-", "")) for r in sc_rows]
+        n0, t0 = pts[0][0], pts[0][1]
+        ns = [n0 * 10 ** (k / 4) for k in range(0, 4 * 3 + 1)]
+        guide = [(n, t0 * n * math.log(n) / (n0 * math.log(n0))) for n in ns
+                 if n <= max(p[0] for p in pts) * 1.01]
+        lin = [(n, t0 * n / n0) for n in ns if n <= max(p[0] for p in pts) * 1.01]
+        svgplot.plot(os.path.join(out, "scaling.svg"),
+                     [{"name": "open-plan floor, default quality", "points": pts}],
+                     "luxbake: wall time against triangle count",
+                     "triangles (log)", "wall time, s (log)",
+                     guides=[("N log N", guide), ("N", lin)],
+                     caption=["Generated open-plan floors (bake generate openplan --size "
+                              "small|medium|large), default quality; guides through the first "
+                              "point."])
+
+
+def write_markdown(results, out, rows):
+    m = results["machine"]
+    L = ["# luxbake benchmark results", "",
+         f"Written by `{results['command']}` on {results['date']} "
+         f"(harness wall time {results['harnessSeconds'] / 60:.1f} min).", "",
+         "## Machine", "",
+         "| | |", "| --- | --- |",
+         f"| CPU | {m['cpu']} |", f"| cores | {m['cores']} |",
+         f"| RAM | {m['ramGiB']} GiB |", f"| OS | {m['os']} |",
+         f"| virtualisation | {m.get('virtualisation', '—')} |",
+         f"| rustc | {m['rustc']} |", f"| luxbake | {m['luxbake']} |",
+         f"| git commit | {m['gitCommit']} ({m['gitBranch']}) |",
+         f"| RADIANCE | {m['radiance']} (PyPI {m['pyradiance']}) |",
+         f"| Python | {m['python']} |",
+         f"| load average (1, 5, 15 min) at start / end | {results['loadavgStart']} / "
+         f"{results['loadavgEnd']} |", "",
+         "The machine is shared: other work ran on the same two cores during the run (see the "
+         "load averages), so wall times are pessimistic; CPU time (user + system, all threads) "
+         "is given beside them. Short runs (< 3 s) are repeated three times and the fastest is "
+         "kept.", "",
+         "## Targets", "",
+         "| target | required | measured | met? |", "| --- | --- | --- | --- |"]
+    for t, req, meas, met in rows:
+        L.append(f"| {t} | {req} | {meas} | "
+                 f"{'yes' if met is True else 'no' if met is False else 'n/a'} |")
+    L += ["", "![time against error](time_vs_error.svg)", ""]
+    if results.get("scaling"):
+        L += ["![scaling](scaling.svg)", ""]
+    L += ["## Runs", "",
+          "Wall and CPU time in s, peak resident memory in MiB; errors in % (signed for means, "
+          "else magnitudes). `wp` = working plane, `probes` = largest error over the six faces "
+          "of every probe, `surfaces` = largest error of a node's area-weighted mean "
+          "illuminance.", ""]
+    for name, s in results["scenes"].items():
+        ref = s["reference"]
+        L += [f"### {name}", "", f"Reference: {ref['name']}" +
+              (f" ({ref['wall']:.1f} s wall, {ref['cpu']:.1f} s CPU, {ref['peakMiB']:.0f} MiB, "
+               f"{ref['counts']['patches']} patches)" if "counts" in ref else
+               f" = {ref['value']:.4f} lx") + ".", f"Error plotted: {s['errorMeasure']}.", ""]
+        if name.startswith("cie"):
+            L += ["| quality | wall s | CPU s | peak MiB | patches | links | rays | mean E_ind lx "
+                  "| exact lx | error % |", "| --- | ---: | ---: | ---: | ---: | ---: | ---: | "
+                  "---: | ---: | ---: |"]
+            for r in s["runs"]:
+                c, e = r.get("counts") or {}, r.get("errors") or {}
+                L.append(f"| {r['tag']} | {r['wall']:.3f} | {r['cpu']:.3f} | {r['peakMiB']:.0f} "
+                         f"| {c.get('patches')} | {c.get('links')} | {c.get('rays')} | "
+                         f"{e.get('meanIndirect', 0):.3f} | {e.get('exact', 0):.3f} | "
+                         f"{100 * e.get('meanIndirectErr', float('nan')):+.4f} |")
+        else:
+            probes = name == "office"
+            head = ("| quality | wall s | CPU s | peak MiB | patches | links | rays | wp mean lx | "
+                    "wp mean err % | wp RMS % | wp max % |" + (" probes max % |" if probes else "")
+                    + " surfaces max % |")
+            L += [head, "|" + " --- |" + " ---: |" * (head.count("|") - 2)]
+            for r in s["runs"]:
+                c, e = r.get("counts") or {}, r.get("errors") or {}
+                if r.get("timedOut") or r.get("returncode"):
+                    L.append(f"| {r['tag']} | stopped/failed after {r['wall']:.0f} s |")
+                    continue
+                L.append(f"| {r['tag']} | {r['wall']:.2f} | {r['cpu']:.2f} | {r['peakMiB']:.0f} "
+                         f"| {c.get('patches')} | {c.get('links')} | {c.get('rays')} | "
+                         f"{e['wpMean']:.2f} | {100 * e['wpMeanErr']:+.3f} | {pct(e['wpRms'])} | "
+                         f"{pct(e['wpMax'])} |" +
+                         (f" {pct(e['probeMax'])} ({e['probeWorst']}) |" if probes else "") +
+                         f" {pct(e.get('surfaceMax'))} ({e.get('surfaceWorst')}) |")
+        L.append("")
+        stages = [r for r in s["runs"] if r.get("stageSeconds")]
+        if stages and not name.startswith("cie"):
+            keys = list(stages[0]["stageSeconds"].keys())
+            L += ["Stage wall times (s, from `--summary-json`):", "",
+                  "| quality | " + " | ".join(keys) + " |",
+                  "| --- |" + " ---: |" * len(keys)]
+            for r in stages:
+                L.append(f"| {r['tag']} | " + " | ".join(f"{r['stageSeconds'][k]:.2f}"
+                                                       for k in keys) + " |")
+            L.append("")
+        rad = s.get("radiance")
+        if rad:
+            L += ["#### RADIANCE (rtrace -I) on the office", "",
+                  f"Converted scene: {rad['conversion']['triangles']} triangles, "
+                  f"{len(rad['conversion']['luminaires'])} luminaires "
+                  f"(ies2rad + xform); {rad['runs'][0]['points']} rtrace points "
+                  f"(the {s['reference']['workingPlane']['points']} working-plane points facing "
+                  f"up, and six faces of each of the {len(s['reference']['probes'])} probes). "
+                  f"Options common to all runs: `{' '.join(RAD_COMMON)}`; -lw = 1/-ad. "
+                  f"Time = oconv + rtrace (-n {results['radianceThreads']}); conversion from "
+                  f"glTF ({rad['conversion']['seconds']:.1f} s) not counted. "
+                  f"Reference: `{rad['reference']['name']}` ({rad['reference']['wall']:.0f} s "
+                  f"wall).", "",
+                  "| settings | wall s | CPU s | peak MiB | wp mean lx | wp mean err % | wp RMS % | "
+                  "wp max % | probes max % | vs luxbake ref: wp mean % | wp RMS % | probes max % |",
+                  "| --- |" + " ---: |" * 11]
+            for r in rad["runs"]:
+                e, x = r["errors"], r["errorsVsLuxbakeReference"]
+                L.append(f"| {r['options'].split('-aa 0 ')[-1]} | {r['wall']:.1f} | "
+                         f"{r['cpu']:.1f} | {r['peakMiB']:.0f} | {e['wpMean']:.2f} | "
+                         f"{100 * e['wpMeanErr']:+.3f} | {pct(e['wpRms'])} | {pct(e['wpMax'])} | "
+                         f"{pct(e['probeMax'])} | {100 * x['wpMeanErr']:+.3f} | "
+                         f"{pct(x['wpRms'])} | {pct(x['probeMax'])} |")
+            a = rad["referenceAgreement"]
+            L += ["", "**The two references** (RADIANCE's against luxbake's):", "",
+                  "| | wp mean (RADIANCE − luxbake) | wp RMS per point | wp max per point | "
+                  "probes max (face) |", "| --- | ---: | ---: | ---: | ---: |",
+                  f"| total | {100 * a['total']['wpMeanErr']:+.3f} % "
+                  f"({a['total']['wpMean']:.2f} vs {a['total']['wpMeanRef']:.2f} lx) | "
+                  f"{pct(a['total']['wpRms'])} % | {pct(a['total']['wpMax'])} % | "
+                  f"{pct(a['total']['probeMax'])} % ({a['total']['probeWorst']}) |",
+                  f"| direct only (RADIANCE -ab 0; luxbake's direct part) | "
+                  f"{100 * a['direct']['wpMeanErr']:+.3f} % "
+                  f"({a['direct']['wpMean']:.2f} vs {a['direct']['wpMeanRef']:.2f} lx) | "
+                  f"{pct(a['direct']['wpRms'])} % | {pct(a['direct']['wpMax'])} % | "
+                  f"{pct(a['direct']['probeMax'])} % ({a['direct']['probeWorst']}) |",
+                  f"| indirect (wp mean) | {100 * a['indirectWpMean']['relDiff']:+.2f} % "
+                  f"({a['indirectWpMean']['radiance']:.2f} vs "
+                  f"{a['indirectWpMean']['luxbake']:.2f} lx) | | | |", ""]
+    if results.get("scaling"):
+        L += ["### Scaling (open-plan floors, default quality, plain bake)", "",
+              "| scene | triangles | wall s | CPU s | peak MiB | patches | links | rays |",
+              "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
+        for r in results["scaling"]:
+            c = r.get("counts") or {}
+            wall = (f"> {r['wall']:.0f} (stopped)" if r.get("timedOut") else f"{r['wall']:.2f}")
+            L.append(f"| {r['scene']} | {r['triangles']} | {wall} | {r['cpu']:.2f} | "
+                     f"{r['peakMiB']:.0f} | {c.get('patches', '—')} | {c.get('links', '—')} | "
+                     f"{c.get('rays', '—')} |")
+        L.append("")
+    if results["notes"]:
+        L += ["## Notes", ""] + [f"- {n}" for n in results["notes"]] + [""]
+    L += ["Reproduce: see [bench/README.md](../README.md). Raw figures: "
+          "[results.json](results.json).", ""]
+    with open(os.path.join(out, "results.md"), "w", encoding="utf-8") as f:
+        f.write("\n".join(L))
+
+
+# ------------------------------------------------------------------ main
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
+                                 formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--quick", action="store_true",
+                    help="a quick subset: fewer settings, unconverged references, no large "
+                         "floors; writes bench/work/quick-results unless --out")
+    ap.add_argument("--scenes", default="office,cie,cornell,openplan",
+                    help="comma-separated subset of office,cie,cornell,openplan")
+    ap.add_argument("--no-radiance", action="store_true", help="skip the RADIANCE comparison")
+    ap.add_argument("--openplan-errors", action="store_true",
+                    help="also bake the small open-plan floor at every quality against a "
+                         "high-quality reference (long: not part of the ~20 min budget)")
+    ap.add_argument("--bake", help="use this bake binary instead of building one")
+    ap.add_argument("--threads", type=int, default=0,
+                    help="threads for bake and rtrace (default: all cores)")
+    ap.add_argument("--out", help="results folder (default bench/results)")
+    ap.add_argument("--work", default=os.path.join(BENCH, "work"),
+                    help="scratch folder for scenes and outputs (default bench/work)")
+    ap.add_argument("--replot", metavar="DIR",
+                    help="only rewrite results.md and the plots from DIR/results.json (no runs)")
+    a = ap.parse_args()
+    if a.replot:
+        with open(os.path.join(a.replot, "results.json"), encoding="utf-8") as f:
+            results = json.load(f)
+        rows = targets(results)
+        write_plots(results, a.replot)
+        write_markdown(results, a.replot, rows)
+        log(f"rewrote {a.replot}/results.md and plots from results.json")
+        return
+    plan = PLANS["quick" if a.quick else "full"]
+    out = a.out or (os.path.join(BENCH, "work", "quick-results") if a.quick
+                    else os.path.join(BENCH, "results"))
+    wanted = set(a.scenes.split(","))
+    t_start = time.perf_counter()
+    bake = os.path.abspath(a.bake) if a.bake else build_bake()
+    if not os.path.exists(bake):
+        raise SystemExit(f"no bake binary at {bake}")
+    rad_dir = None if a.no_radiance or "office" not in wanted else \
+        ensure_venv(os.path.join(BENCH, ".venv"))
+    rad = (os.path.join(rad_dir, "bin"), os.path.join(rad_dir, "lib")) if rad_dir else None
+    work = os.path.join(a.work, "quick" if a.quick else "full")
+    if os.path.exists(work):
+        shutil.rmtree(work)
+    os.makedirs(work)
+    os.makedirs(out, exist_ok=True)
+    cmdline = "python3 bench/run.py" + (" " + " ".join(sys.argv[1:]) if sys.argv[1:] else "")
+    results = {
+        "command": cmdline,
+        "date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
+        "plan": "quick" if a.quick else "full",
+        "machine": machine(bake, rad),
+        "loadavgStart": loadavg(),
+        "radianceThreads": a.threads or os.cpu_count(),
+        "scenes": {},
+        "notes": [],
+    }
+    log(f"machine: {results['machine']['cpu']}, {results['machine']['cores']} cores, "
+        f"load {results['loadavgStart']}")
+    ctx = Ctx(bake, work, a.threads)
+    ctx.openplan_errors = a.openplan_errors
+    if not ctx.has_diff:
+        results["notes"].append("`bake diff` is not in this bake (branch diff not merged): "
+                                "bakes are compared at the working-plane points and probes "
+                                "only (which is what the targets are phrased in)")
+    if "cie" in wanted:
+        bench_cie(ctx, plan, results)
+    if "office" in wanted:
+        bench_office(ctx, plan, rad, results)
+    if "cornell" in wanted:
+        bench_cornell(ctx, plan, results)
+    if "openplan" in wanted:
+        bench_openplan(ctx, plan, results)
+    elif not a.quick:
+        results["notes"].append("open-plan floors not run (--scenes)")
+    if "office" in wanted and a.no_radiance:
+        results["notes"].append("RADIANCE comparison not run (--no-radiance)")
+    results["loadavgEnd"] = loadavg()
+    results["harnessSeconds"] = time.perf_counter() - t_start
+    rows = targets(results)
+    results["targets"] = [{"target": t, "required": r, "measured": m, "met": ok}
+                          for t, r, m, ok in rows]
+    with open(os.path.join(out, "results.json"), "w", encoding="utf-8") as f:
+        json.dump(results, f, indent=1, ensure_ascii=False)
+        f.write("\n")
+    write_plots(results, out)
+    write_markdown(results, out, rows)
+    log(f"wrote {os.path.relpath(out, ROOT)}/results.md, results.json, time_vs_error.svg"
+        f" in {results['harnessSeconds'] / 60:.1f} min")
+    for t, r, m, ok in rows:
+        log(f"  [{'met' if ok is True else 'MISSED' if ok is False else 'n/a'}] {t}: {m}")
+
+
+if __name__ == "__main__":
+    main()
