@@ -9,6 +9,7 @@
 //! Units are SI and photometric (m, lx, cd, cd/m², lm); axes are glTF's, +Y up.
 
 pub mod bake;
+pub mod diff;
 pub mod direct;
 pub mod error;
 pub mod export;

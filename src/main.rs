@@ -29,6 +29,9 @@ enum Command {
     Luminaire(cli::luminaire::LuminaireArgs),
     /// Print the lighting report of a baked output (per material, per node, working plane).
     Report(cli::report::ReportArgs),
+    /// Compare two bakes: vertex by vertex, by node/material means or by probes (exit 0 within
+    /// tolerance, 1 not, 2 not comparable).
+    Diff(cli::diff::DiffArgs),
 }
 
 fn main() {
@@ -51,10 +54,14 @@ fn main() {
         }
         Err(e) => e.exit(), // --help, --version
     };
+    if let Some(Command::Diff(a)) = &args.command {
+        std::process::exit(cli::diff::run(a));
+    }
     let result = match &args.command {
         None => cli::bake::run(&args.bake),
         Some(Command::Luminaire(a)) => cli::luminaire::run(a),
         Some(Command::Report(a)) => cli::report::run(a),
+        Some(Command::Diff(_)) => unreachable!("handled above"),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");

@@ -86,6 +86,8 @@ pub struct Settings {
     /// Trace shadow rays even where the scene is a convex empty enclosure (testing).
     #[serde(skip)]
     pub always_trace: bool,
+    /// Patches of one size everywhere instead of adaptive meshing (see `bake::meshing`).
+    pub uniform_patches: bool,
     /// A grid of probes over the floor (`--probe-grid SPACING --probe-height H`).
     pub probe_grid: Option<ProbeGrid>,
     /// Probes given explicitly (read from a `--probes` CSV file by the caller).
@@ -118,6 +120,7 @@ impl Default for Settings {
             threads: None,
             record_timings: false,
             always_trace: false,
+            uniform_patches: false,
             probe_grid: None,
             extra_probes: Vec::new(),
             working_plane: None,

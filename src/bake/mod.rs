@@ -14,12 +14,13 @@
 
 mod display;
 mod energy;
+mod meshing;
 mod receivers;
 mod solution;
 
 use crate::direct::{emitters, sources::DirectSource};
 use crate::error::{Error, Result};
-use crate::patches::{self, PatchMesh};
+use crate::patches::PatchMesh;
 use crate::progress::Progress;
 use crate::result::{BakeResult, BakedSurface};
 use crate::scene::{Scene, luma};
@@ -62,8 +63,9 @@ pub struct Solution<'a> {
     pub node_reflected: NodeField,
     /// Cuttle's first reflected flux (lm, photometric): Σ ρ × direct flux onto each patch.
     pub first_reflected_flux: f64,
-    /// Closest-hit index over the patches (front faces), built when first needed.
-    pub(crate) surface_index: std::sync::OnceLock<Occluder>,
+    /// Closest-hit index over the patches (front faces) and the patch of each of its triangles,
+    /// built when first needed.
+    pub(crate) surface_index: std::sync::OnceLock<(Occluder, Vec<usize>)>,
 }
 
 /// A solved scene and what the summary says about the solve.
@@ -146,13 +148,13 @@ pub fn solve<'a>(
         .unwrap_or(2.0 * (total_area / params.target_patches).sqrt());
 
     progress.stage("meshing", 0);
-    let mesh = patches::build(scene, h);
     let occluder = Occluder::build(
         scene,
         OccluderOptions {
             always_trace: settings.always_trace,
         },
     );
+    let (mesh, adaptive) = meshing::mesh(scene, settings, h, &occluder);
     // What every patch emits (for the output's luminance), and the part that is Lambertian and
     // travels through the patch field (profiled emitters are direct sources instead).
     let emitted = emitters::patch_exitance(scene, &mesh);
@@ -264,6 +266,7 @@ pub fn solve<'a>(
             "rays": solution.occluder.rays_traced(),
             "convexEmptyScene": solution.occluder.convex_empty,
         },
+        "adaptiveMeshing": adaptive,
         "solver": stats,
         "balancing": balance_stats,
         "energy": balance,

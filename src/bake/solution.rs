@@ -48,9 +48,9 @@ impl Solution<'_> {
     /// the distance to it; `None` when the ray leaves the scene. Direct sources are not included
     /// (points have no area; see [`DirectSource::beams`]).
     pub fn luminance_toward(&self, p: DVec3, dir: DVec3) -> Option<(f64, f64)> {
-        let index = self.surface_index();
+        let (index, front) = self.surface_index();
         let hit = index.closest(p, dir)?;
-        let mut patch = self.front_patches()[hit.triangle];
+        let mut patch = front[hit.triangle];
         if hit.normal.dot(dir) > 0.0 {
             // The back of the face: its twin when double-sided, else black.
             match self.back_twin(patch) {
@@ -83,15 +83,18 @@ impl Solution<'_> {
             .collect()
     }
 
-    fn surface_index(&self) -> &Occluder {
-        self.surface_index.get_or_init(|| {
-            let tris: Vec<[DVec3; 3]> = self
-                .front_patches()
-                .into_iter()
-                .map(|p| self.mesh.patches[p].corners(&self.mesh.receivers))
+    /// The closest-hit index over the front patches, and the patch of each of its triangles
+    /// (built on first use, then shared).
+    fn surface_index(&self) -> (&Occluder, &[usize]) {
+        let (index, front) = self.surface_index.get_or_init(|| {
+            let front = self.front_patches();
+            let tris: Vec<[DVec3; 3]> = front
+                .iter()
+                .map(|p| self.mesh.patches[*p].corners(&self.mesh.receivers))
                 .collect();
-            Occluder::from_triangles(&tris, false)
-        })
+            (Occluder::from_triangles(&tris, false), front)
+        });
+        (index, front)
     }
 
     /// The back-side patch of a front patch of a double-sided surface (groups are laid out front,

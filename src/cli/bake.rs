@@ -29,6 +29,10 @@ pub struct BakeArgs {
     /// Patch edge length in metres (overrides the size derived from --quality).
     #[arg(long, value_name = "METRES", allow_negative_numbers = true)]
     patch_size: Option<f64>,
+    /// Patches of one size everywhere (default: adaptive — coarse where direct light is smooth,
+    /// fine at shadow edges and steep gradients).
+    #[arg(long)]
+    uniform_patches: bool,
     /// Far-field acceptance ratio, radius/distance (overrides the one of --quality).
     #[arg(long, value_name = "RATIO", hide = true, allow_negative_numbers = true)]
     far_field: Option<f64>,
@@ -110,6 +114,7 @@ fn settings(args: &BakeArgs) -> Result<Settings> {
         },
         threads: args.threads,
         record_timings: args.timings_in_output,
+        uniform_patches: args.uniform_patches,
         ..Settings::default()
     };
     args.probes.apply(&mut settings)?;

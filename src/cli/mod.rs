@@ -2,6 +2,7 @@
 //! them).
 
 pub mod bake;
+pub mod diff;
 pub mod luminaire;
 pub mod probes;
 pub mod progress;

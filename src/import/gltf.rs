@@ -32,7 +32,7 @@ use crate::Result;
 use crate::scene::{Material, Scene};
 use serde_json::Value;
 
-pub(crate) use baked::load as load_baked;
+pub(crate) use baked::{load as load_baked, load_output as load_baked_output};
 
 pub(crate) fn load(ctx: &mut Ctx, bytes: &[u8]) -> Result<Scene> {
     let document::Parsed { doc, raw, bin } = document::parse(ctx, bytes)?;

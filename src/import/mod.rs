@@ -63,6 +63,19 @@ pub fn load(path: &Path, options: &ImportOptions) -> Result<Scene> {
 
 /// Read a luxbake output (`.gltf`, `.glb`) back for the report: see `gltf/baked.rs`.
 pub fn load_baked(path: &Path) -> Result<crate::report::ReportInput> {
+    let mut ctx = baked_context(path)?;
+    let bytes = ctx.read_input()?;
+    gltf::load_baked(&mut ctx, &bytes)
+}
+
+/// Read a luxbake output back for `bake diff`: the report's input and every probe node.
+pub fn load_baked_output(path: &Path) -> Result<crate::diff::BakedOutput> {
+    let mut ctx = baked_context(path)?;
+    let bytes = ctx.read_input()?;
+    gltf::load_baked_output(&mut ctx, &bytes)
+}
+
+fn baked_context(path: &Path) -> Result<context::Ctx> {
     let extension = path
         .extension()
         .and_then(|e| e.to_str())
@@ -71,10 +84,8 @@ pub fn load_baked(path: &Path) -> Result<crate::report::ReportInput> {
         return Err(Error::input(
             path,
             "",
-            "not a luxbake output: the report reads the .gltf or .glb files bake writes",
+            "not a luxbake output: bake writes .gltf or .glb files",
         ));
     }
-    let mut ctx = context::Ctx::new(path)?;
-    let bytes = ctx.read_input()?;
-    gltf::load_baked(&mut ctx, &bytes)
+    context::Ctx::new(path)
 }

@@ -11,9 +11,10 @@
 //!
 //! Invariants: patches have area > 0; every patch's vertices are receivers of the same group;
 //! receiver normals have unit length and face the side's front; `Receiver::point` lies on the
-//! surface, nudged a hair (10⁻⁴·h) into the adjacent patches so that a receiver at a room corner
+//! surface, nudged a hair (10⁻⁴ of the longest edge around it) into the adjacent patches so that a receiver at a room corner
 //! sees the neighbouring wall as the limit from inside the face, not edge-on.
 
+pub mod adapt;
 pub mod refine;
 
 use crate::result::Side;
@@ -73,8 +74,9 @@ pub struct PatchMesh {
     pub patch_size: f64,
 }
 
-/// Refine every surface of `scene` into patches of size ≤ `h` (m).
-pub fn build(scene: &Scene, h: f64) -> PatchMesh {
+/// Refine every surface of `scene` into patches of size ≤ `h` (m), then, with `adapt`, split
+/// them further where direct light needs it (see [`adapt`]).
+pub fn build(scene: &Scene, h: f64, adapt: Option<&adapt::Adapt>) -> PatchMesh {
     let mut mesh = PatchMesh {
         patch_size: h,
         ..Default::default()
@@ -106,6 +108,24 @@ pub fn build(scene: &Scene, h: f64) -> PatchMesh {
             &[Side::Front, Side::Back]
         } else {
             &[Side::Front]
+        };
+        let (positions, normals, uv0, uv1, triangles) = match adapt {
+            None => (positions, normals, uv0, uv1, triangles),
+            Some(a) => {
+                let mut m = adapt::SurfaceMesh {
+                    positions,
+                    normals,
+                    uv0,
+                    uv1,
+                    triangles,
+                };
+                let signs: Vec<f64> = sides
+                    .iter()
+                    .map(|s| if *s == Side::Front { 1.0 } else { -1.0 })
+                    .collect();
+                adapt::refine(&mut m, &signs, a);
+                (m.positions, m.normals, m.uv0, m.uv1, m.triangles)
+            }
         };
         for &side in sides {
             let sign = if side == Side::Front { 1.0 } else { -1.0 };
@@ -203,6 +223,8 @@ fn add_group(mesh: &mut PatchMesh, g: GroupInput) {
     // Per vertex: Σ of adjacent face normals (area-weighted) and of (centroid − vertex).
     let mut face_sum = vec![DVec3::ZERO; n];
     let mut inward = vec![DVec3::ZERO; n];
+    // Per vertex: the longest edge of the triangles around it (the local patch size).
+    let mut local = vec![0.0f64; n];
     let mut area = 0.0;
     for t in g.triangles {
         let p = t.map(|v| g.positions[v as usize]);
@@ -213,9 +235,13 @@ fn add_group(mesh: &mut PatchMesh, g: GroupInput) {
         }
         let normal = cross / (2.0 * a);
         let centroid = (p[0] + p[1] + p[2]) / 3.0;
+        let longest = (0..3)
+            .map(|k| (p[k] - p[(k + 1) % 3]).length())
+            .fold(0.0, f64::max);
         for (k, &v) in t.iter().enumerate() {
             face_sum[v as usize] += cross;
             inward[v as usize] += (centroid - p[k]).normalize_or_zero();
+            local[v as usize] = local[v as usize].max(longest);
         }
         area += a;
         mesh.patches.push(Patch {
@@ -226,8 +252,8 @@ fn add_group(mesh: &mut PatchMesh, g: GroupInput) {
             double_sided: g.double_sided,
         });
     }
-    let nudge = 1e-4 * g.h;
     for i in 0..n {
+        let nudge = 1e-4 * local[i].min(g.h);
         let face = face_sum[i].normalize_or_zero();
         let shading = g.shading_normals[i];
         // Trust the shading normal unless it disagrees with the faces around the vertex.

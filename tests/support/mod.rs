@@ -1,9 +1,10 @@
-//! Shared test support: running the `bake` binary on a minimal input scene (`cli`), a hand-built
-//! scene with its bake result (`fixture`), a minimal reader of the written glTF (`gltf_read`)
-//! and the external tools (`tools`: Khronos glTF-Validator, Blender's importer). Each test binary
-//! uses what it needs.
+//! Shared test support: running the `bake` binary on a minimal input scene (`cli`), the `bake
+//! diff` tests' room and file surgery (`bakes`), a hand-built scene with its bake result
+//! (`fixture`), a minimal reader of the written glTF (`gltf_read`) and the external tools
+//! (`tools`: Khronos glTF-Validator, Blender's importer). Each test binary uses what it needs.
 #![allow(dead_code)]
 
+pub mod bakes;
 pub mod cli;
 pub mod fixture;
 pub mod gltf_read;

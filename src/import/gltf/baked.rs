@@ -14,11 +14,17 @@
 //!   `extras.luxbake.settings.workingPlane`.
 //!
 //! A file with no `_ILLUMINANCE` anywhere is not a luxbake output: an error saying so.
+//!
+//! For `bake diff`, [`load_output`] also reads every probe node of the scene (a node whose
+//! `extras.luxbake.faces` is an object): its position (`extras.luxbake.probe.position`, else the
+//! node's world origin) and its six `faces` (lx, as stored).
 
 use super::document::{self, Parsed};
 use super::{accessor, buffers, mesh, nodes};
 use crate::Result;
+use crate::diff::{BakedOutput, ProbeNode};
 use crate::import::context::Ctx;
+use crate::probes::FACE_NAMES;
 use crate::report::input::ReportInput;
 use crate::report::input::{MaterialInfo, NodeInfo, PlaneInput, PlanePoint, Primitive};
 use crate::scene::luma;
@@ -27,6 +33,15 @@ use glam::{DMat4, DVec3};
 use serde_json::Value;
 
 pub(crate) fn load(ctx: &mut Ctx, bytes: &[u8]) -> Result<ReportInput> {
+    Ok(load_parts(ctx, bytes, false)?.report)
+}
+
+/// The report's input and every probe node (for `bake diff`).
+pub(crate) fn load_output(ctx: &mut Ctx, bytes: &[u8]) -> Result<BakedOutput> {
+    load_parts(ctx, bytes, true)
+}
+
+fn load_parts(ctx: &mut Ctx, bytes: &[u8], with_probes: bool) -> Result<BakedOutput> {
     let Parsed { doc, raw, bin } = document::parse(ctx, bytes)?;
     let buffers = buffers::load_buffers(ctx, &doc, bin.as_deref())?;
     let hierarchy = nodes::build(ctx, &doc, &raw)?;
@@ -49,6 +64,11 @@ pub(crate) fn load(ctx: &mut Ctx, bytes: &[u8]) -> Result<ReportInput> {
         .map(|i| reflectance(&raw["materials"][i]["extras"]["luxbake"]["reflectance"]))
         .collect();
 
+    let probes = if with_probes {
+        probe_nodes(ctx, &hierarchy.nodes, &hierarchy.reachable)?
+    } else {
+        Vec::new()
+    };
     let mut order = hierarchy.reachable.clone();
     order.sort_unstable();
     let gltf_nodes: Vec<::gltf::Node> = doc.nodes().collect();
@@ -88,12 +108,53 @@ pub(crate) fn load(ctx: &mut Ctx, bytes: &[u8]) -> Result<ReportInput> {
         .collect();
     let points = working_plane(ctx, &hierarchy.nodes, &hierarchy.roots)?;
     let summary = hierarchy.extras.as_ref().map(|e| &e["luxbake"]);
-    Ok(ReportInput {
+    let report = ReportInput {
         nodes: node_infos,
         materials,
         primitives,
         working_plane: PlaneInput::new(summary, points),
-    })
+    };
+    Ok(BakedOutput { report, probes })
+}
+
+/// Every node of the scene whose `extras.luxbake.faces` is an object, in node order.
+fn probe_nodes(
+    ctx: &Ctx,
+    nodes: &[crate::scene::Node],
+    reachable: &[usize],
+) -> Result<Vec<ProbeNode>> {
+    let mut order = reachable.to_vec();
+    order.sort_unstable();
+    let mut probes = Vec::new();
+    for i in order {
+        let Some(luxbake) = nodes[i].extras.as_ref().map(|e| &e["luxbake"]) else {
+            continue;
+        };
+        let Some(faces) = luxbake["faces"].as_object() else {
+            continue;
+        };
+        let mut values = [0.0; 6];
+        for (v, name) in values.iter_mut().zip(FACE_NAMES) {
+            *v = faces.get(name).and_then(Value::as_f64).ok_or_else(|| {
+                ctx.err(
+                    format!("/nodes/{i}/extras/luxbake/faces"),
+                    format!("a probe without its \"{name}\" value (lx)"),
+                )
+            })?;
+        }
+        let stored = luxbake["probe"]["position"].as_array().and_then(|a| {
+            let c: Vec<f64> = a.iter().filter_map(Value::as_f64).collect();
+            (a.len() == 3 && c.len() == 3).then(|| DVec3::new(c[0], c[1], c[2]))
+        });
+        let position =
+            stored.unwrap_or_else(|| nodes[i].world_from_local.transform_point3(DVec3::ZERO));
+        probes.push(ProbeNode {
+            node: i,
+            position,
+            faces: values,
+        });
+    }
+    Ok(probes)
 }
 
 /// Y of a reflectance written as `[r, g, b]` (or a single number).

@@ -1,0 +1,377 @@
+//! Matching two outputs' nodes, primitives, vertices, materials and probes before comparing.
+//!
+//! Input: A and B ([`BakedOutput`]) and the [`Mode`]. Output: [`Matched`] (index pairs, display
+//! names) or a [`Mismatch`] naming the first place where the two differ (A's order first, then
+//! B's), with both files' node pointers (`/nodes/N`).
+//!
+//! - **Nodes** with baked primitives (vertices and means modes) by their path of names from the
+//!   root plus occurrence: the k-th node of A with a path goes with the k-th of B with it.
+//! - **Primitives** (vertices mode) by order within the node; **vertices** by index, their world
+//!   positions within 10⁻⁶ × the scene size (the box diagonal over both files).
+//! - **Materials**: vertices mode groups by B's material names; means mode needs the same set of
+//!   material names on baked primitives in both files.
+//! - **Probes** (every mode) by node path and occurrence, positions within the same tolerance.
+//!
+//! Everything is linear in the size of the outputs (hash maps on paths, one pass over vertices).
+
+use super::{BakedOutput, Mismatch, Mode};
+use crate::report::ReportInput;
+use glam::DVec3;
+use std::collections::{HashMap, HashSet};
+
+/// One matched pair of baked nodes (vertices mode: `prims_a[k]` goes with `prims_b[k]`).
+pub(super) struct NodePair {
+    pub name: String,
+    pub prims_a: Vec<usize>,
+    pub prims_b: Vec<usize>,
+}
+
+/// One matched pair of probe nodes (indices into the probe lists).
+pub(super) struct ProbePair {
+    pub name: String,
+    pub a: usize,
+    pub b: usize,
+    /// Under the root `probes` → `working_plane`.
+    pub working_plane: bool,
+}
+
+/// What is compared with what.
+pub(super) struct Matched {
+    /// Empty in probes mode.
+    pub nodes: Vec<NodePair>,
+    pub probes: Vec<ProbePair>,
+    /// Material group names: B's material names, deduplicated, in B's material order.
+    pub materials: Vec<String>,
+    /// Material group of each of B's materials.
+    pub material_of_b: Vec<usize>,
+    /// Material group of each of A's materials (`usize::MAX`: a name B does not have).
+    pub material_of_a: Vec<usize>,
+}
+
+/// Every node path (`a/b/c`), each computed once.
+fn all_paths(input: &ReportInput) -> Vec<String> {
+    let mut paths: Vec<Option<String>> = vec![None; input.nodes.len()];
+    for start in 0..input.nodes.len() {
+        // Walk up to the first node with a known path (or a root), then fill in downwards.
+        let mut chain = vec![start];
+        while let Some(&i) = chain.last() {
+            match input.nodes[i].parent {
+                Some(p) if paths[i].is_none() && chain.len() <= input.nodes.len() => chain.push(p),
+                _ => break,
+            }
+        }
+        let mut above: Option<String> = None;
+        for &i in chain.iter().rev() {
+            let p = match (&paths[i], &above) {
+                (Some(p), _) => p.clone(),
+                (None, Some(up)) => format!("{up}/{}", input.node_name(i)),
+                (None, None) => input.node_name(i),
+            };
+            paths[i] = Some(p.clone());
+            above = Some(p);
+        }
+    }
+    paths.into_iter().map(Option::unwrap_or_default).collect()
+}
+
+/// Keys (path, occurrence) for a list of nodes, in order.
+fn keyed(paths: &[String], nodes: &[usize]) -> Vec<(String, usize)> {
+    let mut seen: HashMap<&str, usize> = HashMap::new();
+    nodes
+        .iter()
+        .map(|&n| {
+            let k = seen.entry(paths[n].as_str()).or_insert(0);
+            *k += 1;
+            (paths[n].clone(), *k - 1)
+        })
+        .collect()
+}
+
+fn display_name((path, k): &(String, usize)) -> String {
+    if *k == 0 {
+        path.clone()
+    } else {
+        format!("{path} [{}]", k + 1)
+    }
+}
+
+/// Baked nodes in order of first primitive, and each node's primitives.
+fn baked_nodes(input: &ReportInput) -> (Vec<usize>, Vec<Vec<usize>>) {
+    let mut prims = vec![Vec::new(); input.nodes.len()];
+    let mut order = Vec::new();
+    for (k, p) in input.primitives.iter().enumerate() {
+        if prims[p.node].is_empty() {
+            order.push(p.node);
+        }
+        prims[p.node].push(k);
+    }
+    (order, prims)
+}
+
+pub(super) fn fmt_point(p: DVec3) -> String {
+    format!("({:.4}, {:.4}, {:.4})", p.x, p.y, p.z)
+}
+
+/// The diagonal of the box around both outputs' vertices and probes (m).
+fn scene_size(a: &BakedOutput, b: &BakedOutput) -> f64 {
+    let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+    for o in [a, b] {
+        let vertices = o.report.primitives.iter().flat_map(|p| &p.positions);
+        for &p in vertices.chain(o.probes.iter().map(|p| &p.position)) {
+            lo = lo.min(p);
+            hi = hi.max(p);
+        }
+    }
+    if lo.x > hi.x { 0.0 } else { (hi - lo).length() }
+}
+
+/// Within `tolerance` of each other (false for a non-finite position).
+fn near(p: DVec3, q: DVec3, tolerance: f64) -> bool {
+    p.distance(q) <= tolerance
+}
+
+fn too_far(p: DVec3, q: DVec3, tolerance: f64, what: &str) -> Option<Mismatch> {
+    (!near(p, q, tolerance)).then(|| {
+        Mismatch(format!(
+            "{what}: at {} in A vs {} in B, {:.3e} m apart (tolerance {:.3e} m)",
+            fmt_point(p),
+            fmt_point(q),
+            p.distance(q),
+            tolerance
+        ))
+    })
+}
+
+/// Match A with B for `mode`, or say where they differ.
+pub(super) fn match_outputs(
+    a: &BakedOutput,
+    b: &BakedOutput,
+    mode: Mode,
+) -> Result<Matched, Mismatch> {
+    let (ra, rb) = (&a.report, &b.report);
+    let (paths_a, paths_b) = (all_paths(ra), all_paths(rb));
+    let tolerance = 1e-6 * scene_size(a, b);
+    let (material_of_b, materials) = material_groups(rb);
+    let mut material_of_a = vec![usize::MAX; ra.materials.len()];
+    let nodes = match mode {
+        Mode::Probes => Vec::new(),
+        Mode::Vertices | Mode::Means => {
+            let nodes = match_nodes(ra, rb, &paths_a, &paths_b)?;
+            if mode == Mode::Vertices {
+                match_vertices(ra, rb, &nodes, tolerance)?;
+            } else {
+                material_of_a = match_materials(ra, rb, &materials, &material_of_b)?;
+            }
+            nodes
+        }
+    };
+    let probes = match_probes(a, b, &paths_a, &paths_b, tolerance)?;
+    Ok(Matched {
+        nodes,
+        probes,
+        materials,
+        material_of_b,
+        material_of_a,
+    })
+}
+
+/// Baked nodes by path; a node in one file only, or without primitives in one, is a mismatch.
+fn match_nodes(
+    ra: &ReportInput,
+    rb: &ReportInput,
+    paths_a: &[String],
+    paths_b: &[String],
+) -> Result<Vec<NodePair>, Mismatch> {
+    let (order_a, prims_a) = baked_nodes(ra);
+    let (order_b, prims_b) = baked_nodes(rb);
+    let keys_a = keyed(paths_a, &order_a);
+    let keys_b = keyed(paths_b, &order_b);
+    let index_b: HashMap<&(String, usize), usize> =
+        keys_b.iter().zip(&order_b).map(|(k, &n)| (k, n)).collect();
+    let mut pairs = Vec::with_capacity(order_a.len());
+    for (key, &na) in keys_a.iter().zip(&order_a) {
+        let name = display_name(key);
+        let Some(&nb) = index_b.get(key) else {
+            let in_b = paths_b.iter().position(|p| *p == key.0);
+            return Err(Mismatch(match in_b {
+                Some(nb) => format!(
+                    "node {name} (/nodes/{na} in A, /nodes/{nb} in B): {} baked primitives vs 0",
+                    prims_a[na].len()
+                ),
+                None => format!("node {name} (/nodes/{na} in A): missing in B"),
+            }));
+        };
+        pairs.push(NodePair {
+            name,
+            prims_a: prims_a[na].clone(),
+            prims_b: prims_b[nb].clone(),
+        });
+    }
+    let keys_a_set: HashSet<&(String, usize)> = keys_a.iter().collect();
+    if let Some(key) = keys_b.iter().find(|k| !keys_a_set.contains(k)) {
+        let name = display_name(key);
+        let nb = index_b[key];
+        let in_a = paths_a.iter().position(|p| *p == key.0);
+        return Err(Mismatch(match in_a {
+            Some(na) => format!(
+                "node {name} (/nodes/{na} in A, /nodes/{nb} in B): 0 baked primitives vs {}",
+                prims_b[nb].len()
+            ),
+            None => format!("node {name} (/nodes/{nb} in B): missing in A"),
+        }));
+    }
+    Ok(pairs)
+}
+
+/// Same primitive and vertex counts, vertices at the same places.
+fn match_vertices(
+    ra: &ReportInput,
+    rb: &ReportInput,
+    pairs: &[NodePair],
+    tolerance: f64,
+) -> Result<(), Mismatch> {
+    for pair in pairs {
+        let name = &pair.name;
+        let (pa, pb) = (&pair.prims_a, &pair.prims_b);
+        let (na, nb) = (ra.primitives[pa[0]].node, rb.primitives[pb[0]].node);
+        let nodes = format!("(/nodes/{na} in A, /nodes/{nb} in B)");
+        if pa.len() != pb.len() {
+            return Err(Mismatch(format!(
+                "node {name} {nodes}: {} baked primitives vs {}",
+                pa.len(),
+                pb.len()
+            )));
+        }
+        for (k, (&ia, &ib)) in pa.iter().zip(pb).enumerate() {
+            let (qa, qb) = (&ra.primitives[ia], &rb.primitives[ib]);
+            if qa.positions.len() != qb.positions.len() {
+                return Err(Mismatch(format!(
+                    "node {name} {nodes} primitive {k}: {} vertices vs {}",
+                    qa.positions.len(),
+                    qb.positions.len()
+                )));
+            }
+            let far = qa
+                .positions
+                .iter()
+                .zip(&qb.positions)
+                .position(|(p, q)| !near(*p, *q, tolerance));
+            if let Some(v) = far {
+                let what = format!("node {name} {nodes} primitive {k} vertex {v}");
+                let (p, q) = (qa.positions[v], qb.positions[v]);
+                return Err(too_far(p, q, tolerance, &what).expect("found as too far"));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// B's material names, deduplicated in B's material order: (group of each material, names).
+fn material_groups(rb: &ReportInput) -> (Vec<usize>, Vec<String>) {
+    let mut by_name: HashMap<String, usize> = HashMap::new();
+    let mut names = Vec::new();
+    let groups = (0..rb.materials.len())
+        .map(|m| {
+            let name = rb.material_name(m);
+            *by_name.entry(name.clone()).or_insert_with(|| {
+                names.push(name);
+                names.len() - 1
+            })
+        })
+        .collect();
+    (groups, names)
+}
+
+/// Means mode: the material names on baked primitives must be the same set in both files.
+fn match_materials(
+    ra: &ReportInput,
+    rb: &ReportInput,
+    names: &[String],
+    of_b: &[usize],
+) -> Result<Vec<usize>, Mismatch> {
+    let index: HashMap<&str, usize> = names
+        .iter()
+        .enumerate()
+        .map(|(g, n)| (n.as_str(), g))
+        .collect();
+    let of_a: Vec<usize> = (0..ra.materials.len())
+        .map(|m| {
+            index
+                .get(ra.material_name(m).as_str())
+                .copied()
+                .unwrap_or(usize::MAX)
+        })
+        .collect();
+    let used_b: HashSet<usize> = rb.primitives.iter().map(|p| of_b[p.material]).collect();
+    let mut used_a = HashSet::new();
+    for p in &ra.primitives {
+        let m = p.material;
+        if !used_b.contains(&of_a[m]) {
+            return Err(Mismatch(format!(
+                "material {} (/materials/{m} in A): on no baked primitive of B",
+                ra.material_name(m)
+            )));
+        }
+        used_a.insert(of_a[m]);
+    }
+    if let Some(p) = rb
+        .primitives
+        .iter()
+        .find(|p| !used_a.contains(&of_b[p.material]))
+    {
+        let m = p.material;
+        return Err(Mismatch(format!(
+            "material {} (/materials/{m} in B): on no baked primitive of A",
+            names[of_b[m]]
+        )));
+    }
+    Ok(of_a)
+}
+
+/// Probes by node path, at the same places.
+fn match_probes(
+    a: &BakedOutput,
+    b: &BakedOutput,
+    paths_a: &[String],
+    paths_b: &[String],
+    tolerance: f64,
+) -> Result<Vec<ProbePair>, Mismatch> {
+    let probe_nodes = |o: &BakedOutput| o.probes.iter().map(|p| p.node).collect::<Vec<_>>();
+    let pk_a = keyed(paths_a, &probe_nodes(a));
+    let pk_b = keyed(paths_b, &probe_nodes(b));
+    let index_b: HashMap<&(String, usize), usize> =
+        pk_b.iter().enumerate().map(|(i, k)| (k, i)).collect();
+    let mut probes = Vec::with_capacity(pk_a.len());
+    for (ia, key) in pk_a.iter().enumerate() {
+        let name = display_name(key);
+        let na = a.probes[ia].node;
+        let Some(&ib) = index_b.get(key) else {
+            return Err(Mismatch(format!(
+                "probe {name} (/nodes/{na} in A): missing in B"
+            )));
+        };
+        let nb = b.probes[ib].node;
+        let what = format!("probe {name} (/nodes/{na} in A, /nodes/{nb} in B)");
+        let (p, q) = (a.probes[ia].position, b.probes[ib].position);
+        if let Some(m) = too_far(p, q, tolerance, &what) {
+            return Err(m);
+        }
+        let working_plane = key.0.starts_with("probes/working_plane/");
+        probes.push(ProbePair {
+            name,
+            a: ia,
+            b: ib,
+            working_plane,
+        });
+    }
+    if pk_b.len() != probes.len() {
+        let matched: HashSet<usize> = probes.iter().map(|p| p.b).collect();
+        let ib = (0..pk_b.len()).find(|i| !matched.contains(i)).unwrap_or(0);
+        return Err(Mismatch(format!(
+            "probe {} (/nodes/{} in B): missing in A",
+            display_name(&pk_b[ib]),
+            b.probes[ib].node
+        )));
+    }
+    Ok(probes)
+}

@@ -1,0 +1,319 @@
+//! Adaptive refinement: coarse patches where direct light is smooth, finer ones where its
+//! gradient or a shadow edge needs them.
+//!
+//! Input: one surface's refined mesh (positions, shading normals, optional UVs, triangles), the
+//! sides it receives light on, and a [`Probe`] that evaluates direct illuminance at points.
+//! Output: the same surface with some triangles split; every new vertex is the midpoint of an
+//! edge, its normal and UVs the mean of the edge's ends.
+//!
+//! The error estimate of an edge is how far direct illuminance at its midpoint is from the
+//! linear interpolation of its ends — exactly what linear (vertex) interpolation of the output
+//! and the trapezoid quadrature of the solver miss there. An edge is split when that error
+//! exceeds `RELATIVE` of the brightest of the three values or `ABSOLUTE` of the scene's mean
+//! direct illuminance, and it is longer than the smallest patch size. Both sides of a
+//! double-sided surface are judged and split alike (a patch and its twin stay coincident).
+//!
+//! Splitting is conforming within the surface: an edge is split for both triangles beside it
+//! (its midpoint is shared); a triangle with one split edge becomes two, with two becomes three
+//! (the quad cut along its shorter diagonal), with three becomes four. Orientation is kept. The
+//! result depends only on the inputs (edges are visited in a fixed order), whatever the thread
+//! count of the probe.
+
+use glam::{DVec2, DVec3};
+use std::collections::HashMap;
+
+/// Split when the midpoint misses linear interpolation by this share of the local brightness…
+pub const RELATIVE: f64 = 0.08;
+/// …or by this share of the scene's mean direct illuminance (dark regions need less).
+pub const ABSOLUTE: f64 = 0.03;
+
+/// Direct illuminance (lx) at each `(point, unit normal)`; evaluated in one batch.
+pub type Probe<'p> = &'p (dyn Fn(&[(DVec3, DVec3)]) -> Vec<f64> + Sync);
+
+/// What adaptive refinement needs beyond the mesh.
+pub struct Adapt<'p> {
+    pub probe: Probe<'p>,
+    /// Edges are not split below this length (m).
+    pub min_edge: f64,
+    /// Rounds of splitting (each can halve an edge once).
+    pub levels: u32,
+    /// The scene's mean direct illuminance (lx), the scale of [`ABSOLUTE`].
+    pub mean: f64,
+}
+
+/// A surface mesh being refined.
+pub struct SurfaceMesh {
+    pub positions: Vec<DVec3>,
+    pub normals: Vec<DVec3>,
+    pub uv0: Option<Vec<DVec2>>,
+    pub uv1: Option<Vec<DVec2>>,
+    pub triangles: Vec<[u32; 3]>,
+}
+
+/// Refine `m` (receiving light on the given sides: `+1` front, `−1` back) in place; returns how
+/// many edges were split.
+pub fn refine(m: &mut SurfaceMesh, signs: &[f64], a: &Adapt) -> usize {
+    let mut split_total = 0;
+    // Illuminance per vertex and side, extended as vertices are added.
+    let mut at: Vec<Vec<f64>> = signs.iter().map(|_| Vec::new()).collect();
+    for _ in 0..a.levels {
+        for (s, sign) in signs.iter().enumerate() {
+            let from = at[s].len();
+            let queries: Vec<(DVec3, DVec3)> = (from..m.positions.len())
+                .map(|i| (m.positions[i], m.normals[i] * *sign))
+                .collect();
+            at[s].extend((a.probe)(&queries));
+        }
+        // Candidate edges in first-seen order (deterministic).
+        let mut index: HashMap<(u32, u32), usize> = HashMap::new();
+        let mut edges: Vec<(u32, u32)> = Vec::new();
+        for t in &m.triangles {
+            for k in 0..3 {
+                let (u, v) = (t[k], t[(k + 1) % 3]);
+                let key = (u.min(v), u.max(v));
+                let long =
+                    (m.positions[u as usize] - m.positions[v as usize]).length() > a.min_edge * 1.5;
+                if long && !index.contains_key(&key) {
+                    index.insert(key, edges.len());
+                    edges.push(key);
+                }
+            }
+        }
+        if edges.is_empty() {
+            break;
+        }
+        let mid = |m: &SurfaceMesh, &(u, v): &(u32, u32)| {
+            let (u, v) = (u as usize, v as usize);
+            (
+                (m.positions[u] + m.positions[v]) * 0.5,
+                (m.normals[u] + m.normals[v]).normalize_or_zero(),
+            )
+        };
+        let mut split = vec![false; edges.len()];
+        for (s, sign) in signs.iter().enumerate() {
+            let queries: Vec<(DVec3, DVec3)> = edges
+                .iter()
+                .map(|e| {
+                    let (p, n) = mid(m, e);
+                    (p, n * *sign)
+                })
+                .collect();
+            let e_mid = (a.probe)(&queries);
+            for (i, &(u, v)) in edges.iter().enumerate() {
+                let (eu, ev, em) = (at[s][u as usize], at[s][v as usize], e_mid[i]);
+                let error = (em - 0.5 * (eu + ev)).abs();
+                let local = eu.max(ev).max(em);
+                if error > RELATIVE * local || (error > ABSOLUTE * a.mean && local > 0.0) {
+                    split[i] = true;
+                }
+            }
+        }
+        let count = split.iter().filter(|s| **s).count();
+        if count == 0 {
+            break;
+        }
+        split_total += count;
+        // Midpoints of the split edges.
+        let mut midpoint: HashMap<(u32, u32), u32> = HashMap::new();
+        for (i, e) in edges.iter().enumerate() {
+            if split[i] {
+                let (p, n) = mid(m, e);
+                midpoint.insert(*e, m.positions.len() as u32);
+                m.positions.push(p);
+                m.normals.push(n);
+                for uv in [&mut m.uv0, &mut m.uv1].into_iter().flatten() {
+                    let w = (uv[e.0 as usize] + uv[e.1 as usize]) * 0.5;
+                    uv.push(w);
+                }
+            }
+        }
+        let old = std::mem::take(&mut m.triangles);
+        for t in old {
+            let mids: [Option<u32>; 3] = std::array::from_fn(|k| {
+                let (u, v) = (t[k], t[(k + 1) % 3]);
+                midpoint.get(&(u.min(v), u.max(v))).copied()
+            });
+            split_triangle(t, mids, &m.positions, &mut m.triangles);
+        }
+    }
+    split_total
+}
+
+/// Split triangle `t` (counter-clockwise) at the midpoints `mids[k]` of its edges `t[k]→t[k+1]`.
+fn split_triangle(t: [u32; 3], mids: [Option<u32>; 3], pos: &[DVec3], out: &mut Vec<[u32; 3]>) {
+    let n = mids.iter().filter(|m| m.is_some()).count();
+    match n {
+        0 => out.push(t),
+        3 => {
+            let [m0, m1, m2] = mids.map(|m| m.expect("three midpoints"));
+            out.extend([[t[0], m0, m2], [m0, t[1], m1], [m2, m1, t[2]], [m0, m1, m2]]);
+        }
+        _ => {
+            // Rotate so the first split edge is t[0]→t[1].
+            let r = (0..3).find(|&k| mids[k].is_some()).expect("one midpoint");
+            let r = if n == 2 && mids[(r + 2) % 3].is_some() {
+                (r + 2) % 3
+            } else {
+                r
+            };
+            let [a, b, c] = [t[r], t[(r + 1) % 3], t[(r + 2) % 3]];
+            let mab = mids[r].expect("split edge");
+            match mids[(r + 1) % 3] {
+                None => out.extend([[a, mab, c], [mab, b, c]]),
+                Some(mbc) => {
+                    out.push([mab, b, mbc]);
+                    // The quad a, mab, mbc, c: cut along its shorter diagonal.
+                    let d1 = (pos[a as usize] - pos[mbc as usize]).length_squared();
+                    let d2 = (pos[mab as usize] - pos[c as usize]).length_squared();
+                    if d1 <= d2 {
+                        out.extend([[a, mab, mbc], [a, mbc, c]]);
+                    } else {
+                        out.extend([[a, mab, c], [mab, mbc, c]]);
+                    }
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn area_normal(pos: &[DVec3], t: &[u32; 3]) -> DVec3 {
+        let p = t.map(|v| pos[v as usize]);
+        (p[1] - p[0]).cross(p[2] - p[0]) * 0.5
+    }
+
+    fn square(n: u32) -> SurfaceMesh {
+        // An n × n grid of unit squares in y = 0, facing +Y, two triangles each.
+        let mut positions = Vec::new();
+        for j in 0..=n {
+            for i in 0..=n {
+                positions.push(DVec3::new(i as f64, 0.0, j as f64));
+            }
+        }
+        let id = |i: u32, j: u32| j * (n + 1) + i;
+        let mut triangles = Vec::new();
+        for j in 0..n {
+            for i in 0..n {
+                triangles.push([id(i, j), id(i, j + 1), id(i + 1, j + 1)]);
+                triangles.push([id(i, j), id(i + 1, j + 1), id(i + 1, j)]);
+            }
+        }
+        SurfaceMesh {
+            normals: vec![DVec3::Y; positions.len()],
+            positions,
+            uv0: None,
+            uv1: None,
+            triangles,
+        }
+    }
+
+    /// Edge → number of triangles using it, over the whole mesh.
+    fn edge_use(m: &SurfaceMesh) -> HashMap<(u32, u32), usize> {
+        let mut e = HashMap::new();
+        for t in &m.triangles {
+            for k in 0..3 {
+                let (u, v) = (t[k], t[(k + 1) % 3]);
+                *e.entry((u.min(v), u.max(v))).or_insert(0) += 1;
+            }
+        }
+        e
+    }
+
+    #[test]
+    fn a_shadow_edge_is_refined_and_smooth_light_is_not() {
+        // Light 100 lx for x < 2.3, 0 beyond: a shadow edge across a 4 × 4 m floor.
+        let probe = |q: &[(DVec3, DVec3)]| -> Vec<f64> {
+            q.iter()
+                .map(|(p, _)| if p.x < 2.3 { 100.0 } else { 0.0 })
+                .collect()
+        };
+        let mut m = square(4);
+        let before = m.triangles.len();
+        let a = Adapt {
+            probe: &probe,
+            min_edge: 0.2,
+            levels: 3,
+            mean: 50.0,
+        };
+        let split = refine(&mut m, &[1.0], &a);
+        assert!(split > 0 && m.triangles.len() > before);
+        // Area and orientation are kept; no triangle is degenerate.
+        let total: DVec3 = m
+            .triangles
+            .iter()
+            .map(|t| area_normal(&m.positions, t))
+            .sum();
+        assert!(
+            (total - DVec3::new(0.0, 16.0, 0.0)).length() < 1e-12,
+            "{total}"
+        );
+        for t in &m.triangles {
+            let n = area_normal(&m.positions, t);
+            assert!(n.y > 1e-6, "flipped or degenerate {t:?}");
+        }
+        // Conforming: every interior edge has exactly two triangles, boundary ones one.
+        for (e, uses) in edge_use(&m) {
+            let (p, q) = (m.positions[e.0 as usize], m.positions[e.1 as usize]);
+            let boundary = [p, q].iter().all(|v| v.x == 0.0)
+                || [p, q].iter().all(|v| v.x == 4.0)
+                || [p, q].iter().all(|v| v.z == 0.0)
+                || [p, q].iter().all(|v| v.z == 4.0);
+            assert_eq!(uses, if boundary { 1 } else { 2 }, "edge {p} – {q}");
+        }
+        // Fine triangles sit at the shadow edge only: those far from x = 2.3 keep their size.
+        for t in &m.triangles {
+            let p = t.map(|v| m.positions[v as usize]);
+            let far = p.iter().all(|v| (v.x - 2.3).abs() > 1.01);
+            if far {
+                assert!(area_normal(&m.positions, t).y >= 0.5 - 1e-12, "{p:?}");
+            }
+        }
+        let smallest = m
+            .triangles
+            .iter()
+            .map(|t| area_normal(&m.positions, t).y)
+            .fold(f64::INFINITY, f64::min);
+        assert!(smallest < 0.5 / 8.0 + 1e-12, "smallest {smallest}");
+    }
+
+    #[test]
+    fn linear_light_needs_no_patches() {
+        let probe = |q: &[(DVec3, DVec3)]| -> Vec<f64> {
+            q.iter()
+                .map(|(p, _)| 10.0 + 20.0 * p.x + 5.0 * p.z)
+                .collect()
+        };
+        let mut m = square(3);
+        let before = m.triangles.clone();
+        let a = Adapt {
+            probe: &probe,
+            min_edge: 0.1,
+            levels: 3,
+            mean: 50.0,
+        };
+        assert_eq!(refine(&mut m, &[1.0, -1.0], &a), 0);
+        assert_eq!(m.triangles, before);
+    }
+
+    #[test]
+    fn edges_at_the_smallest_size_are_left_alone() {
+        let probe = |q: &[(DVec3, DVec3)]| -> Vec<f64> {
+            q.iter()
+                .map(|(p, _)| (p.x * 40.0).sin().abs() * 100.0)
+                .collect()
+        };
+        let mut m = square(2);
+        let a = Adapt {
+            probe: &probe,
+            min_edge: 1.0,
+            levels: 4,
+            mean: 50.0,
+        };
+        refine(&mut m, &[1.0], &a);
+        // Unit edges (and diagonals √2 < 1.5) are never split at min_edge 1.
+        assert_eq!(m.triangles.len(), 8);
+    }
+}
