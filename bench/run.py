@@ -224,6 +224,13 @@ class Ctx:
         self.work = work
         self.threads = threads
         self.has_diff = has_subcommand(bake, "diff")
+        # adaptive patches became the default with --uniform-patches to turn them off
+        self.has_uniform = "--uniform-patches" in sh([bake, "--help"]).stdout
+
+    def uniform(self):
+        """References use one patch size everywhere (when the bake has the choice), so they do
+        not depend on the adaptive refinement criterion being measured."""
+        return ["--uniform-patches"] if self.has_uniform else []
 
 
 def bake_run(ctx, scene, tag, inp, args, repeats=1, timeout=TIMEOUT_DEFAULT, probes=False):
@@ -362,9 +369,16 @@ def bake_diff(ctx, run, ref):
             os.path.join(ref["outDir"], "out.gltf"), "--mode", "means", "--json"])
     if r.returncode in (0, 1):
         try:
-            run["bakeDiff"] = json.loads(r.stdout)
+            d = json.loads(r.stdout)
         except ValueError:
             run["bakeDiff"] = {"unparsed": r.stdout[-2000:]}
+            return
+        run["bakeDiff"] = {k: d.get(k) for k in ("mode", "rtol", "floor", "pass", "values",
+                                                 "failed", "worstFailure")}
+        run["bakeDiff"]["overall"] = {
+            q.get("quantity"): {"relMax": q.get("overall", {}).get("rel", {}).get("max"),
+                                "relMean": q.get("overall", {}).get("rel", {}).get("mean")}
+            for q in d.get("quantities", [])}
     else:
         run["bakeDiff"] = {"error": r.stderr.strip()[-500:]}
 
@@ -374,22 +388,25 @@ def bake_diff(ctx, run, ref):
 def bench_office(ctx, plan, rad, results):
     log("office (samples/office/office.gltf)")
     probe_args = OFFICE_WP + ["--probes", OFFICE_PROBES]
-    ref = bake_run(ctx, "office", "reference", OFFICE, plan["office_ref"] + probe_args,
-                   probes=True)
+    ref = bake_run(ctx, "office", "reference", OFFICE,
+                   plan["office_ref"] + ctx.uniform() + probe_args, probes=True)
     if "workingPlanePoints" not in ref:
         results["notes"].append("office: the luxbake reference failed; office skipped")
         return
     runs = []
-    for q in plan["office_runs"]:
-        r = bake_run(ctx, "office", q, OFFICE, quality_args(q) + probe_args, repeats=3,
-                     probes=True)
+    variants = [("", [])] + ([("-uniform", ["--uniform-patches"])] if ctx.has_uniform else [])
+    for q, (suffix, extra) in [(q, v) for v in variants for q in plan["office_runs"]]:
+        r = bake_run(ctx, "office", q + suffix, OFFICE, quality_args(q) + extra + probe_args,
+                     repeats=3, probes=True)
+        r["variant"] = suffix.lstrip("-")
         if "workingPlanePoints" in r:
             r["errors"] = {**wp_errors(r, ref), **probe_errors(r, ref),
                            **surface_errors(r, ref)}
             r["plotError"] = r["errors"]["wpRms"]
             bake_diff(ctx, r, ref)
         runs.append(r)
-    office = {"reference": {**strip(ref), "name": plan["office_ref_name"],
+    office = {"reference": {**strip(ref), "name": plan["office_ref_name"] +
+                            (", uniform patches" if ctx.has_uniform else ""),
                             "workingPlane": ref["report"]["workingPlane"],
                             "probes": ref["probes"]},
               "runs": [strip(r) for r in runs],
@@ -521,8 +538,8 @@ def bench_cie(ctx, plan, results):
 
 def bench_cornell(ctx, plan, results):
     log("cornell-box (samples/cornell-box)")
-    ref = bake_run(ctx, "cornell-box", "reference", CORNELL, plan["cornell_ref"] + CORNELL_WP,
-                   probes=True)
+    ref = bake_run(ctx, "cornell-box", "reference", CORNELL,
+                   plan["cornell_ref"] + ctx.uniform() + CORNELL_WP, probes=True)
     if "workingPlanePoints" not in ref:
         results["notes"].append("cornell-box: the reference failed; scene skipped")
         return
@@ -536,7 +553,8 @@ def bench_cornell(ctx, plan, results):
             bake_diff(ctx, r, ref)
         runs.append(strip(r))
     results["scenes"]["cornell-box"] = {
-        "reference": {**strip(ref), "name": plan["cornell_ref_name"],
+        "reference": {**strip(ref), "name": plan["cornell_ref_name"] +
+                      (", uniform patches" if ctx.has_uniform else ""),
                       "workingPlane": ref["report"]["workingPlane"]},
         "runs": runs,
         "errorMeasure": "RMS over the working-plane points (5 cm above the floor, 5 cm grid) "
@@ -573,8 +591,9 @@ def bench_openplan(ctx, plan, results):
         scaling.append(strip(r))
         if size != "small" or not ctx.openplan_errors:
             continue
-        ref = bake_run(ctx, name, "reference", inp, plan["openplan_ref"] + OPENPLAN_WP,
-                       probes=True, timeout=TIMEOUT_DEFAULT)
+        ref = bake_run(ctx, name, "reference", inp,
+                       plan["openplan_ref"] + ctx.uniform() + OPENPLAN_WP, probes=True,
+                       timeout=TIMEOUT_DEFAULT)
         if "workingPlanePoints" not in ref:
             results["notes"].append(f"{name}: the reference failed; error curve skipped")
             continue
@@ -715,9 +734,12 @@ def write_plots(results, out):
     series = []
     sc = results["scenes"]
     for name, s in sc.items():
-        pts = [(r["wall"], r["plotError"] * 100, r["tag"]) for r in s["runs"] if "plotError" in r]
-        if pts:
-            series.append({"name": f"{name} (luxbake)", "points": pts})
+        for variant in sorted({r.get("variant", "") for r in s["runs"]}):
+            pts = [(r["wall"], r["plotError"] * 100, r["tag"].replace("-" + variant, ""))
+                   for r in s["runs"] if "plotError" in r and r.get("variant", "") == variant]
+            label = f"{name} (luxbake" + (f", {variant} patches)" if variant else ")")
+            if pts:
+                series.append({"name": label, "points": pts, "dash": bool(variant)})
         if name == "office" and s.get("radiance"):
             rp = [(r["wall"], r["plotError"] * 100, r["tag"].replace("_", " "))
                   for r in s["radiance"]["runs"]]
@@ -820,6 +842,26 @@ def write_markdown(results, out, rows):
                          (f" {pct(e['probeMax'])} ({e['probeWorst']}) |" if probes else "") +
                          f" {pct(e.get('surfaceMax'))} ({e.get('surfaceWorst')}) |")
         L.append("")
+        diffs = [r for r in s["runs"] if (r.get("bakeDiff") or {}).get("overall")]
+        if diffs:
+            L += ["`bake diff RUN REFERENCE --mode means` (area-weighted means of every node and "
+                  "material, and the probes; relative differences, values below its floor of "
+                  "1 % of the reference's 99th percentile taken at the floor):", "",
+                  "| quality | illuminance: max % | mean % | direct: max % | luminance: max % | "
+                  "probe faces: max % | working plane: max % | values | outside 0.1 % |",
+                  "| --- |" + " ---: |" * 8]
+            for r in diffs:
+                o = r["bakeDiff"]["overall"]
+
+                def g(q, k):
+                    v = (o.get(q) or {}).get(k)
+                    return "—" if v is None else f"{100 * v:.3f}"
+                L.append(f"| {r['tag']} | {g('illuminance', 'relMax')} | "
+                         f"{g('illuminance', 'relMean')} | {g('illuminanceDirect', 'relMax')} | "
+                         f"{g('luminance', 'relMax')} | {g('probeFaces', 'relMax')} | "
+                         f"{g('workingPlane', 'relMax')} | {r['bakeDiff'].get('values')} | "
+                         f"{r['bakeDiff'].get('failed')} |")
+            L.append("")
         stages = [r for r in s["runs"] if r.get("stageSeconds")]
         if stages and not name.startswith("cie"):
             keys = list(stages[0]["stageSeconds"].keys())
@@ -954,6 +996,7 @@ def main():
         results["notes"].append("`bake diff` is not in this bake (branch diff not merged): "
                                 "bakes are compared at the working-plane points and probes "
                                 "only (which is what the targets are phrased in)")
+    results["bakeDiffUsed"] = ctx.has_diff
     if "cie" in wanted:
         bench_cie(ctx, plan, results)
     if "office" in wanted:
