@@ -157,9 +157,13 @@ fn two_solver_qualities_give_the_error_computed_from_the_files() {
         );
         assert_eq!(got[2], expect[2], "{key} p95");
     }
-    // The qualities differ (far-field ratio, solver tolerance), but not by much.
+    // The qualities differ (far-field ratio, solver tolerance), but not by much: ~1 % on
+    // average, up to ~13 % at dim floor corners (draft's τ = 0.45 on the adaptive mesh's coarse
+    // patches there).
     let rel_max = number(&ill["rel"]["max"]);
-    assert!(rel_max > 0.0 && rel_max < 0.1, "{rel_max}");
+    let rel_mean = number(&ill["rel"]["mean"]);
+    assert!(rel_max > 0.0 && rel_max < 0.2, "{rel_max}");
+    assert!(rel_mean < 0.02, "{rel_mean}");
     assert_eq!(run.code, Some(if failed > 0 { 1 } else { 0 }));
     // Probes near the divider move more (up to ~20 %): a loose tolerance passes everything.
     let (run, _) = diff_json(&draft, &high, &["--rtol", "1"]);
