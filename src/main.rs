@@ -29,6 +29,8 @@ enum Command {
     Luminaire(cli::luminaire::LuminaireArgs),
     /// Print the lighting report of a baked output (per material, per node, working plane).
     Report(cli::report::ReportArgs),
+    /// Write a scene built in code as an input glTF (e.g. the benchmark's open-plan office).
+    Generate(cli::generate::GenerateArgs),
 }
 
 fn main() {
@@ -55,6 +57,7 @@ fn main() {
         None => cli::bake::run(&args.bake),
         Some(Command::Luminaire(a)) => cli::luminaire::run(a),
         Some(Command::Report(a)) => cli::report::run(a),
+        Some(Command::Generate(a)) => cli::generate::run(a),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");

@@ -2,6 +2,7 @@
 //! them).
 
 pub mod bake;
+pub mod generate;
 pub mod luminaire;
 pub mod probes;
 pub mod progress;
