@@ -8,6 +8,9 @@ use crate::scene::{
 };
 use glam::{DMat4, DVec3};
 
+pub mod openplan;
+pub use openplan::{OpenPlan, open_plan};
+
 /// Builds a [`Scene`] one node per surface.
 #[derive(Default)]
 pub struct SceneBuilder {
@@ -34,6 +37,8 @@ impl SceneBuilder {
         self.material_full(name, DVec3::splat(rho), Some(e), false)
     }
 
+    /// A material with per-channel reflectance `rho`; its `LUXBAKE_material` object (reflectance
+    /// and emission) is filled in, so that an exported scene keeps both.
     pub fn material_full(
         &mut self,
         name: &str,
@@ -41,6 +46,19 @@ impl SceneBuilder {
         emission: Option<Emission>,
         double_sided: bool,
     ) -> usize {
+        let mut ext = serde_json::Map::new();
+        ext.insert("reflectance".into(), serde_json::json!(rho.to_array()));
+        if let Some(e) = &emission {
+            let mut em = serde_json::Map::new();
+            match e.amount {
+                EmissionAmount::Luminance(l) => em.insert("luminance".into(), l.into()),
+                EmissionAmount::LuminousFlux(f) => em.insert("luminousFlux".into(), f.into()),
+            };
+            if e.color != DVec3::ONE {
+                em.insert("color".into(), serde_json::json!(e.color.to_array()));
+            }
+            ext.insert("emission".into(), em.into());
+        }
         self.scene.materials.push(Material {
             name: Some(name.into()),
             source_path: format!("/materials/{}", self.scene.materials.len()),
@@ -51,6 +69,7 @@ impl SceneBuilder {
             display: DisplayMaterial {
                 base_color_factor: [rho.x, rho.y, rho.z, 1.0],
                 metallic_factor: 0.0,
+                luxbake_extension: Some(ext.into()),
                 ..Default::default()
             },
             extras: None,
@@ -196,16 +215,43 @@ impl SceneBuilder {
         bytes: &[u8],
         format: crate::photometry::Format,
     ) -> usize {
+        let path = format!(
+            "/extensions/LUXBAKE_luminaire/profiles/{}",
+            self.scene.profiles.len()
+        );
+        self.add_profile(name, bytes, format, path)
+    }
+
+    /// Add an IES LM-63 profile that an exported scene lists under `EXT_lights_ies` (its
+    /// luminaires then carry `EXT_lights_ies` nodes, as in the office sample) rather than
+    /// `LUXBAKE_luminaire`. Panics on a malformed file.
+    pub fn ies_light(&mut self, name: &str, bytes: &[u8]) -> usize {
+        let lights = self
+            .scene
+            .profiles
+            .iter()
+            .filter(|p| p.source_path.starts_with("/extensions/EXT_lights_ies/"))
+            .count();
+        let path = format!("/extensions/EXT_lights_ies/lights/{lights}");
+        self.add_profile(name, bytes, crate::photometry::Format::Ies, path)
+    }
+
+    fn add_profile(
+        &mut self,
+        name: &str,
+        bytes: &[u8],
+        format: crate::photometry::Format,
+        source_path: String,
+    ) -> usize {
         let photometry =
             crate::photometry::Photometry::parse(bytes, format).expect("fixture profile parses");
-        let profile = self.scene.profiles.len();
         self.scene.profiles.push(crate::scene::Profile {
             name: Some(name.into()),
-            source_path: format!("/extensions/LUXBAKE_luminaire/profiles/{profile}"),
+            source_path,
             bytes: bytes.to_vec(),
             photometry,
         });
-        profile
+        self.scene.profiles.len() - 1
     }
 
     /// A luminaire with the photometric file `bytes` at `position`, its nadir along `nadir` and
@@ -223,15 +269,23 @@ impl SceneBuilder {
         multiplier: f64,
         opening: Option<crate::photometry::Opening>,
     ) {
-        let photometry =
-            crate::photometry::Photometry::parse(bytes, format).expect("fixture profile parses");
-        let profile = self.scene.profiles.len();
-        self.scene.profiles.push(crate::scene::Profile {
-            name: Some(name.into()),
-            source_path: format!("/extensions/LUXBAKE_luminaire/profiles/{profile}"),
-            bytes: bytes.to_vec(),
-            photometry,
-        });
+        let profile = self.profile(name, bytes, format);
+        self.place_luminaire(name, profile, position, nadir, c0, multiplier, opening);
+    }
+
+    /// A luminaire with the profile `profile` (from [`SceneBuilder::profile`], shared by as many
+    /// luminaires as use it), placed like [`SceneBuilder::luminaire`].
+    #[allow(clippy::too_many_arguments)]
+    pub fn place_luminaire(
+        &mut self,
+        name: &str,
+        profile: usize,
+        position: DVec3,
+        nadir: DVec3,
+        c0: DVec3,
+        multiplier: f64,
+        opening: Option<crate::photometry::Opening>,
+    ) {
         let z = -nadir.normalize();
         let x = (c0 - z * c0.dot(z)).normalize();
         let frame = glam::DMat3::from_cols(x, z.cross(x), z);

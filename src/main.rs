@@ -32,6 +32,8 @@ enum Command {
     /// Compare two bakes: vertex by vertex, by node/material means or by probes (exit 0 within
     /// tolerance, 1 not, 2 not comparable).
     Diff(cli::diff::DiffArgs),
+    /// Write a scene built in code as an input glTF (e.g. the benchmark's open-plan office).
+    Generate(cli::generate::GenerateArgs),
 }
 
 fn main() {
@@ -62,6 +64,7 @@ fn main() {
         Some(Command::Luminaire(a)) => cli::luminaire::run(a),
         Some(Command::Report(a)) => cli::report::run(a),
         Some(Command::Diff(_)) => unreachable!("handled above"),
+        Some(Command::Generate(a)) => cli::generate::run(a),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");

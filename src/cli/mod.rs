@@ -3,6 +3,7 @@
 
 pub mod bake;
 pub mod diff;
+pub mod generate;
 pub mod luminaire;
 pub mod probes;
 pub mod progress;

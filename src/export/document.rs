@@ -25,13 +25,32 @@ pub struct Document {
 
 /// Build the document for `scene` baked as `result`.
 pub fn build(scene: &Scene, result: &BakeResult, options: &ExportOptions) -> Result<Document> {
+    assemble(scene, result, options, true)
+}
+
+/// Build the document of `scene` as an input: the geometry of `result` without the baked
+/// attributes and without the run summary in the scene's extras.
+pub fn build_input(
+    scene: &Scene,
+    result: &BakeResult,
+    options: &ExportOptions,
+) -> Result<Document> {
+    assemble(scene, result, options, false)
+}
+
+fn assemble(
+    scene: &Scene,
+    result: &BakeResult,
+    options: &ExportOptions,
+    baked: bool,
+) -> Result<Document> {
     let mut binary = Binary::default();
-    let meshes = mesh::build(scene, result, &mut binary)?;
+    let meshes = mesh::build(scene, result, &mut binary, baked)?;
     let (textures, images, samplers) = material::textures(scene, &mut binary);
     let profiles = luminaires::profiles(scene, &mut binary);
     let mut materials = material::materials(scene, &meshes.back_baked, options, &profiles);
     let mut nodes = nodes::nodes(scene, &meshes.node_mesh, &profiles.node_extensions(scene));
-    let mut scenes = vec![nodes::scene(scene, &result.summary)];
+    let mut scenes = vec![nodes::scene(scene, baked.then_some(&result.summary))];
     let mut mesh_json = meshes.json;
     probes::add(
         scene,

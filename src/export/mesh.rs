@@ -9,7 +9,7 @@
 //! triangles are left out, and a node left with no primitive gets no mesh. Attributes: POSITION
 //! (with min/max), NORMAL, TEXCOORD_0/1 when present, COLOR_0 (float VEC3), `_ILLUMINANCE` (lx),
 //! `_ILLUMINANCE_DIRECT` (lx) and `_LUMINANCE` (cd/m²), float SCALAR; indices u16 or u32; mode
-//! TRIANGLES.
+//! TRIANGLES. An unbaked scene ([`super::write_scene`]) gets POSITION, NORMAL and TEXCOORD_n only.
 
 use super::buffer::Binary;
 use super::geometry::{LocalFrame, LocalPrimitive, to_local};
@@ -56,8 +56,14 @@ fn index_results(scene: &Scene, result: &BakeResult) -> Result<Vec<[Option<usize
     Ok(sides)
 }
 
-/// Build every node's mesh, writing the vertex data into `binary`.
-pub fn build(scene: &Scene, result: &BakeResult, binary: &mut Binary) -> Result<Meshes> {
+/// Build every node's mesh, writing the vertex data into `binary`; without `with_values`, only
+/// the geometry (no COLOR_0, `_ILLUMINANCE`, `_ILLUMINANCE_DIRECT` or `_LUMINANCE`).
+pub fn build(
+    scene: &Scene,
+    result: &BakeResult,
+    binary: &mut Binary,
+    with_values: bool,
+) -> Result<Meshes> {
     let sides = index_results(scene, result)?;
     let mut meshes = Meshes {
         json: Vec::new(),
@@ -95,7 +101,7 @@ pub fn build(scene: &Scene, result: &BakeResult, binary: &mut Binary) -> Result<
                 }
                 let what = format!("{} ({:?} side)", surface.source_path, baked.side);
                 let local = to_local(baked, &frame, &what)?;
-                primitives.push(primitive(&local, surface.material, binary));
+                primitives.push(primitive(&local, surface.material, binary, with_values));
             }
         }
         if primitives.is_empty() {
@@ -112,7 +118,7 @@ pub fn build(scene: &Scene, result: &BakeResult, binary: &mut Binary) -> Result<
     Ok(meshes)
 }
 
-fn primitive(p: &LocalPrimitive, material: usize, binary: &mut Binary) -> Value {
+fn primitive(p: &LocalPrimitive, material: usize, binary: &mut Binary, values: bool) -> Value {
     let mut attributes = Map::new();
     attributes.insert("POSITION".into(), json!(binary.vec3(&p.positions, true)));
     attributes.insert("NORMAL".into(), json!(binary.vec3(&p.normals, false)));
@@ -122,13 +128,15 @@ fn primitive(p: &LocalPrimitive, material: usize, binary: &mut Binary) -> Value 
     if let Some(uv) = &p.uv1 {
         attributes.insert("TEXCOORD_1".into(), json!(binary.vec2(uv)));
     }
-    attributes.insert("COLOR_0".into(), json!(binary.vec3(&p.color, false)));
-    attributes.insert("_ILLUMINANCE".into(), json!(binary.scalar(&p.illuminance)));
-    attributes.insert(
-        "_ILLUMINANCE_DIRECT".into(),
-        json!(binary.scalar(&p.illuminance_direct)),
-    );
-    attributes.insert("_LUMINANCE".into(), json!(binary.scalar(&p.luminance)));
+    if values {
+        attributes.insert("COLOR_0".into(), json!(binary.vec3(&p.color, false)));
+        attributes.insert("_ILLUMINANCE".into(), json!(binary.scalar(&p.illuminance)));
+        attributes.insert(
+            "_ILLUMINANCE_DIRECT".into(),
+            json!(binary.scalar(&p.illuminance_direct)),
+        );
+        attributes.insert("_LUMINANCE".into(), json!(binary.scalar(&p.luminance)));
+    }
     let indices = binary.indices(&p.triangles, p.positions.len());
     json!({
         "attributes": attributes,

@@ -1,4 +1,5 @@
-//! Exporters: the baked scene as glTF 2.0 (`.gltf` + `.bin`, or `.glb`).
+//! Exporters: the baked scene as glTF 2.0 (`.gltf` + `.bin`, or `.glb`); [`write_scene`] writes
+//! an unbaked scene (one built in code) the same way, as an input.
 //!
 //! Input: the [`Scene`], its [`BakeResult`] and [`ExportOptions`]. Output: the file(s) at the
 //! requested path. Invariants: the output is byte-deterministic (same inputs, same bytes); it is
@@ -27,7 +28,11 @@ mod target;
 
 pub use glyphs::scale as glyph_scale;
 
-use crate::{Result, result::BakeResult, scene::Scene};
+use crate::{
+    Result,
+    result::{BakeResult, BakedSurface, Side},
+    scene::Scene,
+};
 use std::path::Path;
 use target::{Format, Target};
 
@@ -67,12 +72,57 @@ pub fn write(
 ) -> Result<()> {
     let target = Target::for_path(path)?;
     let doc = document::build(scene, result, options)?;
+    write_doc(path, target, scene, &doc)
+}
+
+/// Write `scene` unbaked, as an input for a bake (e.g. a scene built in code): POSITION, NORMAL
+/// and TEXCOORD_n only (no COLOR_0, no `_ILLUMINANCE*`), the materials as given (PBR, with their
+/// `LUXBAKE_material`, not unlit), lights, profiles and luminaires, and the scene's extras without
+/// a run summary. [`crate::import::load`] reads it back as the same scene.
+pub fn write_scene(path: &Path, scene: &Scene) -> Result<()> {
+    let target = Target::for_path(path)?;
+    let surfaces = scene
+        .surfaces
+        .iter()
+        .enumerate()
+        .map(|(i, s)| {
+            let n = s.positions.len();
+            BakedSurface {
+                surface: i,
+                side: Side::Front,
+                positions: s.positions.clone(),
+                normals: s.normals.clone(),
+                uv0: s.uv0.clone(),
+                uv1: s.uv1.clone(),
+                triangles: s.triangles.clone(),
+                illuminance: vec![0.0; n],
+                illuminance_direct: vec![0.0; n],
+                luminance: vec![0.0; n],
+                color: vec![[0.0; 3]; n],
+            }
+        })
+        .collect();
+    let result = BakeResult {
+        surfaces,
+        probes: Vec::new(),
+        summary: serde_json::Value::Null,
+        timings: Vec::new(),
+    };
+    let options = ExportOptions {
+        unlit: false,
+        probe_glyphs: None,
+    };
+    let doc = document::build_input(scene, &result, &options)?;
+    write_doc(path, target, scene, &doc)
+}
+
+fn write_doc(path: &Path, target: Target, scene: &Scene, doc: &document::Document) -> Result<()> {
     let has_binary = !doc.bin.is_empty();
     target.check_not_input(scene, has_binary)?;
     match target.format {
-        Format::Glb => atomic::write_atomic(&target.main, &container::glb(&doc, path)?),
+        Format::Glb => atomic::write_atomic(&target.main, &container::glb(doc, path)?),
         Format::Gltf => {
-            let json = container::gltf(&doc, &target.bin_uri);
+            let json = container::gltf(doc, &target.bin_uri);
             if has_binary {
                 atomic::write_atomic_all(&[(&target.bin, &doc.bin), (&target.main, &json)])
             } else {

@@ -95,8 +95,9 @@ fn transform(local: &LocalTransform, out: &mut Map<String, Value>) {
     }
 }
 
-/// The single scene: name, root nodes and extras with the run summary.
-pub fn scene(scene: &Scene, summary: &serde_json::Value) -> Value {
+/// The single scene: name, root nodes and extras with the run summary (`None`: the scene's
+/// extras as they are, for an unbaked scene).
+pub fn scene(scene: &Scene, summary: Option<&serde_json::Value>) -> Value {
     let mut out = Map::new();
     if let Some(name) = &scene.name {
         out.insert("name".into(), json!(name));
@@ -104,10 +105,13 @@ pub fn scene(scene: &Scene, summary: &serde_json::Value) -> Value {
     if !scene.roots.is_empty() {
         out.insert("nodes".into(), json!(scene.roots));
     }
-    out.insert(
-        "extras".into(),
-        with_luxbake(scene.extras.as_ref(), summary.clone()),
-    );
+    let extras = match summary {
+        Some(summary) => Some(with_luxbake(scene.extras.as_ref(), summary.clone())),
+        None => scene.extras.clone(),
+    };
+    if let Some(extras) = extras {
+        out.insert("extras".into(), extras);
+    }
     Value::Object(out)
 }
 
