@@ -2,7 +2,8 @@
 
 plot(path, series, ...) draws one polyline with markers per series on log10 axes with decade
 grid lines, point labels and a legend. A series is
-    {"name": str, "points": [(x, y, label or None), ...], "dash": bool (optional)}
+    {"name": str, "points": [(x, y, label or None[, hollow]), ...], "dash": bool (optional)}
+(hollow: drawn as an open circle, e.g. a lower bound).
 Points with x or y <= 0 cannot be drawn on log axes: they are clamped to the axis floor and
 drawn hollow, and the caller says so in the caption.
 """
@@ -15,8 +16,8 @@ COLOURS = ["#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e
 
 
 def _decades(lo, hi):
-    a = math.floor(math.log10(lo))
-    b = math.ceil(math.log10(hi))
+    a = math.floor(math.log10(lo) + 1e-9)
+    b = math.ceil(math.log10(hi) - 1e-3)
     if a == b:
         b += 1
     return a, b
@@ -36,6 +37,7 @@ def plot(path, series, title, xlabel, ylabel, caption=None, guides=None, width=9
     ys = [p[1] for s in series for p in s["points"] if p[1] > 0]
     for _, pts in guides:
         xs += [p[0] for p in pts if p[0] > 0]
+        ys += [p[1] for p in pts if p[1] > 0]
     if not xs or not ys:
         xs, ys = [1.0, 10.0], [1.0, 10.0]
     x0, x1 = _decades(min(xs), max(xs))
@@ -98,7 +100,8 @@ def plot(path, series, title, xlabel, ylabel, caption=None, guides=None, width=9
             out.append(f'<polyline points="{d}" fill="none" stroke="{colour}" '
                        f'stroke-width="2"{dash}/>')
         for x, y, *rest in pts:
-            hollow = x <= 0 or y <= 0 or x < 10.0 ** x0 or y < 10.0 ** y0
+            hollow = x <= 0 or y <= 0 or x < 10.0 ** x0 or y < 10.0 ** y0 or \
+                (len(rest) > 1 and rest[1])
             fill = "white" if hollow else colour
             out.append(f'<circle cx="{px(x):.1f}" cy="{py(y):.1f}" r="4" fill="{fill}" '
                        f'stroke="{colour}" stroke-width="1.5"/>')
