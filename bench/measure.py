@@ -36,7 +36,20 @@ def run(cmd, cwd=None, env=None, stdin_path=None, stdout_path=None, stderr_path=
                     pass
             timer = threading.Timer(timeout, kill)
             timer.start()
-        _, status, usage = os.wait4(proc.pid, 0)
+        try:
+            _, status, usage = os.wait4(proc.pid, 0)
+        except BaseException:  # Ctrl-C: the child runs in its own session, stop it too
+            try:
+                os.killpg(proc.pid, signal.SIGKILL)
+            except ProcessLookupError:
+                pass
+            try:
+                os.wait4(proc.pid, 0)
+            except ChildProcessError:  # already reaped
+                pass
+            if timer:
+                timer.cancel()
+            raise
         wall = time.perf_counter() - t0
         if timer:
             timer.cancel()
