@@ -33,6 +33,9 @@ pub struct BakeArgs {
     /// fine at shadow edges and steep gradients).
     #[arg(long)]
     uniform_patches: bool,
+    /// Trace shadow rays even inside a convex empty enclosure (to measure what skipping saves).
+    #[arg(long, hide = true)]
+    always_trace: bool,
     /// Far-field acceptance ratio, radius/distance (overrides the one of --quality).
     #[arg(long, value_name = "RATIO", hide = true, allow_negative_numbers = true)]
     far_field: Option<f64>,
@@ -115,6 +118,7 @@ fn settings(args: &BakeArgs) -> Result<Settings> {
         threads: args.threads,
         record_timings: args.timings_in_output,
         uniform_patches: args.uniform_patches,
+        always_trace: args.always_trace,
         ..Settings::default()
     };
     args.probes.apply(&mut settings)?;

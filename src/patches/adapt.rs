@@ -27,6 +27,9 @@ pub const RELATIVE: f64 = 0.08;
 /// …or by this share of the scene's mean direct illuminance (dark regions need less).
 pub const ABSOLUTE: f64 = 0.03;
 
+/// How far (× the local edge length) judged points are pulled into their triangles.
+const PULL: f64 = 1e-3;
+
 /// Direct illuminance (lx) at each `(point, unit normal)`; evaluated in one batch.
 pub type Probe<'p> = &'p (dyn Fn(&[(DVec3, DVec3)]) -> Vec<f64> + Sync);
 
@@ -57,25 +60,52 @@ pub fn refine(m: &mut SurfaceMesh, signs: &[f64], a: &Adapt) -> usize {
     // Illuminance per vertex and side, extended as vertices are added.
     let mut at: Vec<Vec<f64>> = signs.iter().map(|_| Vec::new()).collect();
     for _ in 0..a.levels {
+        // Where each vertex is judged: pulled a little into its triangles, so a vertex on a room's
+        // corner edge is not tested edge-on against the neighbouring wall (which would read as a
+        // shadow edge and split every corner).
+        let mut inward = vec![DVec3::ZERO; m.positions.len()];
+        let mut local = vec![0.0f64; m.positions.len()];
+        for t in &m.triangles {
+            let p = t.map(|v| m.positions[v as usize]);
+            let c = (p[0] + p[1] + p[2]) / 3.0;
+            let longest = (0..3)
+                .map(|k| (p[k] - p[(k + 1) % 3]).length())
+                .fold(0.0, f64::max);
+            for k in 0..3 {
+                inward[t[k] as usize] += (c - p[k]).normalize_or_zero();
+                local[t[k] as usize] = local[t[k] as usize].max(longest);
+            }
+        }
+        let pulled = |i: usize| m.positions[i] + inward[i].normalize_or_zero() * (PULL * local[i]);
         for (s, sign) in signs.iter().enumerate() {
             let from = at[s].len();
             let queries: Vec<(DVec3, DVec3)> = (from..m.positions.len())
-                .map(|i| (m.positions[i], m.normals[i] * *sign))
+                .map(|i| (pulled(i), m.normals[i] * *sign))
                 .collect();
             at[s].extend((a.probe)(&queries));
         }
-        // Candidate edges in first-seen order (deterministic).
+        // Candidate edges in first-seen order (deterministic), each with the direction into its
+        // triangles from its midpoint.
         let mut index: HashMap<(u32, u32), usize> = HashMap::new();
         let mut edges: Vec<(u32, u32)> = Vec::new();
+        let mut into: Vec<DVec3> = Vec::new();
         for t in &m.triangles {
+            let c = t.iter().map(|v| m.positions[*v as usize]).sum::<DVec3>() / 3.0;
             for k in 0..3 {
                 let (u, v) = (t[k], t[(k + 1) % 3]);
                 let key = (u.min(v), u.max(v));
-                let long =
-                    (m.positions[u as usize] - m.positions[v as usize]).length() > a.min_edge * 1.5;
-                if long && !index.contains_key(&key) {
-                    index.insert(key, edges.len());
-                    edges.push(key);
+                let (pu, pv) = (m.positions[u as usize], m.positions[v as usize]);
+                if (pu - pv).length() <= a.min_edge * 1.5 {
+                    continue;
+                }
+                let dir = (c - (pu + pv) * 0.5).normalize_or_zero();
+                match index.get(&key) {
+                    Some(&i) => into[i] += dir,
+                    None => {
+                        index.insert(key, edges.len());
+                        edges.push(key);
+                        into.push(dir);
+                    }
                 }
             }
         }
@@ -93,9 +123,11 @@ pub fn refine(m: &mut SurfaceMesh, signs: &[f64], a: &Adapt) -> usize {
         for (s, sign) in signs.iter().enumerate() {
             let queries: Vec<(DVec3, DVec3)> = edges
                 .iter()
-                .map(|e| {
+                .zip(&into)
+                .map(|(e, d)| {
                     let (p, n) = mid(m, e);
-                    (p, n * *sign)
+                    let len = (m.positions[e.0 as usize] - m.positions[e.1 as usize]).length();
+                    (p + d.normalize_or_zero() * (PULL * len), n * *sign)
                 })
                 .collect();
             let e_mid = (a.probe)(&queries);
@@ -296,6 +328,28 @@ mod tests {
         };
         assert_eq!(refine(&mut m, &[1.0, -1.0], &a), 0);
         assert_eq!(m.triangles, before);
+    }
+
+    #[test]
+    fn points_on_the_boundary_are_judged_from_inside() {
+        // A shadow ray from a point exactly on a room's corner edge grazes the other wall and
+        // reads 0: judged there, every boundary edge would look like a shadow edge.
+        let probe = |q: &[(DVec3, DVec3)]| -> Vec<f64> {
+            q.iter()
+                .map(|(p, _)| {
+                    let on_edge = [p.x, p.z].iter().any(|c| *c <= 0.0 || *c >= 3.0);
+                    if on_edge { 0.0 } else { 100.0 }
+                })
+                .collect()
+        };
+        let mut m = square(3);
+        let a = Adapt {
+            probe: &probe,
+            min_edge: 0.1,
+            levels: 3,
+            mean: 100.0,
+        };
+        assert_eq!(refine(&mut m, &[1.0], &a), 0);
     }
 
     #[test]

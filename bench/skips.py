@@ -1,0 +1,108 @@
+"""Skipping what a scene does not need, measured with and without (issue 5, scope 5).
+
+    python3 bench/skips.py [--bake PATH]   → bench/results/skips.md
+
+Each line bakes one scene twice, once with the saving and once with it turned off, and records
+wall time, CPU time, rays, patches, links and the error against the closed form or a converged
+reference (the same measures as bench/run.py):
+- convex empty enclosure: CIE 171 test 5.8 (ρ = 0.9) with no visibility rays (the default) and
+  with every ray traced (hidden flag --always-trace);
+- adaptive patches: the office with adaptive meshing (the default) and with --uniform-patches,
+  working-plane mean against the harness's converged reference when bench/results/results.json
+  has it;
+- outputs not asked for: the office without probes (the default) and with a 1 m probe grid and
+  a working plane (probes cost only when asked).
+Short runs are repeated three times, the fastest kept. Python standard library only.
+"""
+
+import argparse
+import json
+import os
+import sys
+import tempfile
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import measure  # noqa: E402
+import scenes  # noqa: E402
+
+BENCH = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(BENCH)
+
+
+def bake(binary, inp, out_dir, args, repeats=3):
+    best = None
+    for _ in range(repeats):
+        summary = os.path.join(out_dir, "summary.json")
+        m = measure.run([binary, inp, "-o", os.path.join(out_dir, "out.gltf"), "-q",
+                         "--summary-json", summary] + args)
+        if m["returncode"] != 0:
+            raise SystemExit(f"bake failed: {args}")
+        m["summary"] = json.load(open(summary))
+        if best is None or m["wall"] < best["wall"]:
+            best = m
+    return best
+
+
+def row(name, variant, m, error):
+    c = m["summary"]["counts"]
+    return (f"| {name} | {variant} | {m['wall']:.3f} | {m['cpu']:.3f} | {c['patches']} | "
+            f"{c['links']} | {c['rays']} | {error} |")
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--bake", default=os.path.join(ROOT, "target", "release", "bake"))
+    ap.add_argument("--out", default=os.path.join(BENCH, "results", "skips.md"))
+    a = ap.parse_args()
+    lines = ["# Skipping what a scene does not need", "",
+             "Written by `python3 bench/skips.py`; wall and CPU time in s (fastest of three), "
+             "same machine notes as results.md.", "",
+             "| scene | variant | wall s | CPU s | patches | links | rays | error |",
+             "| --- | --- | ---: | ---: | ---: | ---: | ---: | --- |"]
+    with tempfile.TemporaryDirectory() as tmp:
+        # Convex empty enclosure.
+        cie = os.path.join(tmp, "cie.gltf")
+        open(cie, "w").write(scenes.cie_5_8_gltf(0.9))
+        exact = scenes.cie_5_8_indirect(0.9)
+        for variant, args in [("no rays (default)", []), ("every ray traced", ["--always-trace"])]:
+            m = bake(a.bake, cie, tmp, args + ["--report", "json", "--report-out",
+                                               os.path.join(tmp, "r.json")])
+            rep = json.load(open(os.path.join(tmp, "r.json")))
+            rows = rep["byMaterial"]
+            area = sum(r["area"] for r in rows)
+            e_ind = sum(r["eIndirectAvg"] * r["area"] for r in rows) / area
+            off = (e_ind / exact - 1) * 100
+            lines.append(row("CIE 5.8, ρ = 0.9", variant, m,
+                             f"mean E_ind {e_ind:.3f} lx vs {exact:.3f} ({off:+.3f} %)"))
+        # Adaptive patches and outputs not asked for, on the office.
+        office = os.path.join(ROOT, "samples", "office", "office.gltf")
+        ref = None
+        res = os.path.join(BENCH, "results", "results.json")
+        if os.path.exists(res):
+            try:
+                r = json.load(open(res))
+                ref = r["scenes"]["office"]["reference"]["workingPlane"]["eAvg"]
+            except (KeyError, TypeError):
+                ref = None
+        for variant, args in [("adaptive (default)", []), ("uniform patches", ["--uniform-patches"])]:
+            m = bake(a.bake, office, tmp, args + ["--working-plane", "0.8",
+                                                  "--working-plane-spacing", "0.5", "--report", "json",
+                                                  "--report-out", os.path.join(tmp, "r.json")])
+            wp = json.load(open(os.path.join(tmp, "r.json")))["workingPlane"]["eAvg"]
+            err = f"working plane {wp:.2f} lx"
+            if ref:
+                err += f" ({(wp / ref - 1) * 100:+.3f} % vs converged {ref:.2f})"
+            lines.append(row("office", variant, m, err))
+        for variant, args in [("no probes (default)", []),
+                              ("1 m probe grid + working plane",
+                               ["--probe-grid", "1.0", "--probe-height", "1.2", "--working-plane", "0.8"])]:
+            m = bake(a.bake, office, tmp, args)
+            out = m["summary"].get("timingsSeconds", {}).get("output", 0.0)
+            lines.append(row("office", variant, m, f"output stage {out:.2f} s"))
+    lines.append("")
+    open(a.out, "w").write("\n".join(lines))
+    print("\n".join(lines))
+
+
+if __name__ == "__main__":
+    main()
