@@ -53,3 +53,37 @@ pub struct BakeResult {
     /// run, and bakes must be byte-identical).
     pub timings: Vec<(String, f64)>,
 }
+
+impl BakeResult {
+    /// `scene` as if nothing had been baked: one front side per surface, every value 0, no
+    /// probes, no summary (what an unbaked input scene is written from).
+    pub fn unbaked(scene: &crate::scene::Scene) -> Self {
+        let surfaces = scene
+            .surfaces
+            .iter()
+            .enumerate()
+            .map(|(i, s)| {
+                let n = s.positions.len();
+                BakedSurface {
+                    surface: i,
+                    side: Side::Front,
+                    positions: s.positions.clone(),
+                    normals: s.normals.clone(),
+                    uv0: s.uv0.clone(),
+                    uv1: s.uv1.clone(),
+                    triangles: s.triangles.clone(),
+                    illuminance: vec![0.0; n],
+                    illuminance_direct: vec![0.0; n],
+                    luminance: vec![0.0; n],
+                    color: vec![[0.0; 3]; n],
+                }
+            })
+            .collect();
+        BakeResult {
+            surfaces,
+            probes: Vec::new(),
+            summary: serde_json::Value::Null,
+            timings: Vec::new(),
+        }
+    }
+}

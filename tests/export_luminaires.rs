@@ -13,7 +13,7 @@ mod support;
 use common::luminaires::{IES, LDT, base, data_uri};
 use common::{Bin, Builder, load_ok};
 use luxbake::export::{self, ExportOptions};
-use luxbake::result::{BakeResult, BakedSurface, Side};
+use luxbake::result::BakeResult;
 use luxbake::scene::{Luminaire, Scene};
 use serde_json::{Value, json};
 use std::path::Path;
@@ -21,32 +21,9 @@ use support::{gltf_read, scratch, tools};
 
 /// A result with a dark front side for every surface (the values do not matter here).
 fn flat_result(scene: &Scene) -> BakeResult {
-    let surfaces = scene
-        .surfaces
-        .iter()
-        .enumerate()
-        .map(|(i, s)| {
-            let n = s.positions.len();
-            BakedSurface {
-                surface: i,
-                side: Side::Front,
-                positions: s.positions.clone(),
-                normals: s.normals.clone(),
-                uv0: s.uv0.clone(),
-                uv1: s.uv1.clone(),
-                triangles: s.triangles.clone(),
-                illuminance: vec![0.0; n],
-                illuminance_direct: vec![0.0; n],
-                luminance: vec![0.0; n],
-                color: vec![[0.0; 3]; n],
-            }
-        })
-        .collect();
     BakeResult {
-        surfaces,
         summary: json!({}),
-        timings: Vec::new(),
-        probes: Vec::new(),
+        ..BakeResult::unbaked(scene)
     }
 }
 

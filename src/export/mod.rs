@@ -28,11 +28,7 @@ mod target;
 
 pub use glyphs::scale as glyph_scale;
 
-use crate::{
-    Result,
-    result::{BakeResult, BakedSurface, Side},
-    scene::Scene,
-};
+use crate::{Result, result::BakeResult, scene::Scene};
 use std::path::Path;
 use target::{Format, Target};
 
@@ -81,33 +77,7 @@ pub fn write(
 /// a run summary. [`crate::import::load`] reads it back as the same scene.
 pub fn write_scene(path: &Path, scene: &Scene) -> Result<()> {
     let target = Target::for_path(path)?;
-    let surfaces = scene
-        .surfaces
-        .iter()
-        .enumerate()
-        .map(|(i, s)| {
-            let n = s.positions.len();
-            BakedSurface {
-                surface: i,
-                side: Side::Front,
-                positions: s.positions.clone(),
-                normals: s.normals.clone(),
-                uv0: s.uv0.clone(),
-                uv1: s.uv1.clone(),
-                triangles: s.triangles.clone(),
-                illuminance: vec![0.0; n],
-                illuminance_direct: vec![0.0; n],
-                luminance: vec![0.0; n],
-                color: vec![[0.0; 3]; n],
-            }
-        })
-        .collect();
-    let result = BakeResult {
-        surfaces,
-        probes: Vec::new(),
-        summary: serde_json::Value::Null,
-        timings: Vec::new(),
-    };
+    let result = BakeResult::unbaked(scene);
     let options = ExportOptions {
         unlit: false,
         probe_glyphs: None,

@@ -63,19 +63,7 @@ pub fn refine(m: &mut SurfaceMesh, signs: &[f64], a: &Adapt) -> usize {
         // Where each vertex is judged: pulled a little into its triangles, so a vertex on a room's
         // corner edge is not tested edge-on against the neighbouring wall (which would read as a
         // shadow edge and split every corner).
-        let mut inward = vec![DVec3::ZERO; m.positions.len()];
-        let mut local = vec![0.0f64; m.positions.len()];
-        for t in &m.triangles {
-            let p = t.map(|v| m.positions[v as usize]);
-            let c = (p[0] + p[1] + p[2]) / 3.0;
-            let longest = (0..3)
-                .map(|k| (p[k] - p[(k + 1) % 3]).length())
-                .fold(0.0, f64::max);
-            for k in 0..3 {
-                inward[t[k] as usize] += (c - p[k]).normalize_or_zero();
-                local[t[k] as usize] = local[t[k] as usize].max(longest);
-            }
-        }
+        let (inward, local) = super::around(&m.positions, &m.triangles);
         let pulled = |i: usize| m.positions[i] + inward[i].normalize_or_zero() * (PULL * local[i]);
         for (s, sign) in signs.iter().enumerate() {
             let from = at[s].len();

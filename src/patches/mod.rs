@@ -215,16 +215,38 @@ struct GroupInput<'a> {
     double_sided: bool,
 }
 
+/// Per vertex: Σ over the triangles around it of the unit direction from it to their centroids
+/// (where "into the surface" is, to nudge points off edges and corners), and the longest edge of
+/// those triangles (the local patch size). Zero-area triangles are skipped.
+pub(crate) fn around(positions: &[DVec3], triangles: &[[u32; 3]]) -> (Vec<DVec3>, Vec<f64>) {
+    let mut inward = vec![DVec3::ZERO; positions.len()];
+    let mut longest = vec![0.0f64; positions.len()];
+    for t in triangles {
+        let p = t.map(|v| positions[v as usize]);
+        let a = (p[1] - p[0]).cross(p[2] - p[0]).length();
+        if a <= 0.0 || !a.is_finite() {
+            continue;
+        }
+        let centroid = (p[0] + p[1] + p[2]) / 3.0;
+        let edge = (0..3)
+            .map(|k| (p[k] - p[(k + 1) % 3]).length())
+            .fold(0.0, f64::max);
+        for (k, &v) in t.iter().enumerate() {
+            inward[v as usize] += (centroid - p[k]).normalize_or_zero();
+            longest[v as usize] = longest[v as usize].max(edge);
+        }
+    }
+    (inward, longest)
+}
+
 fn add_group(mesh: &mut PatchMesh, g: GroupInput) {
     let group = mesh.groups.len() as u32;
     let r0 = mesh.receivers.len();
     let p0 = mesh.patches.len();
     let n = g.positions.len();
-    // Per vertex: Σ of adjacent face normals (area-weighted) and of (centroid − vertex).
+    // Per vertex: Σ of adjacent face normals (area-weighted).
     let mut face_sum = vec![DVec3::ZERO; n];
-    let mut inward = vec![DVec3::ZERO; n];
-    // Per vertex: the longest edge of the triangles around it (the local patch size).
-    let mut local = vec![0.0f64; n];
+    let (inward, local) = around(g.positions, g.triangles);
     let mut area = 0.0;
     for t in g.triangles {
         let p = t.map(|v| g.positions[v as usize]);
@@ -234,14 +256,8 @@ fn add_group(mesh: &mut PatchMesh, g: GroupInput) {
             continue;
         }
         let normal = cross / (2.0 * a);
-        let centroid = (p[0] + p[1] + p[2]) / 3.0;
-        let longest = (0..3)
-            .map(|k| (p[k] - p[(k + 1) % 3]).length())
-            .fold(0.0, f64::max);
-        for (k, &v) in t.iter().enumerate() {
+        for &v in t {
             face_sum[v as usize] += cross;
-            inward[v as usize] += (centroid - p[k]).normalize_or_zero();
-            local[v as usize] = local[v as usize].max(longest);
         }
         area += a;
         mesh.patches.push(Patch {

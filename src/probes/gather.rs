@@ -176,14 +176,7 @@ pub fn grid(
 /// True when, along some axis direction, the nearest surface shows `p` its back: `p` is inside a
 /// closed object (or behind a single-sided face).
 fn is_inside(occ: &Occluder, p: DVec3) -> bool {
-    [
-        DVec3::X,
-        DVec3::NEG_X,
-        DVec3::Y,
-        DVec3::NEG_Y,
-        DVec3::Z,
-        DVec3::NEG_Z,
-    ]
-    .into_iter()
-    .any(|d| occ.closest(p, d).is_some_and(|h| h.normal.dot(d) > 0.0))
+    super::FACES
+        .into_iter()
+        .any(|d| occ.closest(p, d).is_some_and(|h| h.normal.dot(d) > 0.0))
 }
