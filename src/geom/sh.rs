@@ -1,5 +1,7 @@
-//! Order-2 real spherical harmonics of normal distributions: how a cluster of differently
-//! oriented patches (a chair seen from across the room) sends light in each direction.
+//! Normal distributions of clusters: how a cluster of differently oriented patches (a chair seen
+//! from across the room) sends light in each direction. Patches facing along an axis (floors,
+//! desk tops, walls, box sides: most of a building) are kept exactly in six bins, since
+//! max(0, ±eₖ·w) is known; the others go into order-2 real spherical harmonics, below.
 //!
 //! A cluster of patches j (area Aⱼ, unit normal mⱼ, exitance Bⱼ) has intensity
 //! I(w) = Σⱼ Bⱼ·Aⱼ·max(0, mⱼ·w)/π toward the unit direction w. With Sₗₘ = Σⱼ Bⱼ·Aⱼ·Yₗₘ(mⱼ) (the
@@ -18,6 +20,44 @@ use std::f64::consts::PI;
 
 /// Coefficients Y₀₀, Y₁₋₁, Y₁₀, Y₁₁, Y₂₋₂, Y₂₋₁, Y₂₀, Y₂₁, Y₂₂.
 pub type Coeffs = [f64; 9];
+
+/// Entries of a [`Dist`]: areas (or exitance × areas) facing +x, −x, +y, −y, +z, −z exactly,
+/// then the [`Coeffs`] of all other normals.
+pub const DIST: usize = 15;
+pub type Dist = [f64; DIST];
+
+/// A normal within this of an axis counts as facing along it.
+const AXIS: f64 = 1e-6;
+
+/// A weight `a` at the unit normal `m`.
+pub fn dist_point(m: DVec3, a: f64) -> Dist {
+    let mut d = [0.0; DIST];
+    for k in 0..3 {
+        if (m[k].abs() - 1.0).abs() <= AXIS {
+            d[2 * k + usize::from(m[k] < 0.0)] = a;
+            return d;
+        }
+    }
+    d[6..].copy_from_slice(&point(m, a));
+    d
+}
+
+/// The weights that turn a [`Dist`] into Σⱼ wⱼ·max(0, mⱼ·w).
+pub fn dist_weights(w: DVec3) -> Dist {
+    let mut d = [0.0; DIST];
+    for k in 0..3 {
+        d[2 * k] = w[k].max(0.0);
+        d[2 * k + 1] = (-w[k]).max(0.0);
+    }
+    d[6..].copy_from_slice(&projection_weights(w));
+    d
+}
+
+/// Σⱼ Aⱼ·max(0, mⱼ·w) from a [`Dist`] of areas: the area shown toward `w`.
+pub fn dist_projected(d: &Dist, w: DVec3) -> f64 {
+    let x = dist_weights(w);
+    (0..DIST).map(|k| d[k] * x[k]).sum()
+}
 
 /// The nine basis functions at the unit vector `w`.
 pub fn basis(w: DVec3) -> Coeffs {
@@ -123,6 +163,35 @@ mod tests {
         }
         assert!((projected(&c, m) - 2.0 * 1.0625).abs() < 1e-12);
         assert!((projected(&c, -m) - 2.0 * 0.0625).abs() < 1e-12);
+    }
+
+    #[test]
+    fn axis_faces_are_exact_and_others_go_to_harmonics() {
+        // A unit cube: exact |wx| + |wy| + |wz| from the bins.
+        let mut d = [0.0; DIST];
+        for m in [
+            DVec3::X,
+            -DVec3::X,
+            DVec3::Y,
+            -DVec3::Y,
+            DVec3::Z,
+            -DVec3::Z,
+        ] {
+            let p = dist_point(m, 1.0);
+            assert_eq!(p[6..], [0.0; 9]);
+            for k in 0..DIST {
+                d[k] += p[k];
+            }
+        }
+        for w in directions() {
+            let exact = w.x.abs() + w.y.abs() + w.z.abs();
+            assert!((dist_projected(&d, w) - exact).abs() < 1e-12);
+        }
+        // A slanted normal has no bin.
+        let m = DVec3::new(1.0, 1.0, 0.0).normalize();
+        let p = dist_point(m, 2.0);
+        assert_eq!(p[..6], [0.0; 6]);
+        assert!((dist_projected(&p, m) - 2.0 * 1.0625).abs() < 1e-12);
     }
 
     #[test]

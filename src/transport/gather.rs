@@ -38,9 +38,10 @@ pub struct Coverage {
 ///
 /// Leaf and far-field links (`coeff > 0`): E += coeff × node mean + grad · node first moment.
 /// Cluster links (`coeff < 0`, a node whose patches face the receiver from both sides):
-/// with K = −coeff = cos θ·vis/(π d²) and w = grad/K the unit direction from the node to the
-/// receiver, E += K × Σₗₘ Âₗ·Yₗₘ(w)·Sₗₘ over the node's exitance-weighted normal harmonics
-/// (`geom::sh`). Scaling a row scales both forms alike.
+/// with K = −coeff = cos θ·vis·V/(π d²) (V: the share it does not hide from itself) and w =
+/// grad/K the unit direction from the node to the receiver, E += K × Σ weights(w)·S over the
+/// node's exitance-weighted normal distribution (`geom::sh::Dist`). Scaling a row scales both
+/// forms alike.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Link {
     pub node: u32,
@@ -181,8 +182,9 @@ impl Gatherer<'_> {
     }
 
     /// Node `i`, whose patches face `p` from both sides, accepted as one cluster: a point source
-    /// at its centroid whose intensity follows its exitance-weighted normals to order 2. It
-    /// covers the area it shows toward `p` (its backs hide behind its fronts).
+    /// at its centroid whose intensity follows its exitance-weighted normals to order 2, scaled
+    /// by the share of its front faces it does not hide from itself (`silhouette`). It covers the
+    /// area it shows toward `p`.
     fn add_cluster(
         &self,
         i: u32,
@@ -196,8 +198,10 @@ impl Gatherer<'_> {
         let c = node.moments.centroid;
         let d2 = (c - p).length_squared();
         let w = (p - c) / d2.sqrt();
-        let k = (-n.dot(w)).max(0.0) * vis / (std::f64::consts::PI * d2);
-        let shown = crate::geom::sh::projected(&node.normal_sh, w).max(0.0);
+        // What the cluster hides from itself is neither seen nor covers anything.
+        let seen = super::silhouette::share_toward(&self.tree.visible[i as usize], w);
+        let k = (-n.dot(w)).max(0.0) * vis * seen / (std::f64::consts::PI * d2);
+        let shown = crate::geom::sh::dist_projected(&node.normal_sh, w).max(0.0);
         coverage.total += k * shown;
         if k > 0.0 {
             let g = w * k;
@@ -228,15 +232,19 @@ impl Gatherer<'_> {
     }
 
     /// Visible fraction of a cluster: rays toward two representative patches, stopped where
-    /// they reach the node's bounding sphere (the cluster may hide its own far side).
+    /// they enter the node's box (the cluster may hide its own far side, which `silhouette`
+    /// accounts for).
     fn cluster_visibility(&self, p: DVec3, n: DVec3, node: &super::tree::TreeNode) -> f64 {
         if self.occluder.convex_empty {
             return 1.0;
         }
-        let reach = (node.center - p).length() - node.radius;
         let mut visible = 0;
         for (q, _) in self.representatives(node) {
             let dir = (q - p).normalize_or_zero();
+            // Where the ray enters the node's box (slab test; q is inside it).
+            let inv = dir.recip();
+            let (t0, t1) = ((node.lo - p) * inv, (node.hi - p) * inv);
+            let reach = t0.min(t1).max_element().clamp(0.0, (q - p).length());
             if self.occluder.clear(p, n, p + dir * reach, DVec3::ZERO) {
                 visible += 1;
             }

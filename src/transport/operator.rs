@@ -17,6 +17,7 @@
 
 use super::links::ReceiverLinks;
 use super::tree::PatchTree;
+use crate::geom::sh::DIST;
 use crate::patches::PatchMesh;
 use glam::DVec3;
 use rayon::prelude::*;
@@ -101,17 +102,17 @@ impl<'a> PatchOperator<'a> {
         let nodes = self.tree.nodes.len();
         let mut node_acc = vec![0.0; nodes];
         let mut node_grad = vec![DVec3::ZERO; nodes];
-        let mut node_sh = vec![[0.0; 9]; nodes];
+        let mut node_sh = vec![[0.0; DIST]; nodes];
         const CHUNK: usize = 4096;
         let receivers: Vec<usize> = (0..mesh.receivers.len()).collect();
         for batch in receivers.chunks(CHUNK * 8) {
-            type Part = (Vec<f64>, Vec<DVec3>, Vec<[f64; 9]>);
+            type Part = (Vec<f64>, Vec<DVec3>, Vec<[f64; DIST]>);
             let parts: Vec<Part> = batch
                 .par_chunks(CHUNK)
                 .map(|chunk| {
                     let mut acc = vec![0.0; nodes];
                     let mut grad = vec![DVec3::ZERO; nodes];
-                    let mut sh = vec![[0.0; 9]; nodes];
+                    let mut sh = vec![[0.0; DIST]; nodes];
                     for &r in chunk {
                         if at[r] == 0.0 {
                             continue;
@@ -120,7 +121,7 @@ impl<'a> PatchOperator<'a> {
                         {
                             if l.is_cluster() {
                                 let (k, w) = l.cluster();
-                                let weights = crate::geom::sh::projection_weights(w);
+                                let weights = crate::geom::sh::dist_weights(w);
                                 for (a, x) in sh[l.node as usize].iter_mut().zip(weights) {
                                     *a += at[r] * k * x;
                                 }
@@ -151,15 +152,15 @@ impl<'a> PatchOperator<'a> {
         }
         // Node → patches (top-down push). A node's mean is Σ Aⱼ·Bⱼ / A and its dipole
         // Σ Aⱼ·Bⱼ·(cⱼ − c), so patch j collects Aⱼ·Σ_ancestors [acc/A + grad·(cⱼ − c)].
-        // Cluster links read Σ Aⱼ·Bⱼ·Yₗₘ(mⱼ): patch j collects its own Aⱼ·Yₗₘ(mⱼ) (the leaf's
+        // Cluster links read Σ Bⱼ·(Aⱼ's normal distribution): patch j collects its own (the leaf's
         // `normal_sh`) against the sum of its ancestors' accumulations.
         let mut down = vec![(0.0, DVec3::ZERO, 0.0); nodes];
-        let mut down_sh = vec![[0.0; 9]; nodes];
+        let mut down_sh = vec![[0.0; DIST]; nodes];
         let mut z = vec![0.0; mesh.patches.len()];
         for i in 0..nodes {
             let node = &self.tree.nodes[i];
             let (s0, g0, k0) = down[i];
-            let sh: [f64; 9] = std::array::from_fn(|c| down_sh[i][c] + node_sh[i][c]);
+            let sh: [f64; DIST] = std::array::from_fn(|c| down_sh[i][c] + node_sh[i][c]);
             let here = (
                 s0 + node_acc[i] / node.moments.area,
                 g0 + node_grad[i],
@@ -168,7 +169,7 @@ impl<'a> PatchOperator<'a> {
             if node.is_leaf() {
                 let p = self.tree.order[node.start as usize] as usize;
                 let cj = node.moments.centroid;
-                let clusters: f64 = (0..9).map(|c| sh[c] * node.normal_sh[c]).sum();
+                let clusters: f64 = (0..DIST).map(|c| sh[c] * node.normal_sh[c]).sum();
                 z[p] = ((here.0 + here.1.dot(cj) - here.2) * mesh.patches[p].area + clusters)
                     * self.col[p];
             } else {
@@ -279,16 +280,44 @@ mod tests {
     use crate::transport::gather::Gatherer;
     use crate::visibility::{Occluder, OccluderOptions};
 
-    /// A room with small boxes standing in it: far receivers see the boxes as clusters.
+    /// A room with tessellated balls in it: far receivers see the balls as clusters.
     fn cluttered_room() -> crate::scene::Scene {
         let mut b = SceneBuilder::new();
         let walls = b.material("walls", 0.6);
         let boxes = b.material("boxes", 0.4);
         b.axis_box("room", DVec3::ZERO, DVec3::new(8.0, 3.0, 6.0), true, walls);
         for k in 0..6 {
-            let x = 1.0 + k as f64 * 1.1;
-            let lo = DVec3::new(x, 0.0, 2.0 + 0.3 * (k % 3) as f64);
-            b.axis_box(&format!("box{k}"), lo, lo + DVec3::splat(0.3), false, boxes);
+            // Tessellated balls (curved clutter, 48 facets each) on the floor.
+            let c = DVec3::new(1.0 + k as f64 * 1.1, 0.2, 2.0 + 0.3 * (k % 3) as f64);
+            let (rings, segments) = (6, 8);
+            let mut positions = Vec::new();
+            for i in 0..=rings {
+                let theta = std::f64::consts::PI * i as f64 / rings as f64;
+                for j in 0..segments {
+                    let phi = 2.0 * std::f64::consts::PI * j as f64 / segments as f64;
+                    let d = DVec3::new(
+                        theta.sin() * phi.cos(),
+                        theta.cos(),
+                        theta.sin() * phi.sin(),
+                    );
+                    positions.push(c + d * 0.2);
+                }
+            }
+            let normals: Vec<DVec3> = positions.iter().map(|p| (*p - c).normalize()).collect();
+            let mut triangles = Vec::new();
+            let at = |i: u32, j: u32| i * segments + j % segments;
+            for i in 0..rings {
+                for j in 0..segments {
+                    let (a, b2, c2, d) = (at(i, j), at(i, j + 1), at(i + 1, j + 1), at(i + 1, j));
+                    if i > 0 {
+                        triangles.push([a, b2, d]);
+                    }
+                    if i + 1 < rings {
+                        triangles.push([b2, c2, d]);
+                    }
+                }
+            }
+            b.surface(&format!("ball{k}"), positions, normals, triangles, boxes);
         }
         b.point_light("lamp", DVec3::new(4.0, 2.8, 3.0), 1000.0);
         b.build()

@@ -46,9 +46,9 @@ pub struct TreeNode {
     /// Area of the node's single-sided patches: only their backs absorb (a double-sided patch's
     /// back is its twin, counted on its own).
     pub single_sided_area: f64,
-    /// Σ Aⱼ·Yₗₘ(mⱼ) over the node's patches: its normal distribution to order 2 (`geom::sh`),
+    /// The node's normal distribution (`geom::sh::Dist`: axis bins, the rest to order 2),
     /// for far receivers that see its patches from both sides (a chair across the room).
-    pub normal_sh: sh::Coeffs,
+    pub normal_sh: sh::Dist,
     /// Its patches face more than [`CURVED`] distinct directions (a tessellated chair, not a
     /// room's planes): only such nodes are split in space and treated as two-sided clusters.
     pub curved: bool,
@@ -100,6 +100,9 @@ pub struct PatchTree {
     pub order: Vec<u32>,
     /// Prefix sums of patch area in leaf order (`len = order.len() + 1`).
     pub area_prefix: Vec<f64>,
+    /// Per node: the share of its front-facing area it does not hide from itself, along ±x,
+    /// ±y, ±z (`silhouette`; 1 for nodes that are never two-sided clusters).
+    pub visible: Vec<[f32; 6]>,
 }
 
 impl PatchTree {
@@ -109,6 +112,7 @@ impl PatchTree {
             nodes: Vec::with_capacity(2 * subset.len()),
             order: subset,
             area_prefix: Vec::new(),
+            visible: Vec::new(),
         };
         if tree.order.is_empty() {
             return tree;
@@ -121,6 +125,7 @@ impl PatchTree {
         let n = tree.order.len() as u32;
         tree.split(mesh, &leaf, 0, n);
         tree.finish(mesh, &leaf);
+        tree.visible = super::silhouette::visible_shares(&tree, mesh);
         let mut acc = 0.0;
         tree.area_prefix.push(0.0);
         for &p in &tree.order {
@@ -146,7 +151,7 @@ impl PatchTree {
             cone_axis: DVec3::Y,
             cone_angle: 0.0,
             single_sided_area: 0.0,
-            normal_sh: [0.0; 9],
+            normal_sh: [0.0; sh::DIST],
             curved: false,
             children: [NO_CHILD; 2],
             start,
@@ -211,7 +216,7 @@ impl PatchTree {
                 node.cone_axis = patch.normal;
                 node.cone_angle = 0.0;
                 node.single_sided_area = if patch.double_sided { 0.0 } else { patch.area };
-                node.normal_sh = sh::point(patch.normal, patch.area);
+                node.normal_sh = sh::dist_point(patch.normal, patch.area);
             } else {
                 let [a, b] = node.children.map(|c| &self.nodes[c as usize]);
                 let moments = a.moments.combine(&b.moments);
@@ -324,8 +329,9 @@ fn longest_axis(extent: DVec3) -> usize {
 pub struct NodeField {
     pub mean: Vec<DVec3>,
     pub dipole: Vec<[DVec3; 3]>,
-    /// Σ Aⱼ·Bⱼ·Yₗₘ(mⱼ) per node (RGB): the exitance-weighted normal harmonics cluster links read.
-    pub sh: Vec<[DVec3; 9]>,
+    /// The exitance-weighted normal distribution per node (RGB, `geom::sh::Dist`): what cluster
+    /// links read.
+    pub sh: Vec<[DVec3; sh::DIST]>,
 }
 
 impl NodeField {
@@ -336,9 +342,9 @@ impl NodeField {
             let i = l.node as usize;
             if l.is_cluster() {
                 let (k, w) = l.cluster();
-                let weights = crate::geom::sh::projection_weights(w);
+                let weights = sh::dist_weights(w);
                 let s = &self.sh[i];
-                sum += (0..9).map(|c| s[c] * weights[c]).sum::<DVec3>() * k;
+                sum += (0..sh::DIST).map(|c| s[c] * weights[c]).sum::<DVec3>() * k;
                 continue;
             }
             sum += self.mean[i] * l.coeff as f64;
@@ -358,7 +364,7 @@ impl PatchTree {
         let n = self.nodes.len();
         let mut mean = vec![DVec3::ZERO; n];
         let mut dipole = vec![[DVec3::ZERO; 3]; n];
-        let mut sh = vec![[DVec3::ZERO; 9]; n];
+        let mut sh = vec![[DVec3::ZERO; sh::DIST]; n];
         for i in (0..n).rev() {
             let node = &self.nodes[i];
             if node.is_leaf() {
