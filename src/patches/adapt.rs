@@ -83,7 +83,7 @@ pub fn refine(m: &mut SurfaceMesh, signs: &[f64], a: &Adapt) -> usize {
                 let (u, v) = (t[k], t[(k + 1) % 3]);
                 let key = (u.min(v), u.max(v));
                 let (pu, pv) = (m.positions[u as usize], m.positions[v as usize]);
-                if (pu - pv).length() <= a.min_edge * 1.5 {
+                if (pu - pv).length() <= a.min_edge * 1.5 * (1.0 + 1e-9) {
                     continue;
                 }
                 let dir = (c - (pu + pv) * 0.5).normalize_or_zero();

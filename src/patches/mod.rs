@@ -216,8 +216,9 @@ struct GroupInput<'a> {
 }
 
 /// Per vertex: Σ over the triangles around it of the unit direction from it to their centroids
-/// (where "into the surface" is, to nudge points off edges and corners), and the longest edge of
-/// those triangles (the local patch size). Zero-area triangles are skipped.
+/// (where "into the surface" is, to nudge points off edges and corners; zero where they cancel),
+/// and the longest edge of those triangles (the local patch size). Zero-area triangles are
+/// skipped.
 pub(crate) fn around(positions: &[DVec3], triangles: &[[u32; 3]]) -> (Vec<DVec3>, Vec<f64>) {
     let mut inward = vec![DVec3::ZERO; positions.len()];
     let mut longest = vec![0.0f64; positions.len()];
@@ -234,6 +235,13 @@ pub(crate) fn around(positions: &[DVec3], triangles: &[[u32; 3]]) -> (Vec<DVec3>
         for (k, &v) in t.iter().enumerate() {
             inward[v as usize] += (centroid - p[k]).normalize_or_zero();
             longest[v as usize] = longest[v as usize].max(edge);
+        }
+    }
+    // Inside a symmetric fan (a vertex inside a face) the directions cancel, and what is left
+    // is rounding noise, different at every scale: such a vertex has no inward direction.
+    for d in &mut inward {
+        if d.length() < 1e-6 {
+            *d = DVec3::ZERO;
         }
     }
     (inward, longest)

@@ -85,7 +85,9 @@ fn edge_points(
     let key = (u.min(v), u.max(v));
     let ids = edges.entry(key).or_insert_with(|| {
         let (pu, pv) = (positions[key.0 as usize], positions[key.1 as usize]);
-        let k = ((pv - pu).length() / h).ceil().max(1.0) as usize;
+        // An edge that is a whole number of patch sizes (common in rooms drawn on a grid) must
+        // get that number at every scale, not one more where rounding lands above it.
+        let k = ((pv - pu).length() / h * (1.0 - 1e-9)).ceil().max(1.0) as usize;
         // Interpolate from the lexicographically smaller endpoint so every surface computes the
         // same coordinates for the same geometric edge.
         let flip = lex_less(pv, pu);
