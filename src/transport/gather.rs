@@ -12,11 +12,12 @@
 //! accepted as one source when its bounding radius over its distance is below `tau` and it lies
 //! wholly above the receiver's plane. When its normal cone shows the receiver only front faces or
 //! only back faces it gets the second-order expansion of `geom::farfield`; when it shows both
-//! (clutter: a chair across the room) it is a cluster whose intensity follows its normals to
-//! order 2 (`geom::sh`; see [`Link`]).
+//! and is curved clutter (a chair across the room) it is a cluster whose intensity follows its
+//! normal distribution (`geom::sh`), less what it hides from itself (`silhouette`; see
+//! [`Link`]); other two-sided nodes are refined.
 //! Visibility is the only sampled part: a fixed pattern of points on the patch (1, 4 or 16 by
 //! its angular size) or two representative patches of a node, one shadow ray each (for a
-//! cluster, stopped at its bounding sphere); a node whose two rays disagree is refined instead of
+//! cluster, its own patches do not block); a node whose two rays disagree is refined instead of
 //! accepted, so shadow boundaries get leaf resolution.
 
 use super::tree::PatchTree;
@@ -231,24 +232,25 @@ impl Gatherer<'_> {
         visible as f64 / pts.len() as f64
     }
 
-    /// Visible fraction of a cluster: rays toward two representative patches, stopped where
-    /// they enter the node's box (the cluster may hide its own far side, which `silhouette`
-    /// accounts for).
+    /// Visible fraction of a cluster: rays toward two representative patches, where a blocker
+    /// that is one of the cluster's own patches does not count (the cluster hides its own far
+    /// side, which `silhouette` accounts for).
     fn cluster_visibility(&self, p: DVec3, n: DVec3, node: &super::tree::TreeNode) -> f64 {
         if self.occluder.convex_empty {
             return 1.0;
         }
-        let mut visible = 0;
-        for (q, _) in self.representatives(node) {
-            let dir = (q - p).normalize_or_zero();
-            // Where the ray enters the node's box (slab test; q is inside it).
-            let inv = dir.recip();
-            let (t0, t1) = ((node.lo - p) * inv, (node.hi - p) * inv);
-            let reach = t0.min(t1).max_element().clamp(0.0, (q - p).length());
-            if self.occluder.clear(p, n, p + dir * reach, DVec3::ZERO) {
-                visible += 1;
-            }
-        }
+        let Some((patches, rank)) = &self.tree.own_hits else {
+            return self.node_visibility(p, n, node);
+        };
+        let own = node.start..node.end;
+        let visible = self
+            .representatives(node)
+            .iter()
+            .filter(|(q, m)| match patches.first_hit(p, n, *q, *m) {
+                None => true,
+                Some(hit) => own.contains(&rank[hit]),
+            })
+            .count();
         visible as f64 / 2.0
     }
 

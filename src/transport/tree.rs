@@ -93,7 +93,7 @@ impl TreeNode {
     }
 }
 
-#[derive(Debug, Clone, Default)]
+#[derive(Default)]
 pub struct PatchTree {
     pub nodes: Vec<TreeNode>,
     /// Patch indices in leaf order.
@@ -103,6 +103,11 @@ pub struct PatchTree {
     /// Per node: the share of its front-facing area it does not hide from itself, along ±x,
     /// ±y, ±z (`silhouette`; 1 for nodes that are never two-sided clusters).
     pub visible: Vec<[f32; 6]>,
+    /// For trees with curved nodes: the patches as ray targets, and each patch's position in
+    /// `order` (`u32::MAX` outside the tree), so a cluster's shadow ray can tell a blocker that
+    /// is part of the cluster (its own far side, which `visible` accounts for) from one that is
+    /// not.
+    pub own_hits: Option<(crate::visibility::Occluder, Vec<u32>)>,
 }
 
 impl PatchTree {
@@ -113,6 +118,7 @@ impl PatchTree {
             order: subset,
             area_prefix: Vec::new(),
             visible: Vec::new(),
+            own_hits: None,
         };
         if tree.order.is_empty() {
             return tree;
@@ -126,6 +132,19 @@ impl PatchTree {
         tree.split(mesh, &leaf, 0, n);
         tree.finish(mesh, &leaf);
         tree.visible = super::silhouette::visible_shares(&tree, mesh);
+        if tree.nodes.iter().any(|n| n.curved) {
+            let tris: Vec<[DVec3; 3]> = mesh
+                .patches
+                .iter()
+                .map(|p| p.corners(&mesh.receivers))
+                .collect();
+            let mut rank = vec![u32::MAX; mesh.patches.len()];
+            for (k, &p) in tree.order.iter().enumerate() {
+                rank[p as usize] = k as u32;
+            }
+            let hits = crate::visibility::Occluder::from_triangles(&tris, false);
+            tree.own_hits = Some((hits, rank));
+        }
         let mut acc = 0.0;
         tree.area_prefix.push(0.0);
         for &p in &tree.order {
