@@ -317,6 +317,28 @@ impl Occluder {
         tracer.miss(self.ray(from, dir / len, len - self.epsilon))
     }
 
+    /// The first triangle (index as given to the constructor) that blocks the segment from `a`
+    /// (surface normal `na`) to `b` (normal `nb`), ends pulled off their surfaces as in
+    /// [`Occluder::clear`]; `None` when it is clear.
+    pub fn first_hit(&self, a: DVec3, na: DVec3, b: DVec3, nb: DVec3) -> Option<usize> {
+        let d = b - a;
+        let side_a = if na.dot(d) >= 0.0 { 1.0 } else { -1.0 };
+        let side_b = if nb.dot(d) <= 0.0 { 1.0 } else { -1.0 };
+        let from = a + na * (self.epsilon * side_a);
+        let to = b + nb * (self.epsilon * side_b);
+        let dir = to - from;
+        let len = dir.length();
+        let bvh = self.all.bvh.as_ref()?;
+        if len <= self.epsilon {
+            return None;
+        }
+        self.rays.add();
+        let mut hit = RayHit::none();
+        let ray = self.ray(from, dir / len, len - self.epsilon);
+        let found = bvh.ray_traverse(ray, &mut hit, |r, id| intersect(&self.all.triangles[id], r));
+        found.then(|| self.all.ids[hit.primitive_id as usize] as usize)
+    }
+
     /// Does a ray from point `a` (surface normal `na`) in direction `dir` leave the scene?
     pub fn escapes(&self, a: DVec3, na: DVec3, dir: DVec3) -> bool {
         let side = if na.dot(dir) >= 0.0 { 1.0 } else { -1.0 };

@@ -4,3 +4,4 @@
 pub mod farfield;
 pub mod lambert;
 pub mod samples;
+pub mod sh;

@@ -9,12 +9,16 @@
 //!
 //! Traversal from the root: nodes entirely behind the receiver's plane are skipped; a leaf patch
 //! gets Lambert's exact point-to-polygon form factor (clipped to the hemisphere); an inner node is
-//! accepted as one far-field source when its bounding radius over its distance is below `tau`,
-//! it lies wholly above the receiver's plane, and its normal cone shows the receiver only front
-//! faces or only back faces; it then gets the second-order expansion of `geom::farfield`.
+//! accepted as one source when its bounding radius over its distance is below `tau` and it lies
+//! wholly above the receiver's plane. When its normal cone shows the receiver only front faces or
+//! only back faces it gets the second-order expansion of `geom::farfield`; when it shows both
+//! and is curved clutter (a chair across the room) it is a cluster whose intensity follows its
+//! normal distribution (`geom::sh`), less what it hides from itself (`silhouette`; see
+//! [`Link`]); other two-sided nodes are refined.
 //! Visibility is the only sampled part: a fixed pattern of points on the patch (1, 4 or 16 by
-//! its angular size) or two representative patches of a node, one shadow ray each; a node whose
-//! two rays disagree is refined instead of accepted, so shadow boundaries get leaf resolution.
+//! its angular size) or two representative patches of a node, one shadow ray each (for a
+//! cluster, its own patches do not block); a node whose two rays disagree is refined instead of
+//! accepted, so shadow boundaries get leaf resolution.
 
 use super::tree::PatchTree;
 use crate::geom::lambert;
@@ -32,14 +36,39 @@ pub struct Coverage {
 }
 
 /// One source seen by a receiver.
+///
+/// Leaf and far-field links (`coeff > 0`): E += coeff × node mean + grad · node first moment.
+/// Cluster links (`coeff < 0`, a node whose patches face the receiver from both sides):
+/// with K = −coeff = cos θ·vis·V/(π d²) (V: the share it does not hide from itself) and w =
+/// grad/K the unit direction from the node to the receiver, E += K × Σ weights(w)·S over the
+/// node's exitance-weighted normal distribution (`geom::sh::Dist`). Scaling a row scales both
+/// forms alike.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Link {
     pub node: u32,
-    /// Form factor × visible fraction.
+    /// Form factor × visible fraction (negated for cluster links).
     pub coeff: f32,
     /// Far-field links: the form-factor density's gradient × visible fraction, applied to the
     /// node's first moment of exitance (zero for leaf patches, where exitance is uniform).
+    /// Cluster links: K × the direction to the receiver.
     pub grad: [f32; 3],
+}
+
+impl Link {
+    pub fn is_cluster(&self) -> bool {
+        self.coeff < 0.0
+    }
+
+    /// For a cluster link: K and the unit direction from the node to the receiver.
+    pub fn cluster(&self) -> (f64, DVec3) {
+        let k = -self.coeff as f64;
+        let g = DVec3::new(
+            self.grad[0] as f64,
+            self.grad[1] as f64,
+            self.grad[2] as f64,
+        );
+        (k, g.normalize_or_zero())
+    }
 }
 
 pub struct Gatherer<'a> {
@@ -92,51 +121,97 @@ impl Gatherer<'_> {
                 }
                 continue;
             }
-            if let Some(front) = self.accept(node, p, below, dist) {
-                let vis = self.node_visibility(p, n, node);
-                if vis > 0.0 && vis < 1.0 {
-                    // Partly hidden: a shadow boundary runs through the node. Refine rather
-                    // than guess the visible fraction from two rays.
-                    stack.extend(node.children);
-                    continue;
-                }
-                let f = node.moments.form_factor(p, n).abs();
-                if front {
-                    coverage.total += f * vis;
-                } else {
-                    // Only single-sided backs cover anything (double-sided ones have twins).
-                    let share = node.single_sided_area / node.moments.area.max(1e-300);
-                    coverage.total += f * vis * share;
-                    coverage.back += f * vis * share;
-                }
-                if front && vis > 0.0 && f > 0.0 {
-                    let g = node.moments.density_gradient(p, n) * vis;
-                    out.push(Link {
-                        node: i,
-                        coeff: (f * vis) as f32,
-                        grad: [g.x as f32, g.y as f32, g.z as f32],
-                    });
-                }
+            if below < 0.0 || node.radius >= self.tau * dist {
+                stack.extend(node.children); // crosses the receiver's plane, or too close
                 continue;
             }
-            stack.extend(node.children);
+            let facing = node.facing(p);
+            if facing.is_none() && !node.curved {
+                stack.extend(node.children);
+                continue;
+            }
+            let vis = match facing {
+                Some(_) => self.node_visibility(p, n, node),
+                None => self.cluster_visibility(p, n, node),
+            };
+            if vis > 0.0 && vis < 1.0 {
+                // Partly hidden: a shadow boundary runs through the node. Refine rather than
+                // guess the visible fraction from two rays.
+                stack.extend(node.children);
+                continue;
+            }
+            match facing {
+                Some(front) => self.add_far(i, p, n, front, vis, out, &mut coverage),
+                // Seen from both sides (clutter): one cluster, its normals to order 2.
+                None => self.add_cluster(i, p, n, vis, out, &mut coverage),
+            }
         }
         coverage
     }
 
-    /// `Some(front_facing)` when `node` may be treated as one far-field source seen from `p`:
-    /// small enough for its distance, wholly above the receiver's plane, seen from one side.
-    fn accept(
+    /// Node `i` accepted as one far-field source seen from `p` (`front`: its patches face `p`)
+    /// with visible fraction `vis`: second-order area moments and the first moment of exitance.
+    #[allow(clippy::too_many_arguments)]
+    fn add_far(
         &self,
-        node: &super::tree::TreeNode,
+        i: u32,
         p: DVec3,
-        below: f64,
-        dist: f64,
-    ) -> Option<bool> {
-        if node.radius >= self.tau * dist || below < 0.0 {
-            return None;
+        n: DVec3,
+        front: bool,
+        vis: f64,
+        out: &mut Vec<Link>,
+        coverage: &mut Coverage,
+    ) {
+        let node = &self.tree.nodes[i as usize];
+        let f = node.moments.form_factor(p, n).abs();
+        if front {
+            coverage.total += f * vis;
+        } else {
+            // Only single-sided backs cover anything (double-sided ones have twins).
+            let share = node.single_sided_area / node.moments.area.max(1e-300);
+            coverage.total += f * vis * share;
+            coverage.back += f * vis * share;
         }
-        node.facing(p)
+        if front && vis > 0.0 && f > 0.0 {
+            let g = node.moments.density_gradient(p, n) * vis;
+            out.push(Link {
+                node: i,
+                coeff: (f * vis) as f32,
+                grad: [g.x as f32, g.y as f32, g.z as f32],
+            });
+        }
+    }
+
+    /// Node `i`, whose patches face `p` from both sides, accepted as one cluster: a point source
+    /// at its centroid whose intensity follows its exitance-weighted normals to order 2, scaled
+    /// by the share of its front faces it does not hide from itself (`silhouette`). It covers the
+    /// area it shows toward `p`.
+    fn add_cluster(
+        &self,
+        i: u32,
+        p: DVec3,
+        n: DVec3,
+        vis: f64,
+        out: &mut Vec<Link>,
+        coverage: &mut Coverage,
+    ) {
+        let node = &self.tree.nodes[i as usize];
+        let c = node.moments.centroid;
+        let d2 = (c - p).length_squared();
+        let w = (p - c) / d2.sqrt();
+        // What the cluster hides from itself is neither seen nor covers anything.
+        let seen = super::silhouette::share_toward(&self.tree.visible[i as usize], w);
+        let k = (-n.dot(w)).max(0.0) * vis * seen / (std::f64::consts::PI * d2);
+        let shown = crate::geom::sh::dist_projected(&node.normal_sh, w).max(0.0);
+        coverage.total += k * shown;
+        if k > 0.0 {
+            let g = w * k;
+            out.push(Link {
+                node: i,
+                coeff: -(k as f32),
+                grad: [g.x as f32, g.y as f32, g.z as f32],
+            });
+        }
     }
 
     /// Fraction of the fixed sample points on patch `patch_index` visible from `p`.
@@ -157,17 +232,35 @@ impl Gatherer<'_> {
         visible as f64 / pts.len() as f64
     }
 
-    /// Visible fraction of two representative patches (at the node's area quartiles).
-    fn node_visibility(&self, p: DVec3, n: DVec3, node: &super::tree::TreeNode) -> f64 {
+    /// Visible fraction of a cluster: rays toward two representative patches, where a blocker
+    /// that is one of the cluster's own patches does not count (the cluster hides its own far
+    /// side, which `silhouette` accounts for).
+    fn cluster_visibility(&self, p: DVec3, n: DVec3, node: &super::tree::TreeNode) -> f64 {
         if self.occluder.convex_empty {
             return 1.0;
         }
+        let Some((patches, rank)) = &self.tree.own_hits else {
+            return self.node_visibility(p, n, node);
+        };
+        let own = node.start..node.end;
+        let visible = self
+            .representatives(node)
+            .iter()
+            .filter(|(q, m)| match patches.first_hit(p, n, *q, *m) {
+                None => true,
+                Some(hit) => own.contains(&rank[hit]),
+            })
+            .count();
+        visible as f64 / 2.0
+    }
+
+    /// Centroids and normals of two patches of the node, at its area quartiles.
+    fn representatives(&self, node: &super::tree::TreeNode) -> [(DVec3, DVec3); 2] {
         let (a0, a1) = (
             self.tree.area_prefix[node.start as usize],
             self.tree.area_prefix[node.end as usize],
         );
-        let mut visible = 0;
-        for q in [0.25, 0.75] {
+        [0.25, 0.75].map(|q| {
             let target = a0 + (a1 - a0) * q;
             let k = self.tree.area_prefix[node.start as usize..=node.end as usize]
                 .partition_point(|&a| a <= target)
@@ -175,11 +268,20 @@ impl Gatherer<'_> {
                 .min((node.end - node.start - 1) as usize);
             let patch = &self.mesh.patches[self.tree.order[node.start as usize + k] as usize];
             let c = patch.corners(&self.mesh.receivers);
-            let centroid = (c[0] + c[1] + c[2]) / 3.0;
-            if self.occluder.clear(p, n, centroid, patch.normal) {
-                visible += 1;
-            }
+            ((c[0] + c[1] + c[2]) / 3.0, patch.normal)
+        })
+    }
+
+    /// Visible fraction of two representative patches (at the node's area quartiles).
+    fn node_visibility(&self, p: DVec3, n: DVec3, node: &super::tree::TreeNode) -> f64 {
+        if self.occluder.convex_empty {
+            return 1.0;
         }
+        let [(q0, m0), (q1, m1)] = self.representatives(node);
+        let visible = [(q0, m0), (q1, m1)]
+            .iter()
+            .filter(|(q, m)| self.occluder.clear(p, n, *q, *m))
+            .count();
         visible as f64 / 2.0
     }
 }

@@ -4,4 +4,5 @@
 pub mod gather;
 pub mod links;
 pub mod operator;
+pub mod silhouette;
 pub mod tree;

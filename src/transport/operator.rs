@@ -17,6 +17,7 @@
 
 use super::links::ReceiverLinks;
 use super::tree::PatchTree;
+use crate::geom::sh::DIST;
 use crate::patches::PatchMesh;
 use glam::DVec3;
 use rayon::prelude::*;
@@ -101,30 +102,46 @@ impl<'a> PatchOperator<'a> {
         let nodes = self.tree.nodes.len();
         let mut node_acc = vec![0.0; nodes];
         let mut node_grad = vec![DVec3::ZERO; nodes];
+        let mut node_sh = vec![[0.0; DIST]; nodes];
         const CHUNK: usize = 4096;
         let receivers: Vec<usize> = (0..mesh.receivers.len()).collect();
         for batch in receivers.chunks(CHUNK * 8) {
-            let parts: Vec<(Vec<f64>, Vec<DVec3>)> = batch
+            type Part = (Vec<f64>, Vec<DVec3>, Vec<[f64; DIST]>);
+            let parts: Vec<Part> = batch
                 .par_chunks(CHUNK)
                 .map(|chunk| {
                     let mut acc = vec![0.0; nodes];
                     let mut grad = vec![DVec3::ZERO; nodes];
+                    let mut sh = vec![[0.0; DIST]; nodes];
                     for &r in chunk {
                         if at[r] == 0.0 {
                             continue;
                         }
                         for l in &self.links.links[self.links.offsets[r]..self.links.offsets[r + 1]]
                         {
+                            if l.is_cluster() {
+                                let (k, w) = l.cluster();
+                                let weights = crate::geom::sh::dist_weights(w);
+                                for (a, x) in sh[l.node as usize].iter_mut().zip(weights) {
+                                    *a += at[r] * k * x;
+                                }
+                                continue;
+                            }
                             acc[l.node as usize] += at[r] * l.coeff as f64;
                             let g =
                                 DVec3::new(l.grad[0] as f64, l.grad[1] as f64, l.grad[2] as f64);
                             grad[l.node as usize] += g * at[r];
                         }
                     }
-                    (acc, grad)
+                    (acc, grad, sh)
                 })
                 .collect();
-            for (acc, grad) in parts {
+            for (acc, grad, sh) in parts {
+                for (a, b) in node_sh.iter_mut().zip(sh) {
+                    for (x, y) in a.iter_mut().zip(b) {
+                        *x += y;
+                    }
+                }
                 for (a, b) in node_acc.iter_mut().zip(acc) {
                     *a += b;
                 }
@@ -135,11 +152,15 @@ impl<'a> PatchOperator<'a> {
         }
         // Node → patches (top-down push). A node's mean is Σ Aⱼ·Bⱼ / A and its dipole
         // Σ Aⱼ·Bⱼ·(cⱼ − c), so patch j collects Aⱼ·Σ_ancestors [acc/A + grad·(cⱼ − c)].
+        // Cluster links read Σ Bⱼ·(Aⱼ's normal distribution): patch j collects its own (the leaf's
+        // `normal_sh`) against the sum of its ancestors' accumulations.
         let mut down = vec![(0.0, DVec3::ZERO, 0.0); nodes];
+        let mut down_sh = vec![[0.0; DIST]; nodes];
         let mut z = vec![0.0; mesh.patches.len()];
         for i in 0..nodes {
             let node = &self.tree.nodes[i];
             let (s0, g0, k0) = down[i];
+            let sh: [f64; DIST] = std::array::from_fn(|c| down_sh[i][c] + node_sh[i][c]);
             let here = (
                 s0 + node_acc[i] / node.moments.area,
                 g0 + node_grad[i],
@@ -148,10 +169,13 @@ impl<'a> PatchOperator<'a> {
             if node.is_leaf() {
                 let p = self.tree.order[node.start as usize] as usize;
                 let cj = node.moments.centroid;
-                z[p] = (here.0 + here.1.dot(cj) - here.2) * mesh.patches[p].area * self.col[p];
+                let clusters: f64 = (0..DIST).map(|c| sh[c] * node.normal_sh[c]).sum();
+                z[p] = ((here.0 + here.1.dot(cj) - here.2) * mesh.patches[p].area + clusters)
+                    * self.col[p];
             } else {
                 for c in node.children {
                     down[c as usize] = here;
+                    down_sh[c as usize] = sh;
                 }
             }
         }
@@ -246,5 +270,86 @@ impl<'a> PatchOperator<'a> {
         }
         stats.row_error_after = error(&self.apply_scalar(&ones));
         stats
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fixtures::SceneBuilder;
+    use crate::transport::gather::Gatherer;
+    use crate::visibility::{Occluder, OccluderOptions};
+
+    /// A room with tessellated balls in it: far receivers see the balls as clusters.
+    fn cluttered_room() -> crate::scene::Scene {
+        let mut b = SceneBuilder::new();
+        let walls = b.material("walls", 0.6);
+        let boxes = b.material("boxes", 0.4);
+        b.axis_box("room", DVec3::ZERO, DVec3::new(8.0, 3.0, 6.0), true, walls);
+        for k in 0..6 {
+            // Tessellated balls (curved clutter, 48 facets each) on the floor.
+            let c = DVec3::new(1.0 + k as f64 * 1.1, 0.2, 2.0 + 0.3 * (k % 3) as f64);
+            let (rings, segments) = (6, 8);
+            let mut positions = Vec::new();
+            for i in 0..=rings {
+                let theta = std::f64::consts::PI * i as f64 / rings as f64;
+                for j in 0..segments {
+                    let phi = 2.0 * std::f64::consts::PI * j as f64 / segments as f64;
+                    let d = DVec3::new(
+                        theta.sin() * phi.cos(),
+                        theta.cos(),
+                        theta.sin() * phi.sin(),
+                    );
+                    positions.push(c + d * 0.2);
+                }
+            }
+            let normals: Vec<DVec3> = positions.iter().map(|p| (*p - c).normalize()).collect();
+            let mut triangles = Vec::new();
+            let at = |i: u32, j: u32| i * segments + j % segments;
+            for i in 0..rings {
+                for j in 0..segments {
+                    let (a, b2, c2, d) = (at(i, j), at(i, j + 1), at(i + 1, j + 1), at(i + 1, j));
+                    if i > 0 {
+                        triangles.push([a, b2, d]);
+                    }
+                    if i + 1 < rings {
+                        triangles.push([b2, c2, d]);
+                    }
+                }
+            }
+            b.surface(&format!("ball{k}"), positions, normals, triangles, boxes);
+        }
+        b.point_light("lamp", DVec3::new(4.0, 2.8, 3.0), 1000.0);
+        b.build()
+    }
+
+    #[test]
+    fn transpose_matches_apply_with_cluster_links() {
+        let scene = cluttered_room();
+        let occluder = Occluder::build(&scene, OccluderOptions::default());
+        let mesh = crate::patches::build(&scene, 0.2, None);
+        let tree = PatchTree::build(&mesh, (0..mesh.patches.len() as u32).collect());
+        let gatherer = Gatherer {
+            mesh: &mesh,
+            tree: &tree,
+            occluder: &occluder,
+            tau: 0.3,
+        };
+        let links = ReceiverLinks::build(&gatherer, &mesh.receivers);
+        let clusters = links.links.iter().filter(|l| l.is_cluster()).count();
+        assert!(clusters > 100, "{clusters} cluster links");
+        let mut op = PatchOperator::new(&mesh, &tree, &links);
+        // Non-trivial scalings, as after balancing.
+        let n = mesh.patches.len();
+        let wave = |k: usize, a: f64| 1.0 + 0.3 * ((k as f64) * a).sin();
+        op.row = (0..n).map(|k| wave(k, 0.7)).collect();
+        op.col = (0..n).map(|k| wave(k, 1.3)).collect();
+        let b: Vec<f64> = (0..n).map(|k| wave(k, 2.1)).collect();
+        let y: Vec<f64> = (0..n).map(|k| wave(k, 0.37)).collect();
+        let gb = op.apply_scalar(&b);
+        let gty = op.apply_transpose(&y);
+        let lhs: f64 = y.iter().zip(&gb).map(|(a, b)| a * b).sum();
+        let rhs: f64 = gty.iter().zip(&b).map(|(a, b)| a * b).sum();
+        assert!((lhs / rhs - 1.0).abs() < 1e-9, "{lhs} vs {rhs}");
     }
 }
