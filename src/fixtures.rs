@@ -156,6 +156,58 @@ impl SceneBuilder {
     }
 
     /// An isotropic point light of `flux` lm at `position`.
+    /// A tessellated ball (latitude-longitude, `rings` × `segments`), counter-clockwise seen from
+    /// outside, with radial shading normals: curved clutter.
+    pub fn ball(
+        &mut self,
+        name: &str,
+        centre: DVec3,
+        radius: f64,
+        (rings, segments): (u32, u32),
+        material: usize,
+    ) {
+        let mut positions = Vec::new();
+        for i in 0..=rings {
+            let theta = std::f64::consts::PI * i as f64 / rings as f64;
+            for j in 0..segments {
+                let phi = 2.0 * std::f64::consts::PI * j as f64 / segments as f64;
+                let d = DVec3::new(
+                    theta.sin() * phi.cos(),
+                    theta.cos(),
+                    theta.sin() * phi.sin(),
+                );
+                positions.push(centre + d * radius);
+            }
+        }
+        let normals: Vec<DVec3> = positions
+            .iter()
+            .map(|p| (*p - centre).normalize_or_zero())
+            .collect();
+        let at = |i: u32, j: u32| i * segments + j % segments;
+        let mut triangles = Vec::new();
+        for i in 0..rings {
+            for j in 0..segments {
+                let (a, b, c, d) = (at(i, j), at(i, j + 1), at(i + 1, j + 1), at(i + 1, j));
+                let mut quad = Vec::new();
+                if i > 0 {
+                    quad.push([a, b, d]);
+                }
+                if i + 1 < rings {
+                    quad.push([b, c, d]);
+                }
+                for mut t in quad {
+                    let p = t.map(|v| positions[v as usize]);
+                    let out = (p[0] + p[1] + p[2]) / 3.0 - centre;
+                    if (p[1] - p[0]).cross(p[2] - p[0]).dot(out) < 0.0 {
+                        t.swap(1, 2);
+                    }
+                    triangles.push(t);
+                }
+            }
+        }
+        self.surface(name, positions, normals, triangles, material);
+    }
+
     pub fn point_light(&mut self, name: &str, position: DVec3, flux: f64) {
         self.light(
             name,
@@ -413,6 +465,21 @@ pub fn closed_box_with_panel(size: DVec3, rho: f64, panel: f64, l: f64) -> Scene
                 if i == 1 && j == 1 { lamp } else { walls },
             );
         }
+    }
+    b.build()
+}
+
+/// [`closed_box_with_panel`] with twelve tessellated balls (radius 0.25 m, 48 facets) standing
+/// on its floor, all of reflectance `rho`: a closed enclosure with curved clutter.
+pub fn closed_box_with_balls(size: DVec3, rho: f64, panel: f64, l: f64) -> Scene {
+    let mut b = SceneBuilder {
+        scene: closed_box_with_panel(size, rho, panel, l),
+    };
+    let walls = 0; // closed_box_with_panel's first material
+    for k in 0..12 {
+        let (i, j) = ((k % 4) as f64, (k / 4) as f64);
+        let centre = DVec3::new(size.x * (i + 0.5) / 4.0, 0.3, size.z * (j + 0.5) / 3.0);
+        b.ball(&format!("ball_{k}"), centre, 0.25, (6, 8), walls);
     }
     b.build()
 }

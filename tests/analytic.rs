@@ -69,6 +69,44 @@ fn closed_box_mean_illuminance_is_sumpner_at_any_reflectance() {
 }
 
 #[test]
+fn closed_box_with_curved_clutter_is_sumpner() {
+    // Sumpner holds for any closed enclosure of uniform reflectance, objects inside included:
+    // the area-mean illuminance is Φ/(S(1−ρ)) with S every surface's area. Twelve tessellated
+    // balls on the floor are seen from across the room as two-sided clusters.
+    let size = DVec3::new(4.0, 3.0, 5.0);
+    let phi = PI * 2000.0 * 0.36;
+    for rho in [0.5, 0.9] {
+        let scene = fixtures::closed_box_with_balls(size, rho, 0.6, 2000.0);
+        let r = run(&scene, &Settings::default());
+        let clusters = r.summary["counts"]["clusterLinks"].as_u64().unwrap();
+        assert!(
+            clusters > 1000,
+            "{clusters} cluster links: the clusters are not exercised"
+        );
+        let s_total: f64 = r
+            .surfaces
+            .iter()
+            .flat_map(|s| {
+                s.triangles.iter().map(|t| {
+                    let p = t.map(|v| s.positions[v as usize]);
+                    (p[1] - p[0]).cross(p[2] - p[0]).length() / 2.0
+                })
+            })
+            .sum();
+        let mean = area_mean(&r, |s, v| s.illuminance[v] as f64);
+        let want = phi / (s_total * (1.0 - rho));
+        eprintln!(
+            "clutter rho {rho}: {clusters} cluster links, mean {mean:.4} want {want:.4} rel {:.2e}",
+            rel(mean, want)
+        );
+        assert!(
+            rel(mean, want) < 0.005,
+            "rho {rho}: mean {mean} vs Φ/(S(1−ρ)) = {want}"
+        );
+    }
+}
+
+#[test]
 fn furnace_exitance_is_uniform_and_exact_at_every_vertex() {
     let (l, rho) = (100.0, 0.9);
     let scene = fixtures::furnace(DVec3::new(2.0, 3.0, 5.0), rho, l);

@@ -262,6 +262,7 @@ pub fn solve<'a>(
             "patches": solution.mesh.patches.len(),
             "receivers": solution.mesh.receivers.len(),
             "links": links.links.len(),
+            "clusterLinks": links.links.iter().filter(|l| l.is_cluster()).count(),
             "closedReceivers": links.closed.iter().filter(|c| **c).count(),
             "rays": solution.occluder.rays_traced(),
             "convexEmptyScene": solution.occluder.convex_empty,

@@ -289,35 +289,7 @@ mod tests {
         for k in 0..6 {
             // Tessellated balls (curved clutter, 48 facets each) on the floor.
             let c = DVec3::new(1.0 + k as f64 * 1.1, 0.2, 2.0 + 0.3 * (k % 3) as f64);
-            let (rings, segments) = (6, 8);
-            let mut positions = Vec::new();
-            for i in 0..=rings {
-                let theta = std::f64::consts::PI * i as f64 / rings as f64;
-                for j in 0..segments {
-                    let phi = 2.0 * std::f64::consts::PI * j as f64 / segments as f64;
-                    let d = DVec3::new(
-                        theta.sin() * phi.cos(),
-                        theta.cos(),
-                        theta.sin() * phi.sin(),
-                    );
-                    positions.push(c + d * 0.2);
-                }
-            }
-            let normals: Vec<DVec3> = positions.iter().map(|p| (*p - c).normalize()).collect();
-            let mut triangles = Vec::new();
-            let at = |i: u32, j: u32| i * segments + j % segments;
-            for i in 0..rings {
-                for j in 0..segments {
-                    let (a, b2, c2, d) = (at(i, j), at(i, j + 1), at(i + 1, j + 1), at(i + 1, j));
-                    if i > 0 {
-                        triangles.push([a, b2, d]);
-                    }
-                    if i + 1 < rings {
-                        triangles.push([b2, c2, d]);
-                    }
-                }
-            }
-            b.surface(&format!("ball{k}"), positions, normals, triangles, boxes);
+            b.ball(&format!("ball{k}"), c, 0.2, (6, 8), boxes);
         }
         b.point_light("lamp", DVec3::new(4.0, 2.8, 3.0), 1000.0);
         b.build()
