@@ -440,6 +440,11 @@ pub fn cie_5_8(rho: f64) -> Scene {
 /// A closed box `size` with uniform reflectance `rho`, whose ceiling has an emitting square of
 /// side `panel` (luminance `l`) in its middle, flush with it (the ceiling is cut into 9 quads).
 pub fn closed_box_with_panel(size: DVec3, rho: f64, panel: f64, l: f64) -> Scene {
+    box_with_panel(size, rho, panel, l).0.build()
+}
+
+/// The builder of [`closed_box_with_panel`] and its walls' material.
+fn box_with_panel(size: DVec3, rho: f64, panel: f64, l: f64) -> (SceneBuilder, usize) {
     let mut b = SceneBuilder::new();
     let walls = b.material("walls", rho);
     let lamp = b.emitter("panel", rho, l);
@@ -466,16 +471,13 @@ pub fn closed_box_with_panel(size: DVec3, rho: f64, panel: f64, l: f64) -> Scene
             );
         }
     }
-    b.build()
+    (b, walls)
 }
 
 /// [`closed_box_with_panel`] with twelve tessellated balls (radius 0.25 m, 48 facets) standing
 /// on its floor, all of reflectance `rho`: a closed enclosure with curved clutter.
 pub fn closed_box_with_balls(size: DVec3, rho: f64, panel: f64, l: f64) -> Scene {
-    let mut b = SceneBuilder {
-        scene: closed_box_with_panel(size, rho, panel, l),
-    };
-    let walls = 0; // closed_box_with_panel's first material
+    let (mut b, walls) = box_with_panel(size, rho, panel, l);
     for k in 0..12 {
         let (i, j) = ((k % 4) as f64, (k / 4) as f64);
         let centre = DVec3::new(size.x * (i + 0.5) / 4.0, 0.3, size.z * (j + 0.5) / 3.0);

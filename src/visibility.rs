@@ -270,15 +270,7 @@ impl Occluder {
     /// The nearest triangle a ray from `origin` along the unit `dir` hits: its index (as given to
     /// the constructor), distance (m) and unit geometric normal (by its winding).
     pub fn closest(&self, origin: DVec3, dir: DVec3) -> Option<Hit> {
-        let bvh = self.all.bvh.as_ref()?;
-        self.rays.add();
-        let mut hit = RayHit::none();
-        let found = bvh.ray_traverse(self.ray(origin, dir, f64::INFINITY), &mut hit, |r, id| {
-            intersect(&self.all.triangles[id], r)
-        });
-        if !found {
-            return None;
-        }
+        let hit = self.nearest(self.ray(origin, dir, f64::INFINITY))?;
         let t = &self.all.triangles[hit.primitive_id as usize];
         let n = (t.v1 - t.v0).cross(t.v2 - t.v0);
         Some(Hit {
@@ -286,6 +278,27 @@ impl Occluder {
             distance: hit.t as f64 / self.scale,
             normal: DVec3::new(n.x as f64, n.y as f64, n.z as f64).normalize_or_zero(),
         })
+    }
+
+    /// The nearest hit of a ray (in BVH units) among all triangles.
+    fn nearest(&self, ray: Ray) -> Option<RayHit> {
+        let bvh = self.all.bvh.as_ref()?;
+        self.rays.add();
+        let mut hit = RayHit::none();
+        bvh.ray_traverse(ray, &mut hit, |r, id| intersect(&self.all.triangles[id], r))
+            .then_some(hit)
+    }
+
+    /// The ends of the segment from `a` (surface normal `na`) to `b` (normal `nb`), each pulled
+    /// off its surface by the epsilon toward the other end's side.
+    fn pulled_ends(&self, a: DVec3, na: DVec3, b: DVec3, nb: DVec3) -> (DVec3, DVec3) {
+        let d = b - a;
+        let side_a = if na.dot(d) >= 0.0 { 1.0 } else { -1.0 };
+        let side_b = if nb.dot(d) <= 0.0 { 1.0 } else { -1.0 };
+        (
+            a + na * (self.epsilon * side_a),
+            b + nb * (self.epsilon * side_b),
+        )
     }
 
     /// Number of rays traced so far.
@@ -296,11 +309,7 @@ impl Occluder {
     /// Is the segment from point `a` (surface normal `na`) to point `b` (normal `nb`) free of
     /// blockers? Either normal may be zero (a point in free space, e.g. a light).
     pub fn clear(&self, a: DVec3, na: DVec3, b: DVec3, nb: DVec3) -> bool {
-        let d = b - a;
-        let side_a = if na.dot(d) >= 0.0 { 1.0 } else { -1.0 };
-        let side_b = if nb.dot(d) <= 0.0 { 1.0 } else { -1.0 };
-        let from = a + na * (self.epsilon * side_a);
-        let to = b + nb * (self.epsilon * side_b);
+        let (from, to) = self.pulled_ends(a, na, b, nb);
         // The pulled-off ends decide: a face on the shell looking out (the top of a fitting
         // flush with the ceiling) pulls its end outside, and then the shell must count.
         let inner = self.inside_shell(from) && self.inside_shell(to);
@@ -321,22 +330,14 @@ impl Occluder {
     /// (surface normal `na`) to `b` (normal `nb`), ends pulled off their surfaces as in
     /// [`Occluder::clear`]; `None` when it is clear.
     pub fn first_hit(&self, a: DVec3, na: DVec3, b: DVec3, nb: DVec3) -> Option<usize> {
-        let d = b - a;
-        let side_a = if na.dot(d) >= 0.0 { 1.0 } else { -1.0 };
-        let side_b = if nb.dot(d) <= 0.0 { 1.0 } else { -1.0 };
-        let from = a + na * (self.epsilon * side_a);
-        let to = b + nb * (self.epsilon * side_b);
+        let (from, to) = self.pulled_ends(a, na, b, nb);
         let dir = to - from;
         let len = dir.length();
-        let bvh = self.all.bvh.as_ref()?;
         if len <= self.epsilon {
             return None;
         }
-        self.rays.add();
-        let mut hit = RayHit::none();
-        let ray = self.ray(from, dir / len, len - self.epsilon);
-        let found = bvh.ray_traverse(ray, &mut hit, |r, id| intersect(&self.all.triangles[id], r));
-        found.then(|| self.all.ids[hit.primitive_id as usize] as usize)
+        let hit = self.nearest(self.ray(from, dir / len, len - self.epsilon))?;
+        Some(self.all.ids[hit.primitive_id as usize] as usize)
     }
 
     /// Does a ray from point `a` (surface normal `na`) in direction `dir` leave the scene?

@@ -110,6 +110,21 @@ pub fn point(m: DVec3, a: f64) -> Coeffs {
 mod tests {
     use super::*;
 
+    /// A unit cube's face normals.
+    const CUBE: [DVec3; 6] = [
+        DVec3::X,
+        DVec3::NEG_X,
+        DVec3::Y,
+        DVec3::NEG_Y,
+        DVec3::Z,
+        DVec3::NEG_Z,
+    ];
+
+    /// The sum of several distributions.
+    fn total<const N: usize>(parts: impl Iterator<Item = [f64; N]>) -> [f64; N] {
+        parts.fold([0.0; N], |acc, p| std::array::from_fn(|k| acc[k] + p[k]))
+    }
+
     fn directions() -> impl Iterator<Item = DVec3> {
         (0..200).map(|k| {
             // A spiral over the sphere.
@@ -168,21 +183,10 @@ mod tests {
     #[test]
     fn axis_faces_are_exact_and_others_go_to_harmonics() {
         // A unit cube: exact |wx| + |wy| + |wz| from the bins.
-        let mut d = [0.0; DIST];
-        for m in [
-            DVec3::X,
-            -DVec3::X,
-            DVec3::Y,
-            -DVec3::Y,
-            DVec3::Z,
-            -DVec3::Z,
-        ] {
-            let p = dist_point(m, 1.0);
-            assert_eq!(p[6..], [0.0; 9]);
-            for k in 0..DIST {
-                d[k] += p[k];
-            }
+        for m in CUBE {
+            assert_eq!(dist_point(m, 1.0)[6..], [0.0; 9]);
         }
+        let d = total(CUBE.into_iter().map(|m| dist_point(m, 1.0)));
         for w in directions() {
             let exact = w.x.abs() + w.y.abs() + w.z.abs();
             assert!((dist_projected(&d, w) - exact).abs() < 1e-12);
@@ -197,20 +201,7 @@ mod tests {
     #[test]
     fn closed_shapes_show_a_quarter_of_their_area_on_average() {
         // A unit cube shows |wx| + |wy| + |wz| toward w.
-        let mut c = [0.0; 9];
-        for m in [
-            DVec3::X,
-            -DVec3::X,
-            DVec3::Y,
-            -DVec3::Y,
-            DVec3::Z,
-            -DVec3::Z,
-        ] {
-            let p = point(m, 1.0);
-            for k in 0..9 {
-                c[k] += p[k];
-            }
-        }
+        let c = total(CUBE.into_iter().map(|m| point(m, 1.0)));
         // Order 2 keeps only the mean of its projected area |wx| + |wy| + |wz|: 1.5 everywhere.
         for w in directions() {
             assert!((projected(&c, w) - 1.5).abs() < 1e-12);
@@ -221,13 +212,7 @@ mod tests {
             / 200.0;
         assert!((mean - 1.5).abs() < 0.01, "{mean}");
         // A sphere's normals (uniform): projected area = total / 4 exactly (only l = 0 remains).
-        let mut s = [0.0; 9];
-        for m in directions() {
-            let p = point(m, 1.0 / 200.0);
-            for k in 0..9 {
-                s[k] += p[k];
-            }
-        }
+        let s = total(directions().map(|m| point(m, 1.0 / 200.0)));
         for w in directions() {
             assert!(
                 (projected(&s, w) - 0.25).abs() < 0.01,

@@ -55,19 +55,30 @@ pub struct Link {
 }
 
 impl Link {
+    /// A link with gradient (or direction × K) `grad`, stored in single precision.
+    pub fn new(node: u32, coeff: f64, grad: DVec3) -> Self {
+        Link {
+            node,
+            coeff: coeff as f32,
+            grad: [grad.x as f32, grad.y as f32, grad.z as f32],
+        }
+    }
+
+    pub fn grad(&self) -> DVec3 {
+        DVec3::new(
+            self.grad[0] as f64,
+            self.grad[1] as f64,
+            self.grad[2] as f64,
+        )
+    }
+
     pub fn is_cluster(&self) -> bool {
         self.coeff < 0.0
     }
 
     /// For a cluster link: K and the unit direction from the node to the receiver.
     pub fn cluster(&self) -> (f64, DVec3) {
-        let k = -self.coeff as f64;
-        let g = DVec3::new(
-            self.grad[0] as f64,
-            self.grad[1] as f64,
-            self.grad[2] as f64,
-        );
-        (k, g.normalize_or_zero())
+        (-self.coeff as f64, self.grad().normalize_or_zero())
     }
 }
 
@@ -113,11 +124,7 @@ impl Gatherer<'_> {
                     coverage.back += f * vis;
                 }
                 if front && vis > 0.0 {
-                    out.push(Link {
-                        node: i,
-                        coeff: (f * vis) as f32,
-                        grad: [0.0; 3],
-                    });
+                    out.push(Link::new(i, f * vis, DVec3::ZERO));
                 }
                 continue;
             }
@@ -174,11 +181,7 @@ impl Gatherer<'_> {
         }
         if front && vis > 0.0 && f > 0.0 {
             let g = node.moments.density_gradient(p, n) * vis;
-            out.push(Link {
-                node: i,
-                coeff: (f * vis) as f32,
-                grad: [g.x as f32, g.y as f32, g.z as f32],
-            });
+            out.push(Link::new(i, f * vis, g));
         }
     }
 
@@ -205,12 +208,7 @@ impl Gatherer<'_> {
         let shown = crate::geom::sh::dist_projected(&node.normal_sh, w).max(0.0);
         coverage.total += k * shown;
         if k > 0.0 {
-            let g = w * k;
-            out.push(Link {
-                node: i,
-                coeff: -(k as f32),
-                grad: [g.x as f32, g.y as f32, g.z as f32],
-            });
+            out.push(Link::new(i, -k, w * k));
         }
     }
 

@@ -102,7 +102,9 @@ impl<'a> PatchOperator<'a> {
         let nodes = self.tree.nodes.len();
         let mut node_acc = vec![0.0; nodes];
         let mut node_grad = vec![DVec3::ZERO; nodes];
-        let mut node_sh = vec![[0.0; DIST]; nodes];
+        // Cluster accumulators only where cluster links can exist (trees with curved nodes).
+        let sh_nodes = if self.tree.has_curved() { nodes } else { 0 };
+        let mut node_sh = vec![[0.0; DIST]; sh_nodes];
         const CHUNK: usize = 4096;
         let receivers: Vec<usize> = (0..mesh.receivers.len()).collect();
         for batch in receivers.chunks(CHUNK * 8) {
@@ -112,7 +114,7 @@ impl<'a> PatchOperator<'a> {
                 .map(|chunk| {
                     let mut acc = vec![0.0; nodes];
                     let mut grad = vec![DVec3::ZERO; nodes];
-                    let mut sh = vec![[0.0; DIST]; nodes];
+                    let mut sh = vec![[0.0; DIST]; sh_nodes];
                     for &r in chunk {
                         if at[r] == 0.0 {
                             continue;
@@ -128,9 +130,7 @@ impl<'a> PatchOperator<'a> {
                                 continue;
                             }
                             acc[l.node as usize] += at[r] * l.coeff as f64;
-                            let g =
-                                DVec3::new(l.grad[0] as f64, l.grad[1] as f64, l.grad[2] as f64);
-                            grad[l.node as usize] += g * at[r];
+                            grad[l.node as usize] += l.grad() * at[r];
                         }
                     }
                     (acc, grad, sh)
@@ -155,12 +155,13 @@ impl<'a> PatchOperator<'a> {
         // Cluster links read Σ Bⱼ·(Aⱼ's normal distribution): patch j collects its own (the leaf's
         // `normal_sh`) against the sum of its ancestors' accumulations.
         let mut down = vec![(0.0, DVec3::ZERO, 0.0); nodes];
-        let mut down_sh = vec![[0.0; DIST]; nodes];
+        let mut down_sh = vec![[0.0; DIST]; sh_nodes];
         let mut z = vec![0.0; mesh.patches.len()];
         for i in 0..nodes {
             let node = &self.tree.nodes[i];
             let (s0, g0, k0) = down[i];
-            let sh: [f64; DIST] = std::array::from_fn(|c| down_sh[i][c] + node_sh[i][c]);
+            let sh: Option<[f64; DIST]> =
+                (sh_nodes > 0).then(|| std::array::from_fn(|c| down_sh[i][c] + node_sh[i][c]));
             let here = (
                 s0 + node_acc[i] / node.moments.area,
                 g0 + node_grad[i],
@@ -169,13 +170,16 @@ impl<'a> PatchOperator<'a> {
             if node.is_leaf() {
                 let p = self.tree.order[node.start as usize] as usize;
                 let cj = node.moments.centroid;
-                let clusters: f64 = (0..DIST).map(|c| sh[c] * node.normal_sh[c]).sum();
+                let clusters: f64 =
+                    sh.map_or(0.0, |sh| (0..DIST).map(|c| sh[c] * node.normal_sh[c]).sum());
                 z[p] = ((here.0 + here.1.dot(cj) - here.2) * mesh.patches[p].area + clusters)
                     * self.col[p];
             } else {
                 for c in node.children {
                     down[c as usize] = here;
-                    down_sh[c as usize] = sh;
+                    if let Some(sh) = sh {
+                        down_sh[c as usize] = sh;
+                    }
                 }
             }
         }

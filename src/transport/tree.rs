@@ -103,7 +103,7 @@ pub struct PatchTree {
     /// Per node: the share of its front-facing area it does not hide from itself, along ±x,
     /// ±y, ±z (`silhouette`; 1 for nodes that are never two-sided clusters).
     pub visible: Vec<[f32; 6]>,
-    /// For trees with curved nodes: the patches as ray targets, and each patch's position in
+    /// Exactly for trees with curved nodes: the patches as ray targets, and each patch's position in
     /// `order` (`u32::MAX` outside the tree), so a cluster's shadow ray can tell a blocker that
     /// is part of the cluster (its own far side, which `visible` accounts for) from one that is
     /// not.
@@ -111,6 +111,11 @@ pub struct PatchTree {
 }
 
 impl PatchTree {
+    /// Does any node hold curved clutter (so receivers may link to it as a two-sided cluster)?
+    pub fn has_curved(&self) -> bool {
+        self.own_hits.is_some()
+    }
+
     /// Build the hierarchy over `subset` (patch indices) of `mesh`.
     pub fn build(mesh: &PatchMesh, subset: Vec<u32>) -> Self {
         let mut tree = PatchTree {
@@ -368,7 +373,7 @@ impl NodeField {
             }
             sum += self.mean[i] * l.coeff as f64;
             if l.grad != [0.0; 3] {
-                let g = DVec3::new(l.grad[0] as f64, l.grad[1] as f64, l.grad[2] as f64);
+                let g = l.grad();
                 let d = &self.dipole[i];
                 sum += DVec3::new(g.dot(d[0]), g.dot(d[1]), g.dot(d[2]));
             }
@@ -383,17 +388,23 @@ impl PatchTree {
         let n = self.nodes.len();
         let mut mean = vec![DVec3::ZERO; n];
         let mut dipole = vec![[DVec3::ZERO; 3]; n];
-        let mut sh = vec![[DVec3::ZERO; sh::DIST]; n];
+        // Only cluster links read the normal distributions, and only curved nodes get them.
+        let clusters = self.has_curved();
+        let mut sh = vec![[DVec3::ZERO; sh::DIST]; if clusters { n } else { 0 }];
         for i in (0..n).rev() {
             let node = &self.nodes[i];
             if node.is_leaf() {
                 let v = patch_values[self.order[node.start as usize] as usize];
                 mean[i] = v;
-                sh[i] = node.normal_sh.map(|y| v * y);
+                if clusters {
+                    sh[i] = node.normal_sh.map(|y| v * y);
+                }
                 continue;
             }
             let [a, b] = node.children.map(|c| c as usize);
-            sh[i] = std::array::from_fn(|k| sh[a][k] + sh[b][k]);
+            if clusters {
+                sh[i] = std::array::from_fn(|k| sh[a][k] + sh[b][k]);
+            }
             let (wa, wb) = (self.nodes[a].moments.area, self.nodes[b].moments.area);
             if wa + wb <= 0.0 {
                 continue;
