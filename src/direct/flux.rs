@@ -69,14 +69,14 @@ const PATCH_SHARE: f64 = 3e-3;
 const RELATIVE: f64 = 3e-3;
 
 /// The spread of a tabulated distribution over a piece: `dirs` its unit corner directions (from
-/// the source), `intensity` the distribution, `bound(size, enough)` an upper bound of the
-/// intensity over the piece widened by `size` (used when the piece is larger than
-/// [`ANGULAR_RESOLUTION`]; it may stop refining once it is below `enough`).
+/// the source), `intensity` the distribution, `bound(enough)` an upper bound of the intensity
+/// over the piece (used when the piece is larger than [`ANGULAR_RESOLUTION`]; it may stop
+/// refining once it is below `enough`).
 pub fn sampled_spread(
     dirs: &[DVec3; 3],
     at: Option<&[f64; 3]>,
     intensity: impl Fn(DVec3) -> f64,
-    bound: impl FnOnce(f64, f64) -> f64,
+    bound: impl FnOnce(f64) -> f64,
 ) -> Spread {
     let centre = (dirs[0] + dirs[1] + dirs[2]).normalize_or_zero();
     let min_cos = dirs.iter().map(|d| d.dot(centre)).fold(1.0, f64::min);
@@ -100,7 +100,7 @@ pub fn sampled_spread(
     if min_cos < ANGULAR_RESOLUTION.cos() {
         // A large piece: its samples speak for it only when the (γ, C) bound rules out a peak
         // between them (a narrow beam inside the piece).
-        let b = bound(min_cos.clamp(-1.0, 1.0).acos(), hi * HIDDEN_PEAK);
+        let b = bound(hi * HIDDEN_PEAK);
         return if b <= 0.0 {
             Spread::Zero
         } else if hi > 0.0 && b <= hi * HIDDEN_PEAK {
@@ -180,9 +180,10 @@ impl AngleBounds {
         AngleBounds { cells, bands }
     }
 
-    /// Bound over directions within `size` (rad) of the unit world `dirs`, for a distribution
-    /// placed by `world_from_photometric`. When the bound over whole γ bands is already at most
-    /// `enough`, that coarser bound is returned without looking at C.
+    /// Bound over directions within `size` (rad) of the unit world `dirs` (a cone around one
+    /// direction when the three are equal), for a distribution placed by
+    /// `world_from_photometric`. When the bound over whole γ bands is already at most `enough`,
+    /// that coarser bound is returned without looking at C.
     pub fn over(
         &self,
         world_from_photometric: &DMat3,
@@ -191,13 +192,31 @@ impl AngleBounds {
         enough: f64,
     ) -> f64 {
         let local = dirs.map(|d| world_from_photometric.transpose() * d);
-        let gammas = local.map(|d| (-d.z).clamp(-1.0, 1.0).acos().to_degrees());
+        let gammas = local.map(gamma_deg);
         let (lo, hi) = gammas
             .iter()
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), g| {
                 (a.min(*g), b.max(*g))
             });
-        let widen = size.to_degrees() + 1.0;
+        self.over_range(&local, lo, hi, size.to_degrees() + SAMPLE_MARGIN, enough)
+    }
+
+    /// Bound over the spherical triangle with unit world corner directions `dirs` (its exact
+    /// range of γ, interior and edges included, widened only by the table's sampling margin).
+    pub fn over_triangle(
+        &self,
+        world_from_photometric: &DMat3,
+        dirs: &[DVec3; 3],
+        enough: f64,
+    ) -> f64 {
+        let local = dirs.map(|d| world_from_photometric.transpose() * d);
+        let (lo, hi) = gamma_range(&local);
+        self.over_range(&local, lo, hi, SAMPLE_MARGIN, enough)
+    }
+
+    /// Bound over γ in `lo - widen ..= hi + widen` (degrees) and the C sectors the corners
+    /// `local` (photometric frame) span, widened alike.
+    fn over_range(&self, local: &[DVec3; 3], lo: f64, hi: f64, widen: f64, enough: f64) -> f64 {
         let (g0, g1) = ((lo - widen).max(0.0), (hi + widen).min(180.0));
         let from = (g0.floor() as usize).min(179);
         let to = (g1.ceil() as usize).clamp(from + 1, 180);
@@ -208,7 +227,7 @@ impl AngleBounds {
         if coarse <= enough {
             return coarse;
         }
-        let Some((first, count)) = c_sectors(&local, g0, g1, widen) else {
+        let Some((first, count)) = c_sectors(local, g0, g1, widen) else {
             return coarse;
         };
         let (ra, rb) = (&self.cells[k][a], &self.cells[k][b]);
@@ -216,6 +235,61 @@ impl AngleBounds {
             .map(|i| (first + i) % 36)
             .fold(0.0f64, |m, s| m.max(ra[s]).max(rb[s]))
     }
+}
+
+/// Degrees added around a range of directions for the table's sampling (0.25° in γ, 1° in C).
+const SAMPLE_MARGIN: f64 = 1.0;
+
+/// γ (degrees from the photometric nadir −Z) of a unit direction.
+fn gamma_deg(d: DVec3) -> f64 {
+    (-d.z).clamp(-1.0, 1.0).acos().to_degrees()
+}
+
+/// The exact range of γ (degrees) over the spherical triangle with unit corners `t`: its corners,
+/// the points of its edges nearest to either pole, and 0 or 180 when it contains a pole.
+fn gamma_range(t: &[DVec3; 3]) -> (f64, f64) {
+    let (mut lo, mut hi) = t
+        .iter()
+        .map(|d| gamma_deg(*d))
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), g| {
+            (a.min(g), b.max(g))
+        });
+    let nadir = DVec3::NEG_Z;
+    let normals = [t[0].cross(t[1]), t[1].cross(t[2]), t[2].cross(t[0])];
+    let side = normals.map(|n| n.dot(nadir));
+    let centre = t[0] + t[1] + t[2];
+    // The triangle holds a pole when the pole is on the inner side of all three edges.
+    if side.iter().all(|s| *s >= 0.0) || side.iter().all(|s| *s <= 0.0) {
+        if centre.dot(nadir) > 0.0 {
+            lo = 0.0;
+        } else if centre.dot(nadir) < 0.0 {
+            hi = 180.0;
+        }
+    }
+    for (k, n) in normals.iter().enumerate() {
+        let len = n.length();
+        if len <= 1e-12 {
+            continue;
+        }
+        let (a, b) = (t[k], t[(k + 1) % 3]);
+        // The great circle's point nearest the nadir, and its antipode nearest the zenith.
+        let q = nadir - *n * (n.dot(nadir) / (len * len));
+        if q.length_squared() <= 1e-24 {
+            continue;
+        }
+        let off = (n.dot(nadir) / len)
+            .abs()
+            .clamp(0.0, 1.0)
+            .asin()
+            .to_degrees();
+        for (q, g) in [(q, off), (-q, 180.0 - off)] {
+            if a.cross(q).dot(*n) >= 0.0 && q.cross(b).dot(*n) >= 0.0 {
+                lo = lo.min(g);
+                hi = hi.max(g);
+            }
+        }
+    }
+    (lo, hi)
 }
 
 /// The run of 10° C sectors (first, count) a piece with these photometric-frame corner directions
@@ -231,6 +305,10 @@ fn c_sectors(local: &[DVec3; 3], g0: f64, g1: f64, widen: f64) -> Option<(usize,
     let (gap, start) = gaps
         .iter()
         .fold((0.0, 0), |m, g| if g.0 > m.0 { *g } else { m });
+    if gap < 180.0 {
+        // The corners surround a pole.
+        return None;
+    }
     let w = widen / g0.min(180.0 - g1).to_radians().sin().max(1e-3);
     let span = 360.0 - gap + 2.0 * w;
     if span >= 360.0 {
@@ -364,6 +442,68 @@ fn integrate(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use proptest::prelude::*;
+
+    /// γ over a dense barycentric sampling of the spherical triangle (degrees).
+    fn sampled_gammas(t: &[DVec3; 3]) -> (f64, f64) {
+        let n = 200;
+        let mut range = (f64::INFINITY, f64::NEG_INFINITY);
+        for i in 0..=n {
+            for j in 0..=n - i {
+                let (u, v) = (i as f64 / n as f64, j as f64 / n as f64);
+                let d = (t[0] * u + t[1] * v + t[2] * (1.0 - u - v)).normalize();
+                let g = gamma_deg(d);
+                range = (range.0.min(g), range.1.max(g));
+            }
+        }
+        range
+    }
+
+    fn unit(theta: f64, phi: f64) -> DVec3 {
+        DVec3::new(
+            theta.sin() * phi.cos(),
+            theta.sin() * phi.sin(),
+            -theta.cos(),
+        )
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(300))]
+        /// The exact γ range holds every direction of the triangle and is no wider than the
+        /// sampled one (edges that bulge toward a pole, triangles around a pole included).
+        #[test]
+        fn gamma_range_is_exact(
+            g in 0.0f64..180.0, c in 0.0f64..360.0, size in 0.001f64..1.2,
+            a in [0.0f64..6.3, 0.0f64..6.3, 0.0f64..6.3], r in [0.2f64..1.0, 0.2f64..1.0, 0.2f64..1.0],
+        ) {
+            let centre = unit(g.to_radians(), c.to_radians());
+            // An orthonormal frame around the centre; corners at angular radius r·size.
+            let e1 = centre.any_orthonormal_vector();
+            let e2 = centre.cross(e1);
+            let t: [DVec3; 3] = std::array::from_fn(|k| {
+                let s = size * r[k];
+                (centre * s.cos() + (e1 * a[k].cos() + e2 * a[k].sin()) * s.sin()).normalize()
+            });
+            let (lo, hi) = gamma_range(&t);
+            let (slo, shi) = sampled_gammas(&t);
+            // Samples 1/200 of the triangle apart come within one spacing of the extremes.
+            let slack = 2.0 * size.to_degrees() / 200.0;
+            prop_assert!(lo <= slo + 1e-9 && hi >= shi - 1e-9, "{lo}..{hi} vs sampled {slo}..{shi}");
+            prop_assert!(lo >= slo - slack && hi <= shi + slack, "{lo}..{hi} vs sampled {slo}..{shi}");
+        }
+    }
+
+    #[test]
+    fn a_triangle_around_a_pole_reaches_it() {
+        let t = [0.0f64, 120.0, 240.0].map(|c| unit(5f64.to_radians(), c.to_radians()));
+        assert_eq!(gamma_range(&t).0, 0.0);
+        let t = [0.0f64, 240.0, 120.0].map(|c| unit(175f64.to_radians(), c.to_radians()));
+        assert_eq!(gamma_range(&t).1, 180.0);
+        // Beside the pole, its edge's nearest point (not a corner) sets the minimum.
+        let t = [0.0f64, 90.0, 45.0].map(|c| unit(10f64.to_radians(), c.to_radians()));
+        let (lo, _) = gamma_range(&t);
+        assert!(lo < 10.0 - 1.0 && lo > 0.0, "{lo}");
+    }
 
     #[test]
     fn range_bounds_equal_the_maximum_over_the_cells() {

@@ -249,13 +249,12 @@ impl Radiator for SubSource<'_, '_> {
             &dirs,
             at,
             |d| self.intensity(d),
-            |size, enough| {
+            |enough| {
                 let scale = self.share * s.scale;
                 scale
-                    * s.bounds.over(
+                    * s.bounds.over_triangle(
                         &s.world_from_photometric,
                         &dirs,
-                        size,
                         enough / scale.max(1e-300),
                     )
             },

@@ -228,13 +228,12 @@ impl Radiator for SubPatch<'_, '_> {
             &dirs,
             at,
             |d| self.intensity(d),
-            |size, enough| {
+            |enough| {
                 let scale = self.patch.scale * self.share;
                 scale
-                    * self.surface.bounds.over(
+                    * self.surface.bounds.over_triangle(
                         &self.patch.frame,
                         &dirs,
-                        size,
                         enough / scale.max(1e-300),
                     )
             },
