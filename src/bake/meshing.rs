@@ -10,7 +10,7 @@
 //! keep patches 4× the area of the uniform mesh's; shadow edges and steep gradients get patches
 //! a quarter of it. `--uniform-patches` turns it off (the harness measures both).
 
-use crate::direct::{emitters, sources::DirectSource};
+use crate::direct::{bounds::ProfileBounds, emitters, sources::DirectSource};
 use crate::patches::{self, PatchMesh, adapt::Adapt};
 use crate::scene::Scene;
 use crate::settings::Settings;
@@ -27,13 +27,14 @@ pub fn mesh(
     settings: &Settings,
     h: f64,
     occluder: &Occluder,
+    bounds: &ProfileBounds,
 ) -> (PatchMesh, serde_json::Value) {
     if settings.uniform_patches {
         return (patches::build(scene, h, None), serde_json::json!(null));
     }
     let coarse = patches::build(scene, COARSE * h, None);
     let emitted = emitters::patch_exitance(scene, &coarse);
-    let sources = DirectSource::all(scene, &coarse, &emitted);
+    let sources = DirectSource::all(scene, &coarse, &emitted, bounds);
     if sources.is_empty() {
         // Nothing to adapt to (emitting surfaces only): the uniform mesh.
         return (patches::build(scene, h, None), serde_json::json!(null));

@@ -18,7 +18,7 @@ mod meshing;
 mod receivers;
 mod solution;
 
-use crate::direct::{emitters, sources::DirectSource};
+use crate::direct::{bounds::ProfileBounds, emitters, sources::DirectSource};
 use crate::error::{Error, Result};
 use crate::patches::PatchMesh;
 use crate::progress::Progress;
@@ -154,7 +154,9 @@ pub fn solve<'a>(
             always_trace: settings.always_trace,
         },
     );
-    let (mesh, adaptive) = meshing::mesh(scene, settings, h, &occluder);
+    // Each profile's intensity bounds, built once for meshing and the direct stage.
+    let bounds = ProfileBounds::new(scene);
+    let (mesh, adaptive) = meshing::mesh(scene, settings, h, &occluder, &bounds);
     // What every patch emits (for the output's luminance), and the part that is Lambertian and
     // travels through the patch field (profiled emitters are direct sources instead).
     let emitted = emitters::patch_exitance(scene, &mesh);
@@ -164,7 +166,7 @@ pub fn solve<'a>(
         .filter(|&p| exitance[p as usize] != DVec3::ZERO)
         .collect();
     let emitter_tree = PatchTree::build(&mesh, emitting);
-    let sources = DirectSource::all(scene, &mesh, &emitted);
+    let sources = DirectSource::all(scene, &mesh, &emitted, &bounds);
     if sources.is_empty() && emitter_tree.is_empty() {
         progress.warn("the scene has no light source (no emitting material, light or luminaire): everything bakes to 0 lx");
     }

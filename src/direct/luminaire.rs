@@ -15,7 +15,8 @@
 //! soft shadows. Round openings are treated as the square of equal area. Sub-sources lie in the
 //! photometric XY plane through the luminaire's position.
 
-use super::flux::{self, AngleBounds, Radiator, Spread};
+use super::bounds::{AngleBounds, ProfileBounds};
+use super::flux::{self, Radiator, Spread};
 use crate::geom::lambert;
 use crate::photometry::{Opening, OpeningShape, Photometry};
 use crate::scene::{Luminaire, Scene};
@@ -87,19 +88,12 @@ impl<'a> Source<'a> {
         }
     }
 
-    /// All luminaires of a scene.
-    pub fn all(scene: &'a Scene) -> Vec<Source<'a>> {
-        let mut bounds: Vec<Option<Arc<AngleBounds>>> = vec![None; scene.profiles.len()];
+    /// All luminaires of a scene (each profile's bounds from `bounds`).
+    pub fn all(scene: &'a Scene, bounds: &ProfileBounds) -> Vec<Source<'a>> {
         scene
             .luminaires
             .iter()
-            .map(|l| {
-                let b = bounds[l.profile].get_or_insert_with(|| {
-                    let photometry = &scene.profiles[l.profile].photometry;
-                    Arc::new(AngleBounds::new(|d| photometry.intensity(d)))
-                });
-                Source::with_bounds(scene, l, b.clone())
-            })
+            .map(|l| Source::with_bounds(scene, l, bounds.get(l.profile)))
             .collect()
     }
 

@@ -1,6 +1,7 @@
 //! Direct light: from punctual lights and from emitting surfaces, evaluated exactly at every
 //! receiver and as flux into every patch (what the radiosity solution then reflects).
 
+pub mod bounds;
 pub mod emitters;
 pub mod flux;
 pub mod luminaire;

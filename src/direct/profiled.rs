@@ -7,7 +7,8 @@
 //! they are direct sources: evaluated at receivers and integrated into patches, with each patch
 //! split into sub-triangles near the receiver (the same near-field rule as luminaire openings).
 
-use super::flux::{self, AngleBounds, Radiator, Spread};
+use super::bounds::{AngleBounds, ProfileBounds};
+use super::flux::{self, Radiator, Spread};
 use super::luminaire::NEAR_FIELD_RATIO;
 use crate::geom::lambert;
 use crate::patches::PatchMesh;
@@ -15,6 +16,7 @@ use crate::photometry::Photometry;
 use crate::scene::Scene;
 use crate::visibility::Occluder;
 use glam::{DMat3, DVec3};
+use std::sync::Arc;
 
 /// At most this many 4-way splits of a patch per receiver.
 const MAX_DEPTH: u32 = 4;
@@ -36,15 +38,20 @@ pub struct Surface<'a> {
     pub photometry: &'a Photometry,
     pub color: DVec3,
     patches: Vec<Patch>,
-    bounds: AngleBounds,
+    bounds: Arc<AngleBounds>,
     /// Total flux (lm).
     pub flux: f64,
 }
 
 impl<'a> Surface<'a> {
     /// One source per material with a profiled emission; `exitance` is each patch's emitted
-    /// exitance (lm/m², RGB) as if it were Lambertian.
-    pub fn all(scene: &'a Scene, mesh: &PatchMesh, exitance: &[DVec3]) -> Vec<Surface<'a>> {
+    /// exitance (lm/m², RGB) as if it were Lambertian; each profile's bounds from `bounds`.
+    pub fn all(
+        scene: &'a Scene,
+        mesh: &PatchMesh,
+        exitance: &[DVec3],
+        bounds: &ProfileBounds,
+    ) -> Vec<Surface<'a>> {
         let mut out: Vec<Surface<'a>> = Vec::new();
         for (m, material) in scene.materials.iter().enumerate() {
             let Some(e) = &material.emission else {
@@ -77,7 +84,7 @@ impl<'a> Surface<'a> {
                 }
             }
             out.push(Surface {
-                bounds: AngleBounds::new(|d| photometry.intensity(d)),
+                bounds: bounds.get(profile),
                 name: material.name.clone(),
                 source_path: material.source_path.clone(),
                 photometry,

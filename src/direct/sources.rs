@@ -2,6 +2,7 @@
 //! photometric luminaires and emitting surfaces with a photometric profile. Lambertian emitting
 //! surfaces are not here: their light travels through the patch field (see `direct::emitters`).
 
+use super::bounds::ProfileBounds;
 use super::{luminaire, profiled, punctual};
 use crate::patches::PatchMesh;
 use crate::scene::{Light, LightKind, Scene};
@@ -20,12 +21,17 @@ pub enum DirectSource<'a> {
 impl<'a> DirectSource<'a> {
     /// The scene's lights, its luminaires, then its profiled emitting surfaces (`exitance`: what
     /// each patch emits, as if Lambertian).
-    pub fn all(scene: &'a Scene, mesh: &PatchMesh, exitance: &[DVec3]) -> Vec<DirectSource<'a>> {
+    pub fn all(
+        scene: &'a Scene,
+        mesh: &PatchMesh,
+        exitance: &[DVec3],
+        bounds: &ProfileBounds,
+    ) -> Vec<DirectSource<'a>> {
         let lights = scene.lights.iter().map(DirectSource::Punctual);
-        let luminaires = luminaire::Source::all(scene)
+        let luminaires = luminaire::Source::all(scene, bounds)
             .into_iter()
             .map(DirectSource::Luminaire);
-        let surfaces = profiled::Surface::all(scene, mesh, exitance)
+        let surfaces = profiled::Surface::all(scene, mesh, exitance, bounds)
             .into_iter()
             .map(DirectSource::Profiled);
         lights.chain(luminaires).chain(surfaces).collect()

@@ -1,0 +1,337 @@
+//! Upper bounds of a photometric distribution over pieces of its sphere of directions, so the
+//! flux integrator ([`super::flux`]) can tell a piece whose samples speak for it from one that
+//! may hide a narrow beam between them.
+//!
+//! Input: a distribution I(direction) in its photometric frame (γ from the nadir −Z, C from +X
+//! toward +Y). Output: [`AngleBounds`], a table of maxima on 1° × 10° (γ, C) cells answering
+//! "at most how bright over this spherical triangle (or cone)" with two lookups per C sector;
+//! [`ProfileBounds`] builds each profile's table once per bake, for every source and stage that
+//! uses it. Invariant: a bound is never below the distribution anywhere in the piece (up to the
+//! table's sampling of 0.25° in γ and 1° in C, covered by a 1° margin).
+
+use crate::scene::Scene;
+use glam::{DMat3, DVec3};
+use rayon::prelude::*;
+use std::sync::{Arc, OnceLock};
+
+/// Upper bounds of a distribution's intensity on cells of 1° in γ (angle from the nadir,
+/// photometric −Z) by 10° in C (azimuth from photometric +X toward +Y), sampled every 0.25° in γ
+/// and 1° in C, each cell also covering its neighbours' edges.
+pub struct AngleBounds {
+    /// `cells[k][b][s]`: the maximum over the γ bands `b .. b + 2^k` of C sector `s` (a sparse
+    /// table: any band range is the union of two overlapping power-of-two runs).
+    cells: Vec<Vec<[f64; 36]>>,
+    /// `bands[k][b]`: the same over all C.
+    bands: Vec<Vec<f64>>,
+}
+
+impl AngleBounds {
+    pub fn new(intensity: impl Fn(DVec3) -> f64 + Sync) -> Self {
+        // The 721 × 360 samples in parallel (rows in order), then their maxima per cell.
+        let rows: Vec<Vec<f64>> = (0..=720usize)
+            .into_par_iter()
+            .map(|ig| {
+                let g = (ig as f64 / 4.0).to_radians();
+                (0..360)
+                    .map(|ic| {
+                        let c = (ic as f64).to_radians();
+                        intensity(DVec3::new(g.sin() * c.cos(), g.sin() * c.sin(), -g.cos()))
+                    })
+                    .collect()
+            })
+            .collect();
+        let mut max = vec![[0.0f64; 36]; 180];
+        for (ig, row) in rows.iter().enumerate() {
+            let band = (ig / 4).min(179);
+            for (ic, &i) in row.iter().enumerate() {
+                let sector = ic / 10;
+                for b in [Some(band), (ig % 4 == 0 && band > 0).then(|| band - 1)]
+                    .into_iter()
+                    .flatten()
+                {
+                    max[b][sector] = max[b][sector].max(i);
+                    if ic % 10 == 0 {
+                        let prev = (sector + 35) % 36;
+                        max[b][prev] = max[b][prev].max(i);
+                    }
+                }
+            }
+        }
+        let mut cells = vec![max];
+        while 1usize << cells.len() <= 180 {
+            let half = 1usize << (cells.len() - 1);
+            let last = cells.last().expect("level 0 exists");
+            let next: Vec<[f64; 36]> = (0..last.len() - half)
+                .map(|b| std::array::from_fn(|s| last[b][s].max(last[b + half][s])))
+                .collect();
+            cells.push(next);
+        }
+        let bands = cells
+            .iter()
+            .map(|level| {
+                level
+                    .iter()
+                    .map(|row| row.iter().fold(0.0f64, |a, b| a.max(*b)))
+                    .collect()
+            })
+            .collect();
+        AngleBounds { cells, bands }
+    }
+
+    /// Bound over directions within `size` (rad) of the unit world `dirs` (a cone around one
+    /// direction when the three are equal), for a distribution placed by
+    /// `world_from_photometric`. When the bound over whole γ bands is already at most `enough`,
+    /// that coarser bound is returned without looking at C.
+    pub fn over(
+        &self,
+        world_from_photometric: &DMat3,
+        dirs: &[DVec3; 3],
+        size: f64,
+        enough: f64,
+    ) -> f64 {
+        let local = dirs.map(|d| world_from_photometric.transpose() * d);
+        let gammas = local.map(gamma_deg);
+        let (lo, hi) = gammas
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), g| {
+                (a.min(*g), b.max(*g))
+            });
+        self.over_range(&local, lo, hi, size.to_degrees() + SAMPLE_MARGIN, enough)
+    }
+
+    /// Bound over the spherical triangle with unit world corner directions `dirs` (its exact
+    /// range of γ, interior and edges included, widened only by the table's sampling margin).
+    pub fn over_triangle(
+        &self,
+        world_from_photometric: &DMat3,
+        dirs: &[DVec3; 3],
+        enough: f64,
+    ) -> f64 {
+        let local = dirs.map(|d| world_from_photometric.transpose() * d);
+        let (lo, hi) = gamma_range(&local);
+        self.over_range(&local, lo, hi, SAMPLE_MARGIN, enough)
+    }
+
+    /// Bound over γ in `lo - widen ..= hi + widen` (degrees) and the C sectors the corners
+    /// `local` (photometric frame) span, widened alike.
+    fn over_range(&self, local: &[DVec3; 3], lo: f64, hi: f64, widen: f64, enough: f64) -> f64 {
+        let (g0, g1) = ((lo - widen).max(0.0), (hi + widen).min(180.0));
+        let from = (g0.floor() as usize).min(179);
+        let to = (g1.ceil() as usize).clamp(from + 1, 180);
+        // The two power-of-two runs covering bands from..to.
+        let k = (usize::BITS - 1 - (to - from).leading_zeros()) as usize;
+        let (a, b) = (from, to - (1 << k));
+        let coarse = self.bands[k][a].max(self.bands[k][b]);
+        if coarse <= enough {
+            return coarse;
+        }
+        let Some((first, count)) = c_sectors(local, g0, g1, widen) else {
+            return coarse;
+        };
+        let (ra, rb) = (&self.cells[k][a], &self.cells[k][b]);
+        (0..count)
+            .map(|i| (first + i) % 36)
+            .fold(0.0f64, |m, s| m.max(ra[s]).max(rb[s]))
+    }
+}
+
+/// Degrees added around a range of directions for the table's sampling (0.25° in γ, 1° in C).
+const SAMPLE_MARGIN: f64 = 1.0;
+
+/// γ (degrees from the photometric nadir −Z) of a unit direction.
+fn gamma_deg(d: DVec3) -> f64 {
+    (-d.z).clamp(-1.0, 1.0).acos().to_degrees()
+}
+
+/// The exact range of γ (degrees) over the spherical triangle with unit corners `t`: its corners,
+/// the points of its edges nearest to either pole, and 0 or 180 when it contains a pole.
+fn gamma_range(t: &[DVec3; 3]) -> (f64, f64) {
+    let (mut lo, mut hi) = t
+        .iter()
+        .map(|d| gamma_deg(*d))
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), g| {
+            (a.min(g), b.max(g))
+        });
+    let nadir = DVec3::NEG_Z;
+    let normals = [t[0].cross(t[1]), t[1].cross(t[2]), t[2].cross(t[0])];
+    let side = normals.map(|n| n.dot(nadir));
+    let centre = t[0] + t[1] + t[2];
+    // The triangle holds a pole when the pole is on the inner side of all three edges.
+    if side.iter().all(|s| *s >= 0.0) || side.iter().all(|s| *s <= 0.0) {
+        if centre.dot(nadir) > 0.0 {
+            lo = 0.0;
+        } else if centre.dot(nadir) < 0.0 {
+            hi = 180.0;
+        }
+    }
+    for (k, n) in normals.iter().enumerate() {
+        let len = n.length();
+        if len <= 1e-12 {
+            continue;
+        }
+        let (a, b) = (t[k], t[(k + 1) % 3]);
+        // The great circle's point nearest the nadir, and its antipode nearest the zenith.
+        let q = nadir - *n * (n.dot(nadir) / (len * len));
+        if q.length_squared() <= 1e-24 {
+            continue;
+        }
+        let off = (n.dot(nadir) / len)
+            .abs()
+            .clamp(0.0, 1.0)
+            .asin()
+            .to_degrees();
+        for (q, g) in [(q, off), (-q, 180.0 - off)] {
+            if a.cross(q).dot(*n) >= 0.0 && q.cross(b).dot(*n) >= 0.0 {
+                lo = lo.min(g);
+                hi = hi.max(g);
+            }
+        }
+    }
+    (lo, hi)
+}
+
+/// The run of 10° C sectors (first, count) a piece with these photometric-frame corner directions
+/// may cover; `None` when it may cover all of them (always near the poles, where C changes fast).
+fn c_sectors(local: &[DVec3; 3], g0: f64, g1: f64, widen: f64) -> Option<(usize, usize)> {
+    if g0 <= 2.0 || g1 >= 178.0 {
+        return None;
+    }
+    let mut c = local.map(|d| d.y.atan2(d.x).to_degrees().rem_euclid(360.0));
+    c.sort_by(f64::total_cmp);
+    // The covered arc is the complement of the largest gap between corner azimuths.
+    let gaps = [(c[1] - c[0], 1), (c[2] - c[1], 2), (c[0] + 360.0 - c[2], 0)];
+    let (gap, start) = gaps
+        .iter()
+        .fold((0.0, 0), |m, g| if g.0 > m.0 { *g } else { m });
+    if gap < 180.0 {
+        // The corners surround a pole.
+        return None;
+    }
+    let w = widen / g0.min(180.0 - g1).to_radians().sin().max(1e-3);
+    let span = 360.0 - gap + 2.0 * w;
+    if span >= 360.0 {
+        return None;
+    }
+    let first = (c[start] - w).rem_euclid(360.0);
+    let n = ((span + (first % 10.0)) / 10.0).ceil() as usize + 1;
+    if n >= 36 {
+        return None;
+    }
+    Some(((first / 10.0).floor() as usize % 36, n))
+}
+
+/// The [`AngleBounds`] of each of a scene's profiles, built when a source first asks for it and
+/// then shared (meshing and the direct stage use the same tables).
+pub struct ProfileBounds<'a> {
+    scene: &'a Scene,
+    built: Vec<OnceLock<Arc<AngleBounds>>>,
+}
+
+impl<'a> ProfileBounds<'a> {
+    pub fn new(scene: &'a Scene) -> Self {
+        ProfileBounds {
+            scene,
+            built: (0..scene.profiles.len()).map(|_| OnceLock::new()).collect(),
+        }
+    }
+
+    /// The bounds of profile `profile` (an index into `Scene::profiles`).
+    pub fn get(&self, profile: usize) -> Arc<AngleBounds> {
+        self.built[profile]
+            .get_or_init(|| {
+                let photometry = &self.scene.profiles[profile].photometry;
+                Arc::new(AngleBounds::new(|d| photometry.intensity(d)))
+            })
+            .clone()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use proptest::prelude::*;
+
+    /// γ over a dense barycentric sampling of the spherical triangle (degrees).
+    fn sampled_gammas(t: &[DVec3; 3]) -> (f64, f64) {
+        let n = 200;
+        let mut range = (f64::INFINITY, f64::NEG_INFINITY);
+        for i in 0..=n {
+            for j in 0..=n - i {
+                let (u, v) = (i as f64 / n as f64, j as f64 / n as f64);
+                let d = (t[0] * u + t[1] * v + t[2] * (1.0 - u - v)).normalize();
+                let g = gamma_deg(d);
+                range = (range.0.min(g), range.1.max(g));
+            }
+        }
+        range
+    }
+
+    fn unit(theta: f64, phi: f64) -> DVec3 {
+        DVec3::new(
+            theta.sin() * phi.cos(),
+            theta.sin() * phi.sin(),
+            -theta.cos(),
+        )
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(300))]
+        /// The exact γ range holds every direction of the triangle and is no wider than the
+        /// sampled one (edges that bulge toward a pole, triangles around a pole included).
+        #[test]
+        fn gamma_range_is_exact(
+            g in 0.0f64..180.0, c in 0.0f64..360.0, size in 0.001f64..1.2,
+            a in [0.0f64..6.3, 0.0f64..6.3, 0.0f64..6.3], r in [0.2f64..1.0, 0.2f64..1.0, 0.2f64..1.0],
+        ) {
+            let centre = unit(g.to_radians(), c.to_radians());
+            // An orthonormal frame around the centre; corners at angular radius r·size.
+            let e1 = centre.any_orthonormal_vector();
+            let e2 = centre.cross(e1);
+            let t: [DVec3; 3] = std::array::from_fn(|k| {
+                let s = size * r[k];
+                (centre * s.cos() + (e1 * a[k].cos() + e2 * a[k].sin()) * s.sin()).normalize()
+            });
+            let (lo, hi) = gamma_range(&t);
+            let (slo, shi) = sampled_gammas(&t);
+            // Samples 1/200 of the triangle apart come within one spacing of the extremes.
+            let slack = 2.0 * size.to_degrees() / 200.0;
+            prop_assert!(lo <= slo + 1e-9 && hi >= shi - 1e-9, "{lo}..{hi} vs sampled {slo}..{shi}");
+            prop_assert!(lo >= slo - slack && hi <= shi + slack, "{lo}..{hi} vs sampled {slo}..{shi}");
+        }
+    }
+
+    #[test]
+    fn a_triangle_around_a_pole_reaches_it() {
+        let t = [0.0f64, 120.0, 240.0].map(|c| unit(5f64.to_radians(), c.to_radians()));
+        assert_eq!(gamma_range(&t).0, 0.0);
+        let t = [0.0f64, 240.0, 120.0].map(|c| unit(175f64.to_radians(), c.to_radians()));
+        assert_eq!(gamma_range(&t).1, 180.0);
+        // Beside the pole, its edge's nearest point (not a corner) sets the minimum.
+        let t = [0.0f64, 90.0, 45.0].map(|c| unit(10f64.to_radians(), c.to_radians()));
+        let (lo, _) = gamma_range(&t);
+        assert!(lo < 10.0 - 1.0 && lo > 0.0, "{lo}");
+    }
+
+    #[test]
+    fn range_bounds_equal_the_maximum_over_the_cells() {
+        // A lumpy distribution: the sparse table must give the plain maximum over any range.
+        let b = AngleBounds::new(|d| {
+            let g = (-d.z).clamp(-1.0, 1.0).acos();
+            let c = d.y.atan2(d.x);
+            1.0 + (5.0 * g).sin().abs() * (1.0 + (3.0 * c).cos())
+        });
+        for from in [0usize, 1, 7, 90, 150, 178] {
+            for to in [from + 1, from + 2, from + 5, from + 33, 180] {
+                let to = to.min(180);
+                let k = (usize::BITS - 1 - (to - from).leading_zeros()) as usize;
+                for s in 0..36 {
+                    let plain = (from..to).fold(0.0f64, |m, g| m.max(b.cells[0][g][s]));
+                    let table = b.cells[k][from][s].max(b.cells[k][to - (1 << k)][s]);
+                    assert_eq!(plain, table, "bands {from}..{to} sector {s}");
+                }
+                let plain = (from..to).fold(0.0f64, |m, g| m.max(b.bands[0][g]));
+                assert_eq!(plain, b.bands[k][from].max(b.bands[k][to - (1 << k)]));
+            }
+        }
+    }
+}
