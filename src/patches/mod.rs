@@ -20,6 +20,7 @@ pub mod refine;
 use crate::result::Side;
 use crate::scene::Scene;
 use glam::{DVec2, DVec3};
+use rayon::prelude::*;
 
 #[derive(Debug, Clone)]
 pub struct Patch {
@@ -81,55 +82,20 @@ pub fn build(scene: &Scene, h: f64, adapt: Option<&adapt::Adapt>) -> PatchMesh {
         patch_size: h,
         ..Default::default()
     };
-    for (s, surface) in scene.surfaces.iter().enumerate() {
-        let refined = refine::refine(&surface.positions, &surface.triangles, h);
-        if refined.triangles.is_empty() {
-            continue;
-        }
-        let normals: Vec<DVec3> = refined
-            .origin
-            .iter()
-            .map(|b| b.apply(&surface.normals).normalize_or_zero())
-            .collect();
-        let interp = |uv: &Option<Vec<DVec2>>| {
-            uv.as_ref().map(|d| {
-                refined
-                    .origin
-                    .iter()
-                    .map(|b| b.apply(d))
-                    .collect::<Vec<_>>()
-            })
-        };
-        let (uv0, uv1) = (interp(&surface.uv0), interp(&surface.uv1));
-        let (positions, normals, uv0, uv1, triangles) =
-            compact(&refined.positions, &normals, uv0, uv1, &refined.triangles);
-        let material = surface.material;
-        let sides: &[Side] = if scene.materials[material].double_sided {
-            &[Side::Front, Side::Back]
-        } else {
-            &[Side::Front]
-        };
-        let (positions, normals, uv0, uv1, triangles) = match adapt {
-            None => (positions, normals, uv0, uv1, triangles),
-            Some(a) => {
-                let mut m = adapt::SurfaceMesh {
-                    positions,
-                    normals,
-                    uv0,
-                    uv1,
-                    triangles,
-                };
-                let signs: Vec<f64> = sides
-                    .iter()
-                    .map(|s| if *s == Side::Front { 1.0 } else { -1.0 })
-                    .collect();
-                adapt::refine(&mut m, &signs, a);
-                (m.positions, m.normals, m.uv0, m.uv1, m.triangles)
-            }
-        };
-        for &side in sides {
+    // Surfaces are refined independently (in parallel), then added in surface order, so the
+    // mesh does not depend on the thread count.
+    let refined: Vec<Option<SurfacePatches>> = scene
+        .surfaces
+        .par_iter()
+        .map(|surface| refine_surface(scene, surface, h, adapt))
+        .collect();
+    for (s, r) in refined.into_iter().enumerate() {
+        let Some(r) = r else { continue };
+        let material = scene.surfaces[s].material;
+        for &side in r.sides {
             let sign = if side == Side::Front { 1.0 } else { -1.0 };
-            let tris: Vec<[u32; 3]> = triangles
+            let tris: Vec<[u32; 3]> = r
+                .triangles
                 .iter()
                 .map(|t| {
                     if side == Side::Front {
@@ -139,25 +105,92 @@ pub fn build(scene: &Scene, h: f64, adapt: Option<&adapt::Adapt>) -> PatchMesh {
                     }
                 })
                 .collect();
-            let shading: Vec<DVec3> = normals.iter().map(|n| *n * sign).collect();
+            let shading: Vec<DVec3> = r.normals.iter().map(|n| *n * sign).collect();
             add_group(
                 &mut mesh,
                 GroupInput {
                     surface: s,
                     side,
                     material,
-                    positions: &positions,
+                    positions: &r.positions,
                     shading_normals: &shading,
                     triangles: &tris,
-                    uv0: uv0.clone(),
-                    uv1: uv1.clone(),
+                    uv0: r.uv0.clone(),
+                    uv1: r.uv1.clone(),
                     h,
-                    double_sided: sides.len() == 2,
+                    double_sided: r.sides.len() == 2,
                 },
             );
         }
     }
     mesh
+}
+
+/// One surface refined (and adapted), before its sides become patch groups.
+struct SurfacePatches {
+    sides: &'static [Side],
+    positions: Vec<DVec3>,
+    normals: Vec<DVec3>,
+    uv0: Option<Vec<DVec2>>,
+    uv1: Option<Vec<DVec2>>,
+    triangles: Vec<[u32; 3]>,
+}
+
+/// Refine one surface to patch size `h`, then adapt it; `None` when nothing is left.
+fn refine_surface(
+    scene: &Scene,
+    surface: &crate::scene::Surface,
+    h: f64,
+    adapt: Option<&adapt::Adapt>,
+) -> Option<SurfacePatches> {
+    let refined = refine::refine(&surface.positions, &surface.triangles, h);
+    if refined.triangles.is_empty() {
+        return None;
+    }
+    let normals: Vec<DVec3> = refined
+        .origin
+        .iter()
+        .map(|b| b.apply(&surface.normals).normalize_or_zero())
+        .collect();
+    let interp = |uv: &Option<Vec<DVec2>>| {
+        uv.as_ref().map(|d| {
+            refined
+                .origin
+                .iter()
+                .map(|b| b.apply(d))
+                .collect::<Vec<_>>()
+        })
+    };
+    let (uv0, uv1) = (interp(&surface.uv0), interp(&surface.uv1));
+    let (positions, normals, uv0, uv1, triangles) =
+        compact(&refined.positions, &normals, uv0, uv1, &refined.triangles);
+    let sides: &'static [Side] = if scene.materials[surface.material].double_sided {
+        &[Side::Front, Side::Back]
+    } else {
+        &[Side::Front]
+    };
+    let mut m = adapt::SurfaceMesh {
+        positions,
+        normals,
+        uv0,
+        uv1,
+        triangles,
+    };
+    if let Some(a) = adapt {
+        let signs: Vec<f64> = sides
+            .iter()
+            .map(|s| if *s == Side::Front { 1.0 } else { -1.0 })
+            .collect();
+        adapt::refine(&mut m, &signs, a);
+    }
+    Some(SurfacePatches {
+        sides,
+        positions: m.positions,
+        normals: m.normals,
+        uv0: m.uv0,
+        uv1: m.uv1,
+        triangles: m.triangles,
+    })
 }
 
 type Compacted = (
