@@ -69,9 +69,9 @@ impl ReceiverLinks {
 
     /// E at every receiver from a node-summarised exitance field.
     pub fn apply(&self, field: &NodeField, out: &mut [DVec3]) {
-        out.par_chunks_mut(1024).enumerate().for_each(|(c, chunk)| {
+        out.par_chunks_mut(256).enumerate().for_each(|(c, chunk)| {
             for (k, e) in chunk.iter_mut().enumerate() {
-                let r = c * 1024 + k;
+                let r = c * 256 + k;
                 *e = field.gather(&self.links[self.offsets[r]..self.offsets[r + 1]]);
             }
         });

@@ -105,12 +105,14 @@ impl<'a> PatchOperator<'a> {
         // Cluster accumulators only where cluster links can exist (trees with curved nodes).
         let sh_nodes = if self.tree.has_curved() { nodes } else { 0 };
         let mut node_sh = vec![[0.0; DIST]; sh_nodes];
-        const CHUNK: usize = 4096;
+        // Fixed chunks (their size depends on the receiver count only, never on the thread
+        // count), at most 8 accumulated at once, each node's parts summed in chunk order.
+        let chunk = mesh.receivers.len().div_ceil(4).clamp(256, 4096);
         let receivers: Vec<usize> = (0..mesh.receivers.len()).collect();
-        for batch in receivers.chunks(CHUNK * 8) {
+        for batch in receivers.chunks(chunk * 8) {
             type Part = (Vec<f64>, Vec<DVec3>, Vec<[f64; DIST]>);
             let parts: Vec<Part> = batch
-                .par_chunks(CHUNK)
+                .par_chunks(chunk)
                 .map(|chunk| {
                     let mut acc = vec![0.0; nodes];
                     let mut grad = vec![DVec3::ZERO; nodes];
@@ -136,19 +138,23 @@ impl<'a> PatchOperator<'a> {
                     (acc, grad, sh)
                 })
                 .collect();
-            for (acc, grad, sh) in parts {
-                for (a, b) in node_sh.iter_mut().zip(sh) {
-                    for (x, y) in a.iter_mut().zip(b) {
+            node_sh.par_iter_mut().enumerate().for_each(|(i, a)| {
+                for part in &parts {
+                    for (x, y) in a.iter_mut().zip(&part.2[i]) {
                         *x += y;
                     }
                 }
-                for (a, b) in node_acc.iter_mut().zip(acc) {
-                    *a += b;
-                }
-                for (a, b) in node_grad.iter_mut().zip(grad) {
-                    *a += b;
-                }
-            }
+            });
+            node_acc
+                .par_iter_mut()
+                .zip(node_grad.par_iter_mut())
+                .enumerate()
+                .for_each(|(i, (a, g))| {
+                    for part in &parts {
+                        *a += part.0[i];
+                        *g += part.1[i];
+                    }
+                });
         }
         // Node → patches (top-down push). A node's mean is Σ Aⱼ·Bⱼ / A and its dipole
         // Σ Aⱼ·Bⱼ·(cⱼ − c), so patch j collects Aⱼ·Σ_ancestors [acc/A + grad·(cⱼ − c)].
