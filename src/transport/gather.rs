@@ -142,9 +142,9 @@ impl Gatherer<'_> {
             // SMALL_NODE one ray (to the patch at its area median) stands for it.
             let f = facing.map(|_| node.moments.form_factor(p, n).abs());
             let vis = match f {
-                Some(f) if f < SMALL_NODE => self.ray_visibility(p, n, node, &[0.5]),
-                Some(_) => self.ray_visibility(p, n, node, &[0.25, 0.75]),
-                None => self.cluster_visibility(p, n, node),
+                Some(f) if f < SMALL_NODE => self.ray_visibility(p, n, i, &[1]),
+                Some(_) => self.ray_visibility(p, n, i, &[0, 2]),
+                None => self.cluster_visibility(p, n, i),
             };
             if vis > 0.0 && vis < 1.0 {
                 // Partly hidden: a shadow boundary runs through the node. Refine rather than
@@ -238,16 +238,17 @@ impl Gatherer<'_> {
     /// Visible fraction of a cluster: rays toward two representative patches, where a blocker
     /// that is one of the cluster's own patches does not count (the cluster hides its own far
     /// side, which `silhouette` accounts for).
-    fn cluster_visibility(&self, p: DVec3, n: DVec3, node: &super::tree::TreeNode) -> f64 {
+    fn cluster_visibility(&self, p: DVec3, n: DVec3, i: u32) -> f64 {
         if self.occluder.convex_empty {
             return 1.0;
         }
         let Some((patches, rank)) = &self.tree.own_hits else {
-            return self.ray_visibility(p, n, node, &[0.25, 0.75]);
+            return self.ray_visibility(p, n, i, &[0, 2]);
         };
+        let node = &self.tree.nodes[i as usize];
         let own = node.start..node.end;
-        let visible = [0.25, 0.75]
-            .map(|q| self.representative(node, q))
+        let reps = &self.tree.reps[i as usize];
+        let visible = [reps[0], reps[2]]
             .iter()
             .filter(|(q, m)| match patches.first_hit(p, n, *q, *m) {
                 None => true,
@@ -257,33 +258,16 @@ impl Gatherer<'_> {
         visible as f64 / 2.0
     }
 
-    /// Centroid and normal of the node's patch at area quantile `q` (in tree order).
-    fn representative(&self, node: &super::tree::TreeNode, q: f64) -> (DVec3, DVec3) {
-        let (a0, a1) = (
-            self.tree.area_prefix[node.start as usize],
-            self.tree.area_prefix[node.end as usize],
-        );
-        let target = a0 + (a1 - a0) * q;
-        let k = self.tree.area_prefix[node.start as usize..=node.end as usize]
-            .partition_point(|&a| a <= target)
-            .saturating_sub(1)
-            .min((node.end - node.start - 1) as usize);
-        let patch = &self.mesh.patches[self.tree.order[node.start as usize + k] as usize];
-        let c = patch.corners(&self.mesh.receivers);
-        ((c[0] + c[1] + c[2]) / 3.0, patch.normal)
-    }
-
-    /// Visible fraction of the node's patches at the area quantiles `at`, one ray each.
-    fn ray_visibility(&self, p: DVec3, n: DVec3, node: &super::tree::TreeNode, at: &[f64]) -> f64 {
+    /// Visible fraction of node `i`'s representative patches `at` (indices into
+    /// [`super::tree::REP_QUANTILES`]), one ray each.
+    fn ray_visibility(&self, p: DVec3, n: DVec3, i: u32, at: &[usize]) -> f64 {
         if self.occluder.convex_empty {
             return 1.0;
         }
+        let reps = &self.tree.reps[i as usize];
         let visible = at
             .iter()
-            .filter(|&&q| {
-                let (c, m) = self.representative(node, q);
-                self.occluder.clear(p, n, c, m)
-            })
+            .filter(|&&k| self.occluder.clear(p, n, reps[k].0, reps[k].1))
             .count();
         visible as f64 / at.len() as f64
     }

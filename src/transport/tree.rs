@@ -31,6 +31,10 @@ const CURVED: usize = 12;
 
 pub const NO_CHILD: u32 = u32::MAX;
 
+/// Area quantiles of a node's representative patches ([`PatchTree::reps`]): two rays go to the
+/// outer ones, a single ray to the median.
+pub const REP_QUANTILES: [f64; 3] = [0.25, 0.5, 0.75];
+
 #[derive(Debug, Clone)]
 pub struct TreeNode {
     pub moments: AreaMoments,
@@ -100,6 +104,9 @@ pub struct PatchTree {
     pub order: Vec<u32>,
     /// Prefix sums of patch area in leaf order (`len = order.len() + 1`).
     pub area_prefix: Vec<f64>,
+    /// Per node: centroid and unit normal of its patches at the area quantiles [`REP_QUANTILES`]
+    /// (in leaf order): the shadow-ray targets that stand for the node.
+    pub reps: Vec<[(DVec3, DVec3); 3]>,
     /// Per node: the share of its front-facing area it does not hide from itself, along ±x,
     /// ±y, ±z (`silhouette`; 1 for nodes that are never two-sided clusters).
     pub visible: Vec<[f32; 6]>,
@@ -122,6 +129,7 @@ impl PatchTree {
             nodes: Vec::with_capacity(2 * subset.len()),
             order: subset,
             area_prefix: Vec::new(),
+            reps: Vec::new(),
             visible: Vec::new(),
             own_hits: None,
         };
@@ -156,7 +164,27 @@ impl PatchTree {
             acc += mesh.patches[p as usize].area;
             tree.area_prefix.push(acc);
         }
+        tree.reps = (0..tree.nodes.len())
+            .map(|i| REP_QUANTILES.map(|q| tree.representative(mesh, i, q)))
+            .collect();
         tree
+    }
+
+    /// Centroid and normal of node `i`'s patch at area quantile `q` (in leaf order).
+    fn representative(&self, mesh: &PatchMesh, i: usize, q: f64) -> (DVec3, DVec3) {
+        let node = &self.nodes[i];
+        let (a0, a1) = (
+            self.area_prefix[node.start as usize],
+            self.area_prefix[node.end as usize],
+        );
+        let target = a0 + (a1 - a0) * q;
+        let k = self.area_prefix[node.start as usize..=node.end as usize]
+            .partition_point(|&a| a <= target)
+            .saturating_sub(1)
+            .min((node.end - node.start - 1) as usize);
+        let patch = &mesh.patches[self.order[node.start as usize + k] as usize];
+        let c = patch.corners(&mesh.receivers);
+        ((c[0] + c[1] + c[2]) / 3.0, patch.normal)
     }
 
     pub fn is_empty(&self) -> bool {
