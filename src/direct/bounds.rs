@@ -196,7 +196,11 @@ fn c_sectors(local: &[DVec3; 3], g0: f64, g1: f64, widen: f64) -> Option<(usize,
     if g0 <= 2.0 || g1 >= 178.0 {
         return None;
     }
-    let mut c = local.map(|d| d.y.atan2(d.x).to_degrees().rem_euclid(360.0));
+    let mut c = local.map(|d| {
+        crate::geom::atan::atan2(d.y, d.x)
+            .to_degrees()
+            .rem_euclid(360.0)
+    });
     c.sort_by(f64::total_cmp);
     // The covered arc is the complement of the largest gap between corner azimuths.
     let gaps = [(c[1] - c[0], 1), (c[2] - c[1], 2), (c[0] + 360.0 - c[2], 0)];

@@ -52,7 +52,7 @@ fn contour_sum(p: DVec3, n: DVec3, verts: &[DVec3]) -> f64 {
             // point lies on the edge, where the polygon is seen edge-on and covers nothing.
             continue;
         }
-        let beta = sin_len.atan2(a.dot(b));
+        let beta = super::atan::atan2(sin_len, a.dot(b));
         sum += beta * n.dot(cross) / sin_len;
     }
     sum
@@ -89,7 +89,7 @@ pub fn triangle_solid_angle(p: DVec3, t: &[DVec3; 3]) -> f64 {
     let (la, lb, lc) = (a.length(), b.length(), c.length());
     let num = a.dot(b.cross(c)).abs();
     let den = la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la;
-    2.0 * num.atan2(den)
+    2.0 * super::atan::atan2(num, den)
 }
 
 #[cfg(test)]

@@ -97,8 +97,8 @@ impl Frame {
     #[inline]
     pub(super) fn angles(&self, dir: DVec3) -> (f64, f64) {
         let (z, x, y) = (dir.dot(self.p), dir.dot(self.r), dir.dot(self.q));
-        let theta = (x * x + y * y).sqrt().atan2(z).to_degrees();
-        let mut phi = y.atan2(x).to_degrees();
+        let theta = crate::geom::atan::atan2((x * x + y * y).sqrt(), z).to_degrees();
+        let mut phi = crate::geom::atan::atan2(y, x).to_degrees();
         if self.periodic && phi < 0.0 {
             phi += 360.0;
             if phi >= 360.0 {
