@@ -140,7 +140,6 @@ pub fn patch_flux(
     // edge-on against the neighbouring wall.
     let c = (corners[0] + corners[1] + corners[2]) / 3.0;
     let t = corners.map(|v| v + (c - v) * 1e-4);
-    let vis = t.map(|p| r.sees(occ, p, normal));
     let at = r
         .samples_corners()
         .then(|| t.map(|p| r.intensity(r.toward(p))));
@@ -154,6 +153,8 @@ pub fn patch_flux(
         Spread::Varies { hi, .. } => hi,
     } * r.measure(&t, normal);
     let tolerance = budget.max(PATCH_SHARE * top);
+    // Shadow rays only once light can arrive at all.
+    let vis = t.map(|p| r.sees(occ, p, normal));
     let flux = integrate(r, occ, normal, &t, spread, at, vis, 0, tolerance);
     if facing { (flux, 0.0) } else { (0.0, flux) }
 }
