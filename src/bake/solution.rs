@@ -6,7 +6,10 @@
 use super::Solution;
 use crate::direct::sources::DirectSource;
 use crate::scene::luma;
-use crate::transport::{gather::Gatherer, links};
+use crate::transport::{
+    gather::{Gatherer, SharedRays},
+    links,
+};
 use crate::visibility::Occluder;
 use glam::DVec3;
 
@@ -33,14 +36,26 @@ impl Solution<'_> {
     /// Inter-reflected illuminance (lx, RGB) at `p` on a plane with unit normal `n`, gathered from
     /// the solution with visibility (normalised like a vertex when the point is enclosed).
     pub fn indirect_at(&self, p: DVec3, n: DVec3) -> DVec3 {
+        self.indirect_at_faces(p, &[n])[0]
+    }
+
+    /// [`Solution::indirect_at`] for several planes through one point (a probe's six faces),
+    /// tracing each shadow ray toward a given target once for all of them.
+    pub fn indirect_at_faces(&self, p: DVec3, normals: &[DVec3]) -> Vec<DVec3> {
         let gatherer = Gatherer {
             mesh: &self.mesh,
             tree: &self.tree,
             occluder: &self.occluder,
             tau: self.settings.params().tau,
         };
-        let row = links::gather_row(&gatherer, p, n);
-        self.node_reflected.gather(&row.links)
+        let mut shared = SharedRays::default();
+        normals
+            .iter()
+            .map(|n| {
+                let row = links::gather_row_shared(&gatherer, p, *n, Some(&mut shared));
+                self.node_reflected.gather(&row.links)
+            })
+            .collect()
     }
 
     /// Photometric luminance (cd/m²) of the surface first seen from `p` along the unit `dir`

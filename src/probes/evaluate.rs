@@ -36,10 +36,11 @@ pub fn all(solution: &Solution, probes: &[Probe], progress: &dyn Progress) -> Ve
 /// Measure one probe.
 pub fn one(solution: &Solution, probe: &Probe, cuttle: f64) -> ProbeResult {
     let mut cubic = CubicIlluminance::default();
-    for (k, face) in FACES.iter().enumerate() {
-        let n = probe.world_from_probe * *face;
-        cubic.direct[k] = luma(solution.direct_at(probe.position, n));
-        cubic.indirect[k] = luma(solution.indirect_at(probe.position, n));
+    let normals = FACES.map(|face| probe.world_from_probe * face);
+    let indirect = solution.indirect_at_faces(probe.position, &normals);
+    for (k, n) in normals.iter().enumerate() {
+        cubic.direct[k] = luma(solution.direct_at(probe.position, *n));
+        cubic.indirect[k] = luma(indirect[k]);
         cubic.total[k] = cubic.direct[k] + cubic.indirect[k];
     }
     let mut m = metrics::from_faces(&cubic.total, probe.toward);

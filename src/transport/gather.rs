@@ -26,6 +26,7 @@ use crate::geom::lambert;
 use crate::patches::PatchMesh;
 use crate::visibility::Occluder;
 use glam::DVec3;
+use std::collections::HashMap;
 
 /// How much of a receiver's cosine-weighted hemisphere geometry covers (after visibility).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
@@ -91,9 +92,31 @@ pub struct Gatherer<'a> {
     pub tau: f64,
 }
 
+/// Shadow-ray answers shared by gathers at one point with different normals (the six faces of a
+/// probe): a ray toward the same target from origins a hair apart (each pulled off along its
+/// face's normal) gets the first face's answer instead of being traced again.
+#[derive(Default)]
+pub struct SharedRays(HashMap<(u32, u8), bool>);
+
+/// Key offsets in [`SharedRays`]: leaf sample points (0..16), node representatives, cluster
+/// representatives.
+const REP_KEY: u8 = 16;
+const CLUSTER_KEY: u8 = 32;
+
 impl Gatherer<'_> {
     /// Append the links seen from `p` (normal `n`) to `out`; return the covered fractions.
     pub fn links(&self, p: DVec3, n: DVec3, out: &mut Vec<Link>) -> Coverage {
+        self.links_shared(p, n, out, None)
+    }
+
+    /// [`Gatherer::links`], reading and recording shadow-ray answers in `shared` when given.
+    pub fn links_shared(
+        &self,
+        p: DVec3,
+        n: DVec3,
+        out: &mut Vec<Link>,
+        mut shared: Option<&mut SharedRays>,
+    ) -> Coverage {
         let mut coverage = Coverage::default();
         if self.tree.is_empty() {
             return coverage;
@@ -115,7 +138,7 @@ impl Gatherer<'_> {
                     continue;
                 }
                 let level = sample_level(node.radius, dist, self.tau);
-                let vis = self.patch_visibility(p, n, patch_index, level);
+                let vis = self.patch_visibility(p, n, i, patch_index, level, &mut shared);
                 let front = patch.normal.dot(p - node.moments.centroid) > 0.0;
                 if !front && patch.double_sided {
                     continue; // its twin, facing this way, is counted instead
@@ -142,9 +165,9 @@ impl Gatherer<'_> {
             // SMALL_NODE one ray (to the patch at its area median) stands for it.
             let f = facing.map(|_| node.moments.form_factor(p, n).abs());
             let vis = match f {
-                Some(f) if f < SMALL_NODE => self.ray_visibility(p, n, i, &[1]),
-                Some(_) => self.ray_visibility(p, n, i, &[0, 2]),
-                None => self.cluster_visibility(p, n, i),
+                Some(f) if f < SMALL_NODE => self.ray_visibility(p, n, i, &[1], &mut shared),
+                Some(_) => self.ray_visibility(p, n, i, &[0, 2], &mut shared),
+                None => self.cluster_visibility(p, n, i, &mut shared),
             };
             if vis > 0.0 && vis < 1.0 {
                 // Partly hidden: a shadow boundary runs through the node. Refine rather than
@@ -217,8 +240,29 @@ impl Gatherer<'_> {
         }
     }
 
-    /// Fraction of the fixed sample points on patch `patch_index` visible from `p`.
-    fn patch_visibility(&self, p: DVec3, n: DVec3, patch_index: usize, level: u32) -> f64 {
+    /// One shadow ray's answer: from `shared` when it has one for `key`, else traced (and
+    /// recorded there).
+    fn ray(
+        shared: &mut Option<&mut SharedRays>,
+        key: (u32, u8),
+        trace: impl FnOnce() -> bool,
+    ) -> bool {
+        match shared {
+            Some(s) => *s.0.entry(key).or_insert_with(trace),
+            None => trace(),
+        }
+    }
+
+    /// Fraction of the fixed sample points on patch `patch_index` (leaf `i`) visible from `p`.
+    fn patch_visibility(
+        &self,
+        p: DVec3,
+        n: DVec3,
+        i: u32,
+        patch_index: usize,
+        level: u32,
+        shared: &mut Option<&mut SharedRays>,
+    ) -> f64 {
         if self.occluder.convex_empty {
             return 1.0;
         }
@@ -227,9 +271,12 @@ impl Gatherer<'_> {
         let pts = crate::geom::samples::triangle_points(level);
         let visible = pts
             .iter()
-            .filter(|b| {
-                let q = corners[0] * b[0] + corners[1] * b[1] + corners[2] * b[2];
-                self.occluder.clear(p, n, q, patch.normal)
+            .enumerate()
+            .filter(|(s, b)| {
+                Self::ray(shared, (i, *s as u8), || {
+                    let q = corners[0] * b[0] + corners[1] * b[1] + corners[2] * b[2];
+                    self.occluder.clear(p, n, q, patch.normal)
+                })
             })
             .count();
         visible as f64 / pts.len() as f64
@@ -238,21 +285,32 @@ impl Gatherer<'_> {
     /// Visible fraction of a cluster: rays toward two representative patches, where a blocker
     /// that is one of the cluster's own patches does not count (the cluster hides its own far
     /// side, which `silhouette` accounts for).
-    fn cluster_visibility(&self, p: DVec3, n: DVec3, i: u32) -> f64 {
+    fn cluster_visibility(
+        &self,
+        p: DVec3,
+        n: DVec3,
+        i: u32,
+        shared: &mut Option<&mut SharedRays>,
+    ) -> f64 {
         if self.occluder.convex_empty {
             return 1.0;
         }
         let Some((patches, rank)) = &self.tree.own_hits else {
-            return self.ray_visibility(p, n, i, &[0, 2]);
+            return self.ray_visibility(p, n, i, &[0, 2], shared);
         };
         let node = &self.tree.nodes[i as usize];
         let own = node.start..node.end;
         let reps = &self.tree.reps[i as usize];
-        let visible = [reps[0], reps[2]]
+        let visible = [0, 2]
             .iter()
-            .filter(|(q, m)| match patches.first_hit(p, n, *q, *m) {
-                None => true,
-                Some(hit) => own.contains(&rank[hit]),
+            .filter(|&&k| {
+                Self::ray(shared, (i, CLUSTER_KEY + k as u8), || {
+                    let (q, m) = reps[k];
+                    match patches.first_hit(p, n, q, m) {
+                        None => true,
+                        Some(hit) => own.contains(&rank[hit]),
+                    }
+                })
             })
             .count();
         visible as f64 / 2.0
@@ -260,14 +318,25 @@ impl Gatherer<'_> {
 
     /// Visible fraction of node `i`'s representative patches `at` (indices into
     /// [`super::tree::REP_QUANTILES`]), one ray each.
-    fn ray_visibility(&self, p: DVec3, n: DVec3, i: u32, at: &[usize]) -> f64 {
+    fn ray_visibility(
+        &self,
+        p: DVec3,
+        n: DVec3,
+        i: u32,
+        at: &[usize],
+        shared: &mut Option<&mut SharedRays>,
+    ) -> f64 {
         if self.occluder.convex_empty {
             return 1.0;
         }
         let reps = &self.tree.reps[i as usize];
         let visible = at
             .iter()
-            .filter(|&&k| self.occluder.clear(p, n, reps[k].0, reps[k].1))
+            .filter(|&&k| {
+                Self::ray(shared, (i, REP_KEY + k as u8), || {
+                    self.occluder.clear(p, n, reps[k].0, reps[k].1)
+                })
+            })
             .count();
         visible as f64 / at.len() as f64
     }

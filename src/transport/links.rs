@@ -12,7 +12,7 @@
 //! touch). A receiver that sees (almost) nothing (coverage ≤ 0.05: pressed against another face)
 //! is left alone. Open receivers keep their rows as computed.
 
-use super::gather::{Gatherer, Link};
+use super::gather::{Gatherer, Link, SharedRays};
 use super::tree::NodeField;
 use crate::geom::samples;
 use crate::patches::Receiver;
@@ -90,8 +90,18 @@ pub struct Row {
 
 /// The links seen from `p` (unit normal `n`), with the closure rule of this module.
 pub fn gather_row(gatherer: &Gatherer, p: DVec3, n: DVec3) -> Row {
+    gather_row_shared(gatherer, p, n, None)
+}
+
+/// [`gather_row`] sharing shadow-ray answers with other rows at the same point (`shared`).
+pub fn gather_row_shared(
+    gatherer: &Gatherer,
+    p: DVec3,
+    n: DVec3,
+    shared: Option<&mut SharedRays>,
+) -> Row {
     let mut links = Vec::new();
-    let c = gatherer.links(p, n, &mut links);
+    let c = gatherer.links_shared(p, n, &mut links, shared);
     let closed = c.total >= 0.999 || (c.total > 0.05 && enclosed(gatherer, p, n));
     let mut back = c.back;
     if closed && c.total > 0.0 {
