@@ -96,11 +96,12 @@ impl AngleBounds {
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), g| {
                 (a.min(*g), b.max(*g))
             });
-        self.over_range(&local, lo, hi, size.to_degrees() + SAMPLE_MARGIN, enough)
+        let widen = size.to_degrees() + C_MARGIN;
+        self.over_range(&local, (lo - widen, hi + widen), widen, enough)
     }
 
     /// Bound over the spherical triangle with unit world corner directions `dirs` (its exact
-    /// range of γ, interior and edges included, widened only by the table's sampling margin).
+    /// range of γ, interior and edges included, widened only by the table's sampling step).
     pub fn over_triangle(
         &self,
         world_from_photometric: &DMat3,
@@ -109,13 +110,18 @@ impl AngleBounds {
     ) -> f64 {
         let local = dirs.map(|d| world_from_photometric.transpose() * d);
         let (lo, hi) = gamma_range(&local);
-        self.over_range(&local, lo, hi, SAMPLE_MARGIN, enough)
+        self.over_range(
+            &local,
+            (lo - GAMMA_MARGIN, hi + GAMMA_MARGIN),
+            C_MARGIN,
+            enough,
+        )
     }
 
-    /// Bound over γ in `lo - widen ..= hi + widen` (degrees) and the C sectors the corners
-    /// `local` (photometric frame) span, widened alike.
-    fn over_range(&self, local: &[DVec3; 3], lo: f64, hi: f64, widen: f64, enough: f64) -> f64 {
-        let (g0, g1) = ((lo - widen).max(0.0), (hi + widen).min(180.0));
+    /// Bound over γ in `gammas` (degrees) and the C sectors the corners `local` (photometric
+    /// frame) span, widened by `widen_c` degrees of arc.
+    fn over_range(&self, local: &[DVec3; 3], gammas: (f64, f64), widen_c: f64, enough: f64) -> f64 {
+        let (g0, g1) = (gammas.0.max(0.0), gammas.1.min(180.0));
         let from = (g0.floor() as usize).min(179);
         let to = (g1.ceil() as usize).clamp(from + 1, 180);
         // The two power-of-two runs covering bands from..to.
@@ -125,7 +131,7 @@ impl AngleBounds {
         if coarse <= enough {
             return coarse;
         }
-        let Some((first, count)) = c_sectors(local, g0, g1, widen) else {
+        let Some((first, count)) = c_sectors(local, g0, g1, widen_c) else {
             return coarse;
         };
         let (ra, rb) = (&self.cells[k][a], &self.cells[k][b]);
@@ -135,8 +141,13 @@ impl AngleBounds {
     }
 }
 
-/// Degrees added around a range of directions for the table's sampling (0.25° in γ, 1° in C).
-const SAMPLE_MARGIN: f64 = 1.0;
+/// Degrees added around a range of directions for the table's sampling. In γ one sample step
+/// (0.25°): the interpolation is monotone between the data's nodes (Hyman-limited Hermite, see
+/// `photometry::grid`), so within a step the samples bracket it, and a band's table entry holds
+/// the samples on both its edges. In C the samples are 1° apart and data planes (22.5°) need
+/// not fall on them: 1°.
+const GAMMA_MARGIN: f64 = 0.25;
+const C_MARGIN: f64 = 1.0;
 
 /// γ (degrees from the photometric nadir −Z) of a unit direction.
 fn gamma_deg(d: DVec3) -> f64 {
