@@ -53,11 +53,33 @@ pub fn direct_at(
     p: DVec3,
     n: DVec3,
 ) -> DVec3 {
-    let mut e = DVec3::ZERO;
+    direct_at_faces(sources, occ, emitters, node_exitance, p, &[n])[0]
+}
+
+/// [`direct_at`] on several planes through `p` (a probe's faces), sharing what the sources can
+/// share between them.
+pub fn direct_at_faces(
+    sources: &[DirectSource],
+    occ: &Occluder,
+    emitters: &Gatherer,
+    node_exitance: &NodeField,
+    p: DVec3,
+    normals: &[DVec3],
+) -> Vec<DVec3> {
+    let mut e = vec![DVec3::ZERO; normals.len()];
+    let mut each = vec![0.0; normals.len()];
     for source in sources {
-        e += source.color() * source.illuminance(occ, p, n);
+        each.fill(0.0);
+        source.illuminance_faces(occ, p, normals, &mut each);
+        for (e, x) in e.iter_mut().zip(&each) {
+            *e += source.color() * *x;
+        }
     }
     let mut links = Vec::new();
-    emitters.links(p, n, &mut links);
-    e + node_exitance.gather(&links)
+    for (e, n) in e.iter_mut().zip(normals) {
+        links.clear();
+        emitters.links(p, *n, &mut links);
+        *e += node_exitance.gather(&links);
+    }
+    e
 }

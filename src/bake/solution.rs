@@ -17,19 +17,24 @@ impl Solution<'_> {
     /// Direct illuminance (lx, RGB) at `p` on a plane with unit normal `n`: lights, luminaires,
     /// profiled and Lambertian emitting surfaces, with shadow rays.
     pub fn direct_at(&self, p: DVec3, n: DVec3) -> DVec3 {
+        self.direct_at_faces(p, &[n])[0]
+    }
+
+    /// [`Solution::direct_at`] on several planes through one point (a probe's six faces).
+    pub fn direct_at_faces(&self, p: DVec3, normals: &[DVec3]) -> Vec<DVec3> {
         let emitters = Gatherer {
             mesh: &self.mesh,
             tree: &self.emitter_tree,
             occluder: &self.occluder,
             tau: self.settings.params().tau_direct,
         };
-        super::receivers::direct_at(
+        super::receivers::direct_at_faces(
             &self.sources,
             &self.occluder,
             &emitters,
             &self.node_exitance,
             p,
-            n,
+            normals,
         )
     }
 

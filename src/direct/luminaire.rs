@@ -157,26 +157,39 @@ impl<'a> Source<'a> {
 
     /// Illuminance (lx, photometric) at point `p` with unit normal `n`.
     pub fn illuminance(&self, occ: &Occluder, p: DVec3, n: DVec3) -> f64 {
+        let mut e = [0.0];
+        self.illuminance_faces(occ, p, &[n], &mut e);
+        e[0]
+    }
+
+    /// Illuminance (lx, photometric) at `p` on planes with the unit `normals` (a probe's faces),
+    /// added to `out`: the sub-sources, their intensities and each one's shadow ray are shared
+    /// (the ray leaves `p` off the first plane that faces the sub-source).
+    pub fn illuminance_faces(&self, occ: &Occluder, p: DVec3, normals: &[DVec3], out: &mut [f64]) {
         if !self.reaches(p) {
-            return 0.0;
+            return;
         }
-        self.split(p)
-            .into_iter()
-            .map(|(q, share)| {
-                let d = q - p;
-                let dist2 = d.length_squared();
+        for (q, share) in self.split(p) {
+            let d = q - p;
+            let dist2 = d.length_squared();
+            let Some(first) = normals.iter().position(|n| n.dot(d) > 0.0) else {
+                continue;
+            };
+            if dist2 <= 0.0 {
+                continue;
+            }
+            let dist = dist2.sqrt();
+            let i = self.intensity(-d / dist) * share;
+            if i <= 0.0 || !occ.clear(p, normals[first], q, DVec3::ZERO) {
+                continue;
+            }
+            for (e, n) in out.iter_mut().zip(normals) {
                 let cos = n.dot(d);
-                if cos <= 0.0 || dist2 <= 0.0 {
-                    return 0.0;
+                if cos > 0.0 {
+                    *e += i * (cos / dist) / dist2;
                 }
-                let dist = dist2.sqrt();
-                let i = self.intensity(-d / dist) * share;
-                if i <= 0.0 || !occ.clear(p, n, q, DVec3::ZERO) {
-                    return 0.0;
-                }
-                i * (cos / dist) / dist2
-            })
-            .sum()
+            }
+        }
     }
 
     /// `(front, back)` flux (lm) into a triangle patch, split as seen from its centroid.

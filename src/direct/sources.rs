@@ -118,6 +118,19 @@ impl<'a> DirectSource<'a> {
         }
     }
 
+    /// Illuminance (lx, photometric) at `p` on planes with the unit `normals`, added to `out`
+    /// (luminaires share their sub-sources' intensities and shadow rays between the planes).
+    pub fn illuminance_faces(&self, occ: &Occluder, p: DVec3, normals: &[DVec3], out: &mut [f64]) {
+        match self {
+            DirectSource::Luminaire(s) => s.illuminance_faces(occ, p, normals, out),
+            _ => {
+                for (e, n) in out.iter_mut().zip(normals) {
+                    *e += self.illuminance(occ, p, *n);
+                }
+            }
+        }
+    }
+
     /// `(front, back)` flux (lm, photometric) into a triangle patch.
     pub fn patch_flux(&self, occ: &Occluder, corners: &[DVec3; 3], normal: DVec3) -> (f64, f64) {
         match self {

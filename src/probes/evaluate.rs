@@ -37,9 +37,10 @@ pub fn all(solution: &Solution, probes: &[Probe], progress: &dyn Progress) -> Ve
 pub fn one(solution: &Solution, probe: &Probe, cuttle: f64) -> ProbeResult {
     let mut cubic = CubicIlluminance::default();
     let normals = FACES.map(|face| probe.world_from_probe * face);
+    let direct = solution.direct_at_faces(probe.position, &normals);
     let indirect = solution.indirect_at_faces(probe.position, &normals);
-    for (k, n) in normals.iter().enumerate() {
-        cubic.direct[k] = luma(solution.direct_at(probe.position, *n));
+    for k in 0..normals.len() {
+        cubic.direct[k] = luma(direct[k]);
         cubic.indirect[k] = luma(indirect[k]);
         cubic.total[k] = cubic.direct[k] + cubic.indirect[k];
     }
