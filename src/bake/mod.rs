@@ -206,7 +206,11 @@ pub fn solve<'a>(
     let balance_stats = operator.balance(40, 1e-6);
     // Direct irradiance of each patch: punctual lights exactly (solid angle), emitting surfaces
     // through the balanced operator (so a closed room receives exactly what they emit).
-    let from_emitters = operator.apply(&exitance);
+    let from_emitters = if emitter_tree.is_empty() {
+        vec![DVec3::ZERO; mesh.patches.len()]
+    } else {
+        operator.apply(&exitance)
+    };
     let direct_patch: Vec<DVec3> = (0..mesh.patches.len())
         .map(|i| lights.per_patch[i] / areas[i] + from_emitters[i])
         .collect();
