@@ -131,3 +131,38 @@ fn office_probes_match_brute_force_sphere_integration() {
     }
     assert!(worst < 0.02, "worst face error {worst}");
 }
+
+/// A probe's six faces are measured together (sub-sources, intensities and shadow rays shared
+/// between the faces): each must read what it reads measured alone.
+#[test]
+fn faces_measured_together_equal_each_face_alone() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/office/office.gltf");
+    let scene = luxbake::import::load(&path, &Default::default()).unwrap();
+    let settings = Settings::default();
+    let solved = solve(&scene, &settings, &Silent).unwrap();
+    let s = &solved.solution;
+    let tilted = DMat3::from_rotation_y(0.4) * DMat3::from_rotation_x(0.3);
+    let normals = FACES.map(|f| tilted * f);
+    let mut worst = 0.0f64;
+    // Under a luminaire, beside a desk (partly shadowed), in a corner.
+    for p in [
+        DVec3::new(2.5, 1.2, 4.0),
+        DVec3::new(1.5, 0.5, 2.2),
+        DVec3::new(0.6, 2.4, 0.8),
+    ] {
+        let direct = s.direct_at_faces(p, &normals);
+        let indirect = s.indirect_at_faces(p, &normals);
+        let lit = direct.iter().filter(|d| d.x > 1.0).count();
+        assert!(lit >= 2, "{lit} faces at {p} get direct light");
+        for (k, n) in normals.iter().enumerate() {
+            let (d, i) = (s.direct_at(p, *n), s.indirect_at(p, *n));
+            assert!(i.x > 1.0, "face {k} at {p} gets no inter-reflected light");
+            // Relative to the value, or to 1 lx where a face is dark.
+            let diff = |a: f64, b: f64| (a - b).abs() / b.abs().max(1.0);
+            worst = worst
+                .max(diff(direct[k].x, d.x))
+                .max(diff(indirect[k].x, i.x));
+        }
+    }
+    assert!(worst < 1e-9, "worst difference {worst:e}");
+}

@@ -44,6 +44,9 @@ pub struct Adapt<'p> {
     pub mean: f64,
 }
 
+/// An edge's midpoint query (point, normal) and the illuminance found there.
+type Judged = ((DVec3, DVec3), f64);
+
 /// A surface mesh being refined.
 pub struct SurfaceMesh {
     pub positions: Vec<DVec3>,
@@ -59,6 +62,11 @@ pub fn refine(m: &mut SurfaceMesh, signs: &[f64], a: &Adapt) -> usize {
     let mut split_total = 0;
     // Illuminance per vertex and side, extended as vertices are added.
     let mut at: Vec<Vec<f64>> = signs.iter().map(|_| Vec::new()).collect();
+    // Each side's last query and answer per edge: an edge left whole keeps its midpoint, and
+    // unless a neighbouring triangle was split its query point is the same, so it is not
+    // probed again in the next round.
+    let mut judged: Vec<HashMap<(u32, u32), Judged>> =
+        signs.iter().map(|_| HashMap::new()).collect();
     for _ in 0..a.levels {
         // Where each vertex is judged: pulled a little into its triangles, so a vertex on a room's
         // corner edge is not tested edge-on against the neighbouring wall (which would read as a
@@ -118,7 +126,18 @@ pub fn refine(m: &mut SurfaceMesh, signs: &[f64], a: &Adapt) -> usize {
                     (p + d.normalize_or_zero() * (PULL * len), n * *sign)
                 })
                 .collect();
-            let e_mid = (a.probe)(&queries);
+            let fresh: Vec<usize> = (0..edges.len())
+                .filter(|&i| {
+                    judged[s]
+                        .get(&edges[i])
+                        .is_none_or(|(q, _)| *q != queries[i])
+                })
+                .collect();
+            let probed = (a.probe)(&fresh.iter().map(|&i| queries[i]).collect::<Vec<_>>());
+            for (&i, v) in fresh.iter().zip(probed) {
+                judged[s].insert(edges[i], (queries[i], v));
+            }
+            let e_mid: Vec<f64> = edges.iter().map(|e| judged[s][e].1).collect();
             for (i, &(u, v)) in edges.iter().enumerate() {
                 let (eu, ev, em) = (at[s][u as usize], at[s][v as usize], e_mid[i]);
                 let error = (em - 0.5 * (eu + ev)).abs();

@@ -3,10 +3,11 @@
 //! Input: the [`Solution`] and the probes. Output: one [`ProbeResult`] per probe, in order.
 //! Each face's direct illuminance comes from every source at the probe with shadow rays; its
 //! indirect part is gathered from the radiosity solution over the patch hierarchy with
-//! visibility (like a vertex: not Cuttle's single constant, which is reported beside it). The exact
-//! scalar and cylindrical illuminance come from [`sphere::integrate`] (not for working-plane
-//! probes, which only need their upward face). Probes are evaluated in parallel and collected in
-//! order: deterministic.
+//! visibility (like a vertex: not Cuttle's single constant, which is reported beside it). The six
+//! faces share their sub-sources, intensities and shadow rays (a ray toward one target is traced
+//! once for all of them). The exact scalar and cylindrical illuminance come from
+//! [`sphere::integrate`] (not for working-plane probes, which only need their upward face).
+//! Probes are evaluated in parallel and collected in order: deterministic.
 
 use super::{CubicIlluminance, FACES, Probe, ProbeOrigin, ProbeResult, metrics, sphere};
 use crate::bake::Solution;
