@@ -6,8 +6,9 @@
 //! toward +Y). Output: [`AngleBounds`], a table of maxima on 1° × 10° (γ, C) cells answering
 //! "at most how bright over this spherical triangle (or cone)" with two lookups per C sector;
 //! [`ProfileBounds`] builds each profile's table once per bake, for every source and stage that
-//! uses it. Invariant: a bound is never below the distribution anywhere in the piece (up to the
-//! table's sampling of 0.25° in γ and 1° in C, covered by a 1° margin).
+//! uses it. Invariant: a bound is never below the distribution anywhere in the piece, up to the
+//! table's sampling (0.25° in γ, 1° in C), covered by margins of one step in γ and 1° in C
+//! (see [`GAMMA_MARGIN`]).
 
 use crate::scene::Scene;
 use glam::{DMat3, DVec3};
@@ -143,9 +144,11 @@ impl AngleBounds {
 
 /// Degrees added around a range of directions for the table's sampling. In γ one sample step
 /// (0.25°): the interpolation is monotone between the data's nodes (Hyman-limited Hermite, see
-/// `photometry::grid`), so within a step the samples bracket it, and a band's table entry holds
-/// the samples on both its edges. In C the samples are 1° apart and data planes (22.5°) need
-/// not fall on them: 1°.
+/// `photometry::grid`), so within a step the samples bracket it (next to a strict peak of the
+/// data it may exceed them by a second-order amount over the step), and a band's table entry
+/// holds the samples on both its edges. In C the samples are 1° apart and data planes (22.5°)
+/// need not fall on them: 1°. The bound only decides where to refine (a piece is refined while
+/// the bound exceeds its samples by [`super::flux`]'s factor 2), so those slivers are harmless.
 const GAMMA_MARGIN: f64 = 0.25;
 const C_MARGIN: f64 = 1.0;
 

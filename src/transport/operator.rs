@@ -241,7 +241,7 @@ impl<'a> PatchOperator<'a> {
                 .map(|(z, a)| z / a)
                 .collect()
         };
-        let cols = column_sums(self);
+        let mut cols = column_sums(self);
         let mut stats = BalanceStats {
             iterations: 0,
             row_error_before: error(&self.apply_scalar(&ones)),
@@ -254,7 +254,8 @@ impl<'a> PatchOperator<'a> {
         };
         let mut previous = f64::INFINITY;
         for _ in 0..max_iterations {
-            let cols = column_sums(self);
+            // `cols` holds the current scalings' column sums (before the first step, the ones
+            // measured above).
             stats.column_error_after = error(&cols);
             stats.worst_column_after = worst(&cols);
             // Stop at the tolerance, or when an iteration no longer gains 5 %: the rest is
@@ -277,6 +278,7 @@ impl<'a> PatchOperator<'a> {
                     self.row[i] *= target[i] / rows[i];
                 }
             }
+            cols = column_sums(self);
         }
         stats.row_error_after = error(&self.apply_scalar(&ones));
         stats
