@@ -53,11 +53,12 @@ impl Solution<'_> {
             occluder: &self.occluder,
             tau: self.settings.params().tau,
         };
-        let mut shared = SharedRays::default();
+        // One plane alone has nothing to share.
+        let mut shared = (normals.len() > 1).then(SharedRays::default);
         normals
             .iter()
             .map(|n| {
-                let row = links::gather_row_shared(&gatherer, p, *n, Some(&mut shared));
+                let row = links::gather_row_shared(&gatherer, p, *n, shared.as_mut());
                 self.node_reflected.gather(&row.links)
             })
             .collect()
