@@ -13,6 +13,12 @@ fn rel(a: f64, b: f64) -> f64 {
     (a - b).abs() / b.abs().max(1e-300)
 }
 
+/// The bundled sample office.
+fn office() -> luxbake::scene::Scene {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/office/office.gltf");
+    luxbake::import::load(&path, &Default::default()).unwrap()
+}
+
 fn probe(name: &str, p: DVec3) -> Probe {
     Probe {
         name: name.into(),
@@ -104,8 +110,7 @@ fn single_source_in_a_black_room() {
 /// the incoming luminance over the sphere (plus the luminaires as beams), within 2 %.
 #[test]
 fn office_probes_match_brute_force_sphere_integration() {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/office/office.gltf");
-    let scene = luxbake::import::load(&path, &Default::default()).unwrap();
+    let scene = office();
     let settings = Settings::default();
     let solved = solve(&scene, &settings, &Silent).unwrap();
     let s = &solved.solution;
@@ -136,8 +141,7 @@ fn office_probes_match_brute_force_sphere_integration() {
 /// between the faces): each must read what it reads measured alone.
 #[test]
 fn faces_measured_together_equal_each_face_alone() {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/office/office.gltf");
-    let scene = luxbake::import::load(&path, &Default::default()).unwrap();
+    let scene = office();
     let settings = Settings::default();
     let solved = solve(&scene, &settings, &Silent).unwrap();
     let s = &solved.solution;

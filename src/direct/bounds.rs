@@ -79,26 +79,20 @@ impl AngleBounds {
         AngleBounds { cells, bands }
     }
 
-    /// Bound over directions within `size` (rad) of the unit world `dirs` (a cone around one
-    /// direction when the three are equal), for a distribution placed by
-    /// `world_from_photometric`. When the bound over whole γ bands is already at most `enough`,
-    /// that coarser bound is returned without looking at C.
-    pub fn over(
+    /// Bound over the directions within `radius` (rad) of the unit world direction `dir`, for a
+    /// distribution placed by `world_from_photometric`. When the bound over whole γ bands is
+    /// already at most `enough`, that coarser bound is returned without looking at C.
+    pub fn over_cone(
         &self,
         world_from_photometric: &DMat3,
-        dirs: &[DVec3; 3],
-        size: f64,
+        dir: DVec3,
+        radius: f64,
         enough: f64,
     ) -> f64 {
-        let local = dirs.map(|d| world_from_photometric.transpose() * d);
-        let gammas = local.map(gamma_deg);
-        let (lo, hi) = gammas
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), g| {
-                (a.min(*g), b.max(*g))
-            });
-        let widen = size.to_degrees() + C_MARGIN;
-        self.over_range(&local, (lo - widen, hi + widen), widen, enough)
+        let local = world_from_photometric.transpose() * dir;
+        let g = gamma_deg(local);
+        let widen = radius.to_degrees() + C_MARGIN;
+        self.over_range(&[local; 3], (g - widen, g + widen), widen, enough)
     }
 
     /// Bound over the spherical triangle with unit world corner directions `dirs` (its exact
