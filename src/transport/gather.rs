@@ -19,7 +19,9 @@
 //! its angular size) or two representative patches of a node, one shadow ray each (for a
 //! cluster, its own patches do not block); a node whose two rays disagree is refined instead of
 //! accepted, so shadow boundaries get leaf resolution. A one-sided node with a form factor below
-//! 10⁻³ gets one ray (its visibility cannot move the sum by more than that).
+//! 10⁻³ gets one ray (its visibility cannot move the sum by more than that). A far node that is
+//! refined for its geometry (it crosses the receiver's plane, or shows both sides without being
+//! clutter) is first tested with two rays and skipped whole when both are blocked.
 
 use super::tree::PatchTree;
 use crate::geom::lambert;
