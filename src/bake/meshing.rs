@@ -3,10 +3,13 @@
 //! Input: the scene, the settings' patch size `h` (m) and the occluder. Output: the
 //! [`PatchMesh`] every later stage uses, and what the summary says about it.
 //!
-//! Adaptive meshing starts from patches of `COARSE × h`, estimates the direct light on them
-//! with the scene's lights, luminaires and profiled emitters (Lambertian emitting surfaces are
-//! not in the estimate: their light arrives through the patch field), and splits edges where
-//! linear interpolation misses it (see [`patches::adapt`]), down to `h / 2`. Smooth regions
+//! Adaptive meshing starts from patches of `COARSE × h`, estimates the light on them — direct
+//! light from the scene's lights, luminaires and profiled emitters (Lambertian emitting surfaces
+//! are not in the estimate: their light arrives through the patch field), plus Sumpner's mean
+//! indirect illuminance at points that nothing covers within `CONTACT × h` — and splits edges
+//! where linear interpolation misses it (see [`patches::adapt`]), down to `h / 2`. Shadow edges
+//! and steep gradients of direct light get fine patches, and so do contact lines, where light
+//! from the room stops (a fitting on the ceiling, a cabinet against a wall). Smooth regions
 //! keep patches 4× the area of the uniform mesh's; shadow edges and steep gradients get patches
 //! a quarter of it. `--uniform-patches` turns it off (the harness measures both).
 
@@ -20,6 +23,11 @@ use rayon::prelude::*;
 
 /// The adaptive mesh starts from patches this many times the uniform size.
 pub const COARSE: f64 = 2.0;
+
+/// A point with geometry nearer than this × h in front of it (along its normal) is covered:
+/// under a fitting on the ceiling, behind a cabinet against a wall. Inter-reflected light does
+/// not reach it.
+pub const CONTACT: f64 = 1.0;
 
 /// Build the patch mesh for patch size `h`.
 pub fn mesh(
@@ -39,23 +47,30 @@ pub fn mesh(
         // Nothing to adapt to (emitting surfaces only): the uniform mesh.
         return (patches::build(scene, h, None), serde_json::json!(null));
     }
-    let probe = |q: &[(DVec3, DVec3)]| -> Vec<f64> {
-        q.par_iter()
-            .map(|(p, n)| {
-                sources
-                    .iter()
-                    .map(|s| s.illuminance(occluder, *p, *n))
-                    .sum()
-            })
-            .collect()
-    };
+    // The estimate the edges are judged by: direct light, plus the room's mean indirect light
+    // where nothing covers the point. The ceiling around a fitting mounted on it gets no direct
+    // light from downlights, yet its inter-reflected light drops to zero under the fitting: a
+    // coarse patch with a covered corner then took a third of the light it receives away
+    // (the office's working plane was 1.5 % low in its indirect part).
+    let direct =
+        |p: DVec3, n: DVec3| -> f64 { sources.iter().map(|s| s.illuminance(occluder, p, n)).sum() };
     let points: Vec<(DVec3, DVec3)> = coarse
         .receivers
         .iter()
         .map(|r| (r.point, r.normal))
         .collect();
-    let values = probe(&points);
+    let values: Vec<f64> = points.par_iter().map(|(p, n)| direct(*p, *n)).collect();
     let mean = values.iter().sum::<f64>() / values.len().max(1) as f64;
+    let indirect = indirect_estimate(scene, &coarse, &values);
+    let contact = h * CONTACT;
+    let probe = |q: &[(DVec3, DVec3)]| -> Vec<f64> {
+        q.par_iter()
+            .map(|&(p, n)| {
+                let open = occluder.clear(p, n, p + n * contact, DVec3::ZERO);
+                direct(p, n) + if open { indirect } else { 0.0 }
+            })
+            .collect()
+    };
     let adapt = Adapt {
         probe: &probe,
         min_edge: h / 2.0,
@@ -71,4 +86,86 @@ pub fn mesh(
         "absolute": patches::adapt::ABSOLUTE,
     });
     (mesh, note)
+}
+
+/// The scene's mean indirect illuminance by Sumpner's balance for a closed room, ρ̄Φ/(S(1 − ρ̄)),
+/// from the direct illuminance at the coarse mesh's receivers (area-weighted per side) and the
+/// area-weighted reflectance (luminance of the linear RGB): the scale of the light that reaches
+/// open surfaces but not covered ones.
+fn indirect_estimate(scene: &Scene, coarse: &PatchMesh, direct: &[f64]) -> f64 {
+    let (mut flux, mut area, mut reflected) = (0.0, 0.0, 0.0);
+    for g in &coarse.groups {
+        let n = g.receivers.len().max(1) as f64;
+        let e = direct[g.receivers.clone()].iter().sum::<f64>() / n;
+        let c = scene.materials[g.material].reflectance;
+        let rho = 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
+        flux += e * g.area;
+        area += g.area;
+        reflected += rho * g.area;
+    }
+    let rho = (reflected / area.max(1e-300)).min(0.99);
+    rho * flux / (area.max(1e-300) * (1.0 - rho))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fixtures::SceneBuilder;
+    use crate::scene::LightKind;
+    use crate::visibility::OccluderOptions;
+
+    /// Areas of the ceiling's patches (y = 3 m, facing down) by whether their centroid lies
+    /// within 0.15 m outside the edge of the square [1.7, 2.3]² (the fitting's footprint) or
+    /// more than 0.8 m from it.
+    fn ceiling_areas(mesh: &PatchMesh) -> (Vec<f64>, Vec<f64>) {
+        let (mut near, mut far) = (Vec::new(), Vec::new());
+        for p in &mesh.patches {
+            let c = p.corners(&mesh.receivers).iter().sum::<DVec3>() / 3.0;
+            if p.normal.y > -0.99 || (c.y - 3.0).abs() > 1e-9 {
+                continue;
+            }
+            let dx = (c.x - 2.0).abs() - 0.3;
+            let dz = (c.z - 2.0).abs() - 0.3;
+            let outside = dx.max(0.0).hypot(dz.max(0.0));
+            if dx.max(dz) > 0.0 && outside < 0.15 {
+                near.push(p.area);
+            } else if outside > 0.8 {
+                far.push(p.area);
+            }
+        }
+        (near, far)
+    }
+
+    #[test]
+    fn a_fitting_on_an_unlit_ceiling_is_outlined_by_fine_patches() {
+        // A 4 × 3 × 4 m room; a 0.6 × 0.1 × 0.6 m fitting on the ceiling; a spot under it
+        // pointing down, so the ceiling gets no direct light at all and only the contact line
+        // (the room's inter-reflected light stops under the fitting) can refine it.
+        let mut b = SceneBuilder::new();
+        let white = b.material("white", 0.7);
+        b.axis_box("room", DVec3::ZERO, DVec3::new(4.0, 3.0, 4.0), true, white);
+        let (lo, hi) = (DVec3::new(1.7, 2.9, 1.7), DVec3::new(2.3, 3.0, 2.3));
+        b.axis_box("fitting", lo, hi, false, white);
+        let spot = LightKind::Spot {
+            inner_cone_angle: 0.5,
+            outer_cone_angle: 0.7,
+        };
+        b.light("spot", spot, DVec3::new(2.0, 2.85, 2.0), -DVec3::Y, 1000.0);
+        let scene = b.build();
+        let occluder = Occluder::build(&scene, OccluderOptions::default());
+        let bounds = ProfileBounds::new(&scene);
+        let (mesh, _) = mesh(&scene, &Settings::default(), 0.2, &occluder, &bounds);
+        let (near, mut far) = ceiling_areas(&mesh);
+        assert!(!near.is_empty() && !far.is_empty());
+        let smallest_near = near.iter().copied().fold(f64::INFINITY, f64::min);
+        far.sort_by(f64::total_cmp);
+        let median_far = far[far.len() / 2];
+        // Edges along the contact line are halved down to h/2 (a quarter of the coarse 2h);
+        // away from it the ceiling keeps its coarse patches.
+        assert!(
+            smallest_near < median_far / 8.0,
+            "near the fitting {smallest_near} m², far from it {median_far} m²"
+        );
+        assert!(median_far > 0.03, "far from the fitting: {median_far} m²");
+    }
 }

@@ -29,8 +29,8 @@ pub struct BakeArgs {
     /// Patch edge length in metres (overrides the size derived from --quality).
     #[arg(long, value_name = "METRES", allow_negative_numbers = true)]
     patch_size: Option<f64>,
-    /// Patches of one size everywhere (default: adaptive — coarse where direct light is smooth,
-    /// fine at shadow edges and steep gradients).
+    /// Patches of one size everywhere (default: adaptive — coarse where light is smooth,
+    /// fine at shadow edges, steep gradients and contact lines).
     #[arg(long)]
     uniform_patches: bool,
     /// Trace shadow rays even inside a convex empty enclosure (to measure what skipping saves).

@@ -1,13 +1,14 @@
-//! Adaptive refinement: coarse patches where direct light is smooth, finer ones where its
-//! gradient or a shadow edge needs them.
+//! Adaptive refinement: coarse patches where light is smooth, finer ones where its gradient, a
+//! shadow edge or a contact line needs them.
 //!
 //! Input: one surface's refined mesh (positions, shading normals, optional UVs, triangles), the
-//! sides it receives light on, and a [`Probe`] that evaluates direct illuminance at points.
+//! sides it receives light on, and a [`Probe`] that estimates illuminance at points (the
+//! meshing stage's estimate: direct light, plus indirect light where nothing covers the point).
 //! Output: the same surface with some triangles split; every new vertex is the midpoint of an
 //! edge, its normal and UVs the mean of the edge's ends.
 //!
-//! The error estimate of an edge is how far direct illuminance at its midpoint is from the
-//! linear interpolation of its ends — exactly what linear (vertex) interpolation of the output
+//! The error estimate of an edge is how far the estimated illuminance at its midpoint is from
+//! the linear interpolation of its ends — exactly what linear (vertex) interpolation of the output
 //! and the trapezoid quadrature of the solver miss there. An edge is split when that error
 //! exceeds `RELATIVE` of the brightest of the three values or `ABSOLUTE` of the scene's mean
 //! direct illuminance, and it is longer than the smallest patch size. Both sides of a
@@ -30,7 +31,7 @@ pub const ABSOLUTE: f64 = 0.03;
 /// How far (× the local edge length) judged points are pulled into their triangles.
 const PULL: f64 = 1e-3;
 
-/// Direct illuminance (lx) at each `(point, unit normal)`; evaluated in one batch.
+/// Estimated illuminance (lx) at each `(point, unit normal)`; evaluated in one batch.
 pub type Probe<'p> = &'p (dyn Fn(&[(DVec3, DVec3)]) -> Vec<f64> + Sync);
 
 /// What adaptive refinement needs beyond the mesh.
