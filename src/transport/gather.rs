@@ -267,11 +267,14 @@ impl Gatherer<'_> {
             return false;
         }
         let reps = &self.tree.reps[i as usize];
+        let node = &self.tree.nodes[i as usize];
+        let own_hits = self.tree.own_hits.as_ref().filter(|_| node.curved);
+        // A representative facing away is a fair target when the node's own patches do not
+        // count as blockers (a curved node); otherwise its own front would hide it.
         let usable = |k: usize| {
             let (q, m) = reps[k];
-            n.dot(q - p) > 0.0 && (facing.is_some() || m.dot(p - q) > 0.0)
+            n.dot(q - p) > 0.0 && (facing.is_some() || own_hits.is_some() || m.dot(p - q) > 0.0)
         };
-        let node = &self.tree.nodes[i as usize];
         if node.end - node.start < HIDDEN_MIN_PATCHES {
             return false;
         }
@@ -281,7 +284,6 @@ impl Gatherer<'_> {
             (false, true, true) => vec![1, 2],
             _ => return false,
         };
-        let own_hits = self.tree.own_hits.as_ref().filter(|_| node.curved);
         targets.iter().all(|&k| match own_hits {
             Some((patches, rank)) => !Self::ray(shared, (i, CLUSTER_KEY + k as u8), || {
                 let (q, m) = reps[k];
