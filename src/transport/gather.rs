@@ -449,18 +449,32 @@ mod tests {
         DVec3::new(-3.0, 2.0, -20.0),
     ];
 
+    /// What stands 20 m away, across the receiver's plane (so it is never one source).
+    #[derive(Clone, Copy, PartialEq)]
+    enum Far {
+        Nothing,
+        /// A wall reaching 1 m below the plane and 2 m above it.
+        Wall,
+        /// A tessellated ball of radius 0.6 m centred on the plane: curved clutter.
+        Ball,
+    }
+
     /// The gather at the origin facing +Y (up) in a scene of a screen 2 m away (from x.0 to
-    /// x.1, 0.1 m below to 0.5 m above the receiver's plane) and, when `wall`, a wall 20 m away
-    /// that reaches 1 m below the plane (so it is never one source), all in 5 cm patches:
-    /// coverage, rays traced, and whether any link reads a wall patch. A small box behind and below the receiver (so it
-    /// adds nothing) keeps the scene from being a convex empty enclosure, where nothing is
-    /// traced.
-    fn gather(screen: (f64, f64), wall: bool) -> (f64, u64, bool) {
+    /// x.1, 0.1 m below to 0.5 m above the receiver's plane) and `far`, all in 5 cm patches:
+    /// coverage, rays traced, and whether any link reads a patch of `far`. A small box behind
+    /// and below the receiver (so it adds nothing) keeps the scene from being a convex empty
+    /// enclosure, where nothing is traced.
+    fn gather(screen: (f64, f64), far: Far) -> (f64, u64, bool) {
         let mut b = SceneBuilder::new();
         let grey = b.material("grey", 0.5);
         b.quad("screen", panel(screen, SCREEN_Y, -2.0), grey);
-        if wall {
-            b.quad("wall", WALL, grey);
+        match far {
+            Far::Nothing => {}
+            Far::Wall => b.quad("wall", WALL, grey),
+            Far::Ball => {
+                let centre = DVec3::new(0.0, 0.0, -20.0);
+                b.ball("ball", centre, 0.6, (12, 16), grey);
+            }
         }
         let behind = DVec3::new(0.0, -2.0, 5.0);
         b.axis_box("box", behind, behind + 0.5, false, grey);
@@ -476,11 +490,13 @@ mod tests {
         };
         let mut links = Vec::new();
         let coverage = gatherer.links(DVec3::ZERO, DVec3::Y, &mut links);
-        let reads_wall = links.iter().any(|l| {
-            let node = &tree.nodes[l.node as usize];
-            (node.start..node.end).any(|k| mesh.patches[tree.order[k as usize] as usize].group == 1)
-        });
-        (coverage.total, occluder.rays_traced(), reads_wall)
+        let reads_far = far != Far::Nothing
+            && links.iter().any(|l| {
+                let node = &tree.nodes[l.node as usize];
+                (node.start..node.end)
+                    .any(|k| mesh.patches[tree.order[k as usize] as usize].group == 1)
+            });
+        (coverage.total, occluder.rays_traced(), reads_far)
     }
 
     /// Exact form factor from the origin (normal +Y) of the screen's part above y = 0 (Lambert's
@@ -492,13 +508,13 @@ mod tests {
     #[test]
     fn far_node_across_the_receiver_plane_is_gathered_when_seen() {
         let beside = (2.0, 3.0);
-        let (coverage, rays, wall) = gather(beside, true);
+        let (coverage, rays, wall) = gather(beside, Far::Wall);
         let want = lambert::form_factor(DVec3::ZERO, DVec3::Y, &WALL) + screen_exact(beside);
         assert!(wall);
         assert!((coverage / want - 1.0).abs() < 0.02, "{coverage} vs {want}");
         // Seen, the wall costs rays: at least one per patch along the receiver's plane, which
         // cuts it (6 m of 5 cm patches).
-        let (_, rays_screen, _) = gather(beside, false);
+        let (_, rays_screen, _) = gather(beside, Far::Nothing);
         assert!(
             rays >= rays_screen + 120,
             "{rays} vs {rays_screen} without the wall"
@@ -508,16 +524,31 @@ mod tests {
     #[test]
     fn far_node_across_the_receiver_plane_is_skipped_when_hidden() {
         let across = (-0.5, 0.5);
-        let (coverage, rays, wall) = gather(across, true);
+        let (coverage, rays, wall) = gather(across, Far::Wall);
         assert!(!wall, "a hidden wall's patches were linked");
         let want = screen_exact(across);
         assert!((coverage / want - 1.0).abs() < 0.02, "{coverage} vs {want}");
         // Deciding that the wall is hidden takes a few rays per far node, not one per patch
         // along the plane.
-        let (_, rays_screen, _) = gather(across, false);
+        let (_, rays_screen, _) = gather(across, Far::Nothing);
         assert!(
             rays <= rays_screen + 40,
             "{rays} vs {rays_screen} without the wall"
+        );
+    }
+
+    #[test]
+    fn far_curved_clutter_across_the_receiver_plane_is_skipped_when_hidden() {
+        // A ball hidden behind a screen: its own patches do not count as blockers, so its
+        // representatives (on either side of it) settle it with a few rays, where tracing its
+        // pieces took 13.
+        let across = (-0.5, 0.5);
+        let (_, rays_screen, _) = gather(across, Far::Nothing);
+        let (_, rays, ball) = gather(across, Far::Ball);
+        assert!(!ball, "a hidden ball's patches were linked");
+        assert!(
+            rays <= rays_screen + 4,
+            "{rays} vs {rays_screen} without the ball"
         );
     }
 }
