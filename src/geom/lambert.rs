@@ -18,14 +18,7 @@ const MAX_VERTS: usize = 16;
 
 /// Point-to-polygon form factor from `p` (normal `n`) to the polygon `verts`.
 pub fn form_factor(p: DVec3, n: DVec3, verts: &[DVec3]) -> f64 {
-    // A polygon lying in the receiver's own plane (e.g. the patch the receiver sits on) covers no
-    // solid angle above it; without this test a point inside it would see the whole hemisphere.
-    let (mut height, mut reach) = (0.0f64, 0.0f64);
-    for v in verts {
-        height = height.max(n.dot(*v - p));
-        reach = reach.max((*v - p).length());
-    }
-    if height <= 1e-12 * reach {
+    if !rises_above(p, n, verts) {
         return 0.0;
     }
     let mut clipped = [DVec3::ZERO; MAX_VERTS];
@@ -34,6 +27,19 @@ pub fn form_factor(p: DVec3, n: DVec3, verts: &[DVec3]) -> f64 {
         return 0.0;
     }
     contour_sum(p, n, &clipped[..count]).abs() / (2.0 * PI)
+}
+
+/// Does the polygon reach above the plane through `p` with normal `n` (by more than 10⁻¹² of
+/// its distance)? When not, its form factor is zero: in particular a polygon lying in the
+/// receiver's own plane (the patch the receiver sits on) covers no solid angle above it, where
+/// the contour sum would see the whole hemisphere from a point inside it.
+pub fn rises_above(p: DVec3, n: DVec3, verts: &[DVec3]) -> bool {
+    let (mut height, mut reach) = (0.0f64, 0.0f64);
+    for v in verts {
+        height = height.max(n.dot(*v - p));
+        reach = reach.max((*v - p).length());
+    }
+    height > 1e-12 * reach
 }
 
 /// Σ βᵢ (n·ĝᵢ) over the edges, signed by the polygon's orientation as seen from `p`.

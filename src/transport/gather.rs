@@ -134,16 +134,24 @@ impl Gatherer<'_> {
             if node.is_leaf() {
                 let patch_index = self.tree.order[node.start as usize] as usize;
                 let patch = &self.mesh.patches[patch_index];
-                let corners = patch.corners(&self.mesh.receivers);
-                let f = lambert::form_factor(p, n, &corners);
-                if f <= 0.0 {
-                    continue;
-                }
-                let level = sample_level(node.radius, dist, self.tau);
-                let vis = self.patch_visibility(p, n, i, patch_index, level, &mut shared);
                 let front = patch.normal.dot(p - node.moments.centroid) > 0.0;
                 if !front && patch.double_sided {
                     continue; // its twin, facing this way, is counted instead
+                }
+                let corners = patch.corners(&self.mesh.receivers);
+                if !lambert::rises_above(p, n, &corners) {
+                    continue; // its form factor is zero
+                }
+                // Visibility before the form factor: most leaves far from the receiver turn out
+                // hidden, and a hidden patch needs no form factor.
+                let level = sample_level(node.radius, dist, self.tau);
+                let vis = self.patch_visibility(p, n, i, patch_index, level, &mut shared);
+                if vis <= 0.0 {
+                    continue;
+                }
+                let f = lambert::form_factor(p, n, &corners);
+                if f <= 0.0 {
+                    continue;
                 }
                 coverage.total += f * vis;
                 if !front {
