@@ -84,6 +84,8 @@ pub fn mesh(
         "coarsePatches": coarse.patches.len(),
         "relative": patches::adapt::RELATIVE,
         "absolute": patches::adapt::ABSOLUTE,
+        "contactDistance": contact,
+        "indirectEstimateLx": indirect,
     });
     (mesh, note)
 }
