@@ -6,7 +6,7 @@
 //! Adaptive meshing starts from patches of `COARSE × h`, estimates the light on them — direct
 //! light from the scene's lights, luminaires and profiled emitters (Lambertian emitting surfaces
 //! are not in the estimate: their light arrives through the patch field), plus Sumpner's mean
-//! indirect illuminance at points that nothing covers within `CONTACT × h` — and splits edges
+//! indirect illuminance at points that nothing covers within `CONTACT × h` (h/2) — and splits edges
 //! where linear interpolation misses it (see [`patches::adapt`]), down to `h / 2`. Shadow edges
 //! and steep gradients of direct light get fine patches, and so do contact lines, where light
 //! from the room stops (a fitting on the ceiling, a cabinet against a wall). Smooth regions
@@ -26,8 +26,11 @@ pub const COARSE: f64 = 2.0;
 
 /// A point with geometry nearer than this × h in front of it (along its normal) is covered:
 /// under a fitting on the ceiling, behind a cabinet against a wall. Inter-reflected light does
-/// not reach it.
-pub const CONTACT: f64 = 1.0;
+/// not reach it. Measured on the office against its converged reference: 0.5 and 1 give the
+/// same meshes at draft and default quality; at high quality 1 also refined around things
+/// hung a few centimetres off a surface and the working plane came out 0.29 % high (0.12 %
+/// with 0.5; 0.05 % without contact lines, where default is 0.45 % low).
+pub const CONTACT: f64 = 0.5;
 
 /// Build the patch mesh for patch size `h`.
 pub fn mesh(
@@ -140,13 +143,13 @@ mod tests {
 
     #[test]
     fn a_fitting_on_an_unlit_ceiling_is_outlined_by_fine_patches() {
-        // A 4 × 3 × 4 m room; a 0.6 × 0.1 × 0.6 m fitting on the ceiling; a spot under it
+        // A 4 × 3 × 4 m room; a 0.6 × 0.05 × 0.6 m fitting on the ceiling; a spot under it
         // pointing down, so the ceiling gets no direct light at all and only the contact line
         // (the room's inter-reflected light stops under the fitting) can refine it.
         let mut b = SceneBuilder::new();
         let white = b.material("white", 0.7);
         b.axis_box("room", DVec3::ZERO, DVec3::new(4.0, 3.0, 4.0), true, white);
-        let (lo, hi) = (DVec3::new(1.7, 2.9, 1.7), DVec3::new(2.3, 3.0, 2.3));
+        let (lo, hi) = (DVec3::new(1.7, 2.95, 1.7), DVec3::new(2.3, 3.0, 2.3));
         b.axis_box("fitting", lo, hi, false, white);
         let spot = LightKind::Spot {
             inner_cone_angle: 0.5,
