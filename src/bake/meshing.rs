@@ -96,14 +96,14 @@ pub fn mesh(
 /// The scene's mean indirect illuminance by Sumpner's balance for a closed room, ρ̄Φ/(S(1 − ρ̄)),
 /// from the direct illuminance at the coarse mesh's receivers (area-weighted per side) and the
 /// area-weighted reflectance (luminance of the linear RGB): the scale of the light that reaches
-/// open surfaces but not covered ones.
+/// open surfaces but not covered ones. (`Solution::cuttle_indirect` is the same balance from
+/// the solved first-reflected flux; here nothing is solved yet.)
 fn indirect_estimate(scene: &Scene, coarse: &PatchMesh, direct: &[f64]) -> f64 {
     let (mut flux, mut area, mut reflected) = (0.0, 0.0, 0.0);
     for g in &coarse.groups {
         let n = g.receivers.len().max(1) as f64;
         let e = direct[g.receivers.clone()].iter().sum::<f64>() / n;
-        let c = scene.materials[g.material].reflectance;
-        let rho = 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
+        let rho = crate::scene::luma(scene.materials[g.material].reflectance);
         flux += e * g.area;
         area += g.area;
         reflected += rho * g.area;

@@ -21,6 +21,12 @@ pub fn form_factor(p: DVec3, n: DVec3, verts: &[DVec3]) -> f64 {
     if !rises_above(p, n, verts) {
         return 0.0;
     }
+    form_factor_rising(p, n, verts)
+}
+
+/// [`form_factor`] of a polygon already known to [`rises_above`] the receiver's plane (the test
+/// is not repeated).
+pub fn form_factor_rising(p: DVec3, n: DVec3, verts: &[DVec3]) -> f64 {
     let mut clipped = [DVec3::ZERO; MAX_VERTS];
     let count = clip_to_hemisphere(p, n, verts, &mut clipped);
     if count < 3 {

@@ -149,7 +149,7 @@ impl Gatherer<'_> {
                 if vis <= 0.0 {
                     continue;
                 }
-                let f = lambert::form_factor(p, n, &corners);
+                let f = lambert::form_factor_rising(p, n, &corners);
                 if f <= 0.0 {
                     continue;
                 }
@@ -275,8 +275,11 @@ impl Gatherer<'_> {
         if self.occluder.convex_empty {
             return false;
         }
-        let reps = &self.tree.reps[i as usize];
         let node = &self.tree.nodes[i as usize];
+        if node.end - node.start < HIDDEN_MIN_PATCHES {
+            return false;
+        }
+        let reps = &self.tree.reps[i as usize];
         let own_hits = self.tree.own_hits.as_ref().filter(|_| node.curved);
         // A representative facing away is a fair target when the node's own patches do not
         // count as blockers (a curved node); otherwise its own front would hide it.
@@ -284,9 +287,6 @@ impl Gatherer<'_> {
             let (q, m) = reps[k];
             n.dot(q - p) > 0.0 && (facing.is_some() || own_hits.is_some() || m.dot(p - q) > 0.0)
         };
-        if node.end - node.start < HIDDEN_MIN_PATCHES {
-            return false;
-        }
         let targets = match (usable(0), usable(1), usable(2)) {
             (true, _, true) => [0, 2],
             (true, true, false) => [0, 1],
