@@ -137,7 +137,7 @@ impl Gatherer<'_> {
         // patches count as visible without rays of their own (see [`Gatherer::sight`]).
         let mut stack = vec![(0u32, false)];
         while let Some((i, seen)) = stack.pop() {
-            let node = &self.tree.nodes[i as usize];
+            let node = &self.tree.bounds[i as usize];
             let (below, above) = node.height_range(p, n);
             if above <= 0.0 {
                 continue; // wholly behind the receiver
@@ -146,7 +146,7 @@ impl Gatherer<'_> {
             if node.is_leaf() {
                 let patch_index = self.tree.order[node.start as usize] as usize;
                 let patch = &self.mesh.patches[patch_index];
-                let front = patch.normal.dot(p - node.moments.centroid) > 0.0;
+                let front = patch.normal.dot(p - node.centroid) > 0.0;
                 if !front && patch.double_sided {
                     continue; // its twin, facing this way, is counted instead
                 }
@@ -202,7 +202,8 @@ impl Gatherer<'_> {
             }
             // A one-sided node's form factor decides how much its visibility is worth: below
             // SMALL_NODE one ray (to the patch at its area median) stands for it.
-            let f = facing.map(|_| node.moments.form_factor(p, n).abs());
+            let moments = &self.tree.nodes[i as usize].moments;
+            let f = facing.map(|_| moments.form_factor(p, n).abs());
             let vis = match f {
                 Some(_) if seen => 1.0,
                 Some(f) if f < SMALL_NODE => self.ray_visibility(p, n, i, &[1], &mut shared),
@@ -304,7 +305,7 @@ impl Gatherer<'_> {
         if self.occluder.convex_empty {
             return Sight::Seen;
         }
-        let node = &self.tree.nodes[i as usize];
+        let node = &self.tree.bounds[i as usize];
         if node.end - node.start < HIDDEN_MIN_PATCHES {
             return Sight::Unknown;
         }
@@ -553,7 +554,7 @@ mod tests {
                 8 * (node.end - node.start) >= total && (node.start..node.end).all(is_far)
             })
             .map(|i| {
-                let facing = tree.nodes[i as usize].facing(DVec3::ZERO);
+                let facing = tree.bounds[i as usize].facing(DVec3::ZERO);
                 gatherer.sight(DVec3::ZERO, DVec3::Y, i, facing, &mut None)
             })
             .collect();
