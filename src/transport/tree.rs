@@ -65,7 +65,6 @@ impl TreeNode {
     pub fn is_leaf(&self) -> bool {
         self.children[0] == NO_CHILD
     }
-
 }
 
 /// The part of a [`TreeNode`] a gather reads at every node it visits, packed apart from the rest
