@@ -101,7 +101,9 @@ impl Tracer {
         let bvh = (!tris.is_empty()).then(|| {
             build_cwbvh(
                 &padded,
-                BvhBuildParams::medium_build(),
+                // Measured against medium_build on the 10⁴ open plan: links stage 8 % faster
+                // (shadow rays dominate it); the office's bake unchanged.
+                BvhBuildParams::slow_build(),
                 &mut Duration::default(),
             )
         });
