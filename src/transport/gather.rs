@@ -40,6 +40,29 @@ enum Sight {
     Unknown,
 }
 
+/// What the two rays of a far ancestor ([`Gatherer::sight`]) said of a node's patches.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Seen {
+    /// Nothing: its patches' visibility is traced.
+    No,
+    /// The ancestor showed the receiver one side: all its patches are visible.
+    All,
+    /// The ancestor showed both sides: its patches facing the receiver are visible (its
+    /// representatives faced it); the backs behind them are traced.
+    Front,
+}
+
+impl Seen {
+    /// Are patches facing the receiver (`front`) or turning their backs known to be visible?
+    fn covers(self, front: bool) -> bool {
+        match self {
+            Seen::No => false,
+            Seen::All => true,
+            Seen::Front => front,
+        }
+    }
+}
+
 /// How much of a receiver's cosine-weighted hemisphere geometry covers (after visibility).
 #[derive(Debug, Clone, Copy, Default, PartialEq)]
 pub struct Coverage {
@@ -133,9 +156,8 @@ impl Gatherer<'_> {
         if self.tree.is_empty() {
             return coverage;
         }
-        // (node, seen): `seen` when an ancestor far node's two rays both got through, so its
-        // patches count as visible without rays of their own (see [`Gatherer::sight`]).
-        let mut stack = vec![(0u32, false)];
+        // (node, what an ancestor far node's two rays said: see [`Seen`]).
+        let mut stack = vec![(0u32, Seen::No)];
         while let Some((i, seen)) = stack.pop() {
             let node = &self.tree.bounds[i as usize];
             let (below, above) = node.height_range(p, n);
@@ -156,7 +178,7 @@ impl Gatherer<'_> {
                 }
                 // Visibility before the form factor: most leaves far from the receiver turn out
                 // hidden, and a hidden patch needs no form factor.
-                let vis = if seen {
+                let vis = if seen.covers(front) {
                     1.0
                 } else {
                     let level = sample_level(node.radius, dist, self.tau);
@@ -187,17 +209,20 @@ impl Gatherer<'_> {
                 // Far, but not one source: it crosses the receiver's plane or shows both sides
                 // without being clutter. Its patches are gathered one by one, unless its
                 // representatives all say it is hidden; when they all say it is seen, its
-                // patches are gathered without rays of their own.
-                let sight = if seen {
-                    Sight::Seen
-                } else {
-                    self.sight(p, n, i, facing, &mut shared)
+                // patches (those facing the receiver, when it shows both sides) are gathered
+                // without rays of their own.
+                let sight = match seen {
+                    Seen::No => self.sight(p, n, i, facing, &mut shared),
+                    _ => Sight::Seen,
                 };
-                match sight {
-                    Sight::Hidden => {}
-                    Sight::Seen => stack.extend(node.children.map(|c| (c, true))),
-                    Sight::Unknown => stack.extend(node.children.map(|c| (c, false))),
-                }
+                let below_seen = match (sight, seen) {
+                    (Sight::Hidden, _) => continue,
+                    (Sight::Unknown, _) => Seen::No,
+                    (Sight::Seen, Seen::No) if facing.is_some() => Seen::All,
+                    (Sight::Seen, Seen::No) => Seen::Front,
+                    (Sight::Seen, seen) => seen,
+                };
+                stack.extend(node.children.map(|c| (c, below_seen)));
                 continue;
             }
             // A one-sided node's form factor decides how much its visibility is worth: below
@@ -205,7 +230,7 @@ impl Gatherer<'_> {
             let moments = &self.tree.nodes[i as usize].moments;
             let f = facing.map(|_| moments.form_factor(p, n).abs());
             let vis = match f {
-                Some(_) if seen => 1.0,
+                Some(_) if seen.covers(facing == Some(true)) => 1.0,
                 Some(f) if f < SMALL_NODE => self.ray_visibility(p, n, i, &[1], &mut shared),
                 Some(_) => self.ray_visibility(p, n, i, &[0, 2], &mut shared),
                 None => self.cluster_visibility(p, n, i, &mut shared),
@@ -213,7 +238,7 @@ impl Gatherer<'_> {
             if vis > 0.0 && vis < 1.0 {
                 // Partly hidden: a shadow boundary runs through the node. Refine rather than
                 // guess the visible fraction from two rays.
-                stack.extend(node.children.map(|c| (c, false)));
+                stack.extend(node.children.map(|c| (c, Seen::No)));
                 continue;
             }
             match facing.zip(f) {
@@ -286,16 +311,16 @@ impl Gatherer<'_> {
     /// plane (and, when it shows both sides and is not curved clutter, facing `p`) are the
     /// targets. Both blocked (for a curved node, by something not its own): [`Sight::Hidden`],
     /// the node is skipped as a whole, the same inference as for a far source whose two rays
-    /// are blocked. Both clear, on a node seen from one side only that is not curved clutter:
-    /// [`Sight::Seen`], its patches are gathered without rays of their own, as a far source
-    /// whose two rays get through is accepted whole. Not for a node seen from both sides: its
-    /// representatives face `p`, and say nothing of the backs behind its front, which would
-    /// count as seen absorbers (a closed box with balls lost 1 % of its mean illuminance). Not
-    /// for curved clutter: its rays ignore its own patches, which may hide each other.
-    /// Otherwise — fewer than [`HIDDEN_MIN_PATCHES`] patches, too few targets, or the rays
-    /// disagree — [`Sight::Unknown`]: it is refined and its patches traced. In an open-plan
-    /// office most such nodes are furniture behind other furniture: without this their patches
-    /// were traced one by one (and nine in ten found hidden).
+    /// are blocked. Both clear, on a node that is not curved clutter: [`Sight::Seen`], its
+    /// patches are gathered without rays of their own, as a far source whose two rays get
+    /// through is accepted whole; of a node seen from both sides only the patches facing `p`
+    /// (its representatives faced it: they say nothing of the backs behind its front, which
+    /// counted as seen absorbers made a closed box with balls lose 1 % of its mean
+    /// illuminance). Not for curved clutter: its rays ignore its own patches, which may hide
+    /// each other. Otherwise — fewer than [`HIDDEN_MIN_PATCHES`] patches, too few targets, or
+    /// the rays disagree — [`Sight::Unknown`]: it is refined and its patches traced. In an
+    /// open-plan office most such nodes are furniture behind other furniture: without this
+    /// their patches were traced one by one (and nine in ten found hidden).
     fn sight(
         &self,
         p: DVec3,
@@ -339,7 +364,7 @@ impl Gatherer<'_> {
         });
         match (clear.next(), clear.next()) {
             (Some(false), Some(false)) => Sight::Hidden,
-            (Some(true), Some(true)) if facing.is_some() && own_hits.is_none() => Sight::Seen,
+            (Some(true), Some(true)) if own_hits.is_none() => Sight::Seen,
             _ => Sight::Unknown,
         }
     }
