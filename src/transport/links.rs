@@ -20,8 +20,10 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 pub struct ReceiverLinks {
-    pub offsets: Vec<usize>,
-    pub links: Vec<Link>,
+    /// The rows of receivers `k·CHUNK .. (k+1)·CHUNK` in chunk k, each chunk's links in one
+    /// exactly sized allocation: the rows are never copied into one array, whose doubling (and
+    /// the slack of rows grown link by link) set the bake's peak memory on large scenes.
+    chunks: Vec<RowChunk>,
     /// Coverage before normalisation.
     pub coverage: Vec<f32>,
     /// Fraction covered by back faces (after normalisation for closed receivers).
@@ -30,49 +32,81 @@ pub struct ReceiverLinks {
     pub closed: Vec<bool>,
 }
 
-/// Rows are built in parallel over fixed chunks and concatenated in order: deterministic.
+/// The rows of [`CHUNK`] consecutive receivers: row j is `links[offsets[j]..offsets[j + 1]]`.
+struct RowChunk {
+    offsets: Vec<u32>,
+    links: Vec<Link>,
+}
+
+/// Rows are built in parallel over fixed chunks, kept in order: deterministic.
 const CHUNK: usize = 64;
 
 impl ReceiverLinks {
     pub fn build(gatherer: &Gatherer, receivers: &[Receiver]) -> Self {
-        let rows: Vec<(Vec<Link>, f32, f32, bool)> = receivers
+        type Built = (RowChunk, Vec<(f32, f32, bool)>);
+        let built: Vec<Built> = receivers
             .par_chunks(CHUNK)
-            .flat_map_iter(|chunk| {
-                chunk.iter().map(|r| {
-                    let row = gather_row(gatherer, r.point, r.normal);
-                    (row.links, row.coverage as f32, row.back as f32, row.closed)
-                })
+            .map(|chunk| {
+                let rows: Vec<Row> = chunk
+                    .iter()
+                    .map(|r| gather_row(gatherer, r.point, r.normal))
+                    .collect();
+                let mut links = Vec::with_capacity(rows.iter().map(|r| r.links.len()).sum());
+                let mut offsets = Vec::with_capacity(rows.len() + 1);
+                offsets.push(0);
+                for row in &rows {
+                    links.extend_from_slice(&row.links);
+                    offsets.push(links.len() as u32);
+                }
+                let stats = rows
+                    .iter()
+                    .map(|r| (r.coverage as f32, r.back as f32, r.closed))
+                    .collect();
+                (RowChunk { offsets, links }, stats)
             })
             .collect();
-        let mut offsets = Vec::with_capacity(rows.len() + 1);
-        offsets.push(0);
-        let total: usize = rows.iter().map(|r| r.0.len()).sum();
-        let mut links = Vec::with_capacity(total);
-        let mut coverage = Vec::with_capacity(rows.len());
-        let mut closed = Vec::with_capacity(rows.len());
-        let mut back = Vec::with_capacity(rows.len());
-        for (l, c, b, k) in rows {
-            links.extend_from_slice(&l);
-            offsets.push(links.len());
-            coverage.push(c);
-            back.push(b);
-            closed.push(k);
+        let mut chunks = Vec::with_capacity(built.len());
+        let mut coverage = Vec::with_capacity(receivers.len());
+        let mut back = Vec::with_capacity(receivers.len());
+        let mut closed = Vec::with_capacity(receivers.len());
+        for (chunk, stats) in built {
+            chunks.push(chunk);
+            for (c, b, k) in stats {
+                coverage.push(c);
+                back.push(b);
+                closed.push(k);
+            }
         }
         ReceiverLinks {
-            offsets,
-            links,
+            chunks,
             coverage,
             back,
             closed,
         }
     }
 
+    /// Receiver `r`'s row.
+    pub fn row(&self, r: usize) -> &[Link] {
+        let chunk = &self.chunks[r / CHUNK];
+        let j = r % CHUNK;
+        &chunk.links[chunk.offsets[j] as usize..chunk.offsets[j + 1] as usize]
+    }
+
+    /// Every link of every row.
+    pub fn iter(&self) -> impl Iterator<Item = &Link> {
+        self.chunks.iter().flat_map(|c| c.links.iter())
+    }
+
+    /// Number of links.
+    pub fn link_count(&self) -> usize {
+        self.chunks.iter().map(|c| c.links.len()).sum()
+    }
+
     /// E at every receiver from a node-summarised exitance field.
     pub fn apply(&self, field: &NodeField, out: &mut [DVec3]) {
         out.par_chunks_mut(256).enumerate().for_each(|(c, chunk)| {
             for (k, e) in chunk.iter_mut().enumerate() {
-                let r = c * 256 + k;
-                *e = field.gather(&self.links[self.offsets[r]..self.offsets[r + 1]]);
+                *e = field.gather(self.row(c * 256 + k));
             }
         });
     }

@@ -121,8 +121,7 @@ impl<'a> PatchOperator<'a> {
                         if at[r] == 0.0 {
                             continue;
                         }
-                        for l in &self.links.links[self.links.offsets[r]..self.links.offsets[r + 1]]
-                        {
+                        for l in self.links.row(r) {
                             if l.is_cluster() {
                                 let (k, w) = l.cluster();
                                 let weights = crate::geom::sh::dist_weights(w);
@@ -320,7 +319,7 @@ mod tests {
             tau: 0.3,
         };
         let links = ReceiverLinks::build(&gatherer, &mesh.receivers);
-        let clusters = links.links.iter().filter(|l| l.is_cluster()).count();
+        let clusters = links.iter().filter(|l| l.is_cluster()).count();
         assert!(clusters > 100, "{clusters} cluster links");
         let mut op = PatchOperator::new(&mesh, &tree, &links);
         // Non-trivial scalings, as after balancing.
