@@ -213,18 +213,16 @@ impl Gatherer<'_> {
                 // representatives all say it is hidden; when they all say it is seen, its
                 // patches (those facing the receiver, when it shows both sides) are gathered
                 // without rays of their own.
-                let sight = match seen {
-                    Seen::No => self.sight(p, n, i, facing, &mut shared),
-                    _ => Sight::Seen,
+                let settled = match seen {
+                    Seen::No => match self.sight(p, n, i, facing, &mut shared) {
+                        Sight::Hidden => continue,
+                        Sight::Unknown => Seen::No,
+                        Sight::Seen if facing.is_some() => Seen::All,
+                        Sight::Seen => Seen::Front,
+                    },
+                    seen => seen, // an ancestor settled it already
                 };
-                let below_seen = match (sight, seen) {
-                    (Sight::Hidden, _) => continue,
-                    (Sight::Unknown, _) => Seen::No,
-                    (Sight::Seen, Seen::No) if facing.is_some() => Seen::All,
-                    (Sight::Seen, Seen::No) => Seen::Front,
-                    (Sight::Seen, seen) => seen,
-                };
-                push_children(&mut stack, node, below_seen);
+                push_children(&mut stack, node, settled);
                 continue;
             }
             // A one-sided node's form factor decides how much its visibility is worth: below
@@ -319,8 +317,10 @@ impl Gatherer<'_> {
     /// (its representatives faced it: they say nothing of the backs behind its front, which
     /// counted as seen absorbers made a closed box with balls lose 1 % of its mean
     /// illuminance). Not for curved clutter: its rays ignore its own patches, which may hide
-    /// each other. Otherwise — fewer than [`HIDDEN_MIN_PATCHES`] patches, too few targets, or
-    /// the rays disagree — [`Sight::Unknown`]: it is refined and its patches traced. In an
+    /// each other. A node whose form factor is below [`SMALL_NODE`] however its patches turn
+    /// gets one ray, to its median patch. Otherwise — fewer than [`HIDDEN_MIN_PATCHES`]
+    /// patches, too few targets, or the rays disagree — [`Sight::Unknown`]: it is refined and
+    /// its patches traced. In an
     /// open-plan office most such nodes are furniture behind other furniture: without this
     /// their patches were traced one by one (and nine in ten found hidden).
     fn sight(
@@ -572,7 +572,8 @@ mod tests {
     }
 
     /// The gather at the origin facing +Y (up) in a scene of a screen 2 m away (from x.0 to
-    /// x.1, 0.1 m below to 0.5 m above the receiver's plane) and `far`, all in 5 cm patches:
+    /// x.1, from the receiver's plane to 0.5 m above it, so it never crosses the plane and its
+    /// own cost does not mix into the far object's) and `far`, all in 5 cm patches:
     /// coverage, rays traced, whether any link reads a patch of `far`, and what
     /// [`Gatherer::sight`] says of the nodes holding an eighth of `far`'s patches or more
     /// (each answer once). A small box
