@@ -287,3 +287,59 @@ fn profiled_emitting_surface_with_a_cosine_profile_is_lambertian() {
     let emitted = r.summary["energy"]["emittedLm"].as_f64().unwrap();
     assert!(rel(emitted, PI * 1000.0 * 0.5) < 1e-3, "{emitted}");
 }
+
+/// 576 cosine luminaires on a 2.5 m grid 3 m above a black floor (glTF +Y up), a 60 × 60 m
+/// ceiling of them: far ones are grouped and their visibility settled by two rays a group
+/// ([`luxbake::direct::groups`]), their intensities still evaluated one by one. Without a
+/// blocker every luminaire is seen and the floor gets exactly the inverse-square cosine sum
+/// Σ I₀·h²/d⁴; with a black screen at y = 2.5 over x ∈ [4.3, 40] m (seen from below, it hides
+/// the luminaires behind it), the sum over those the screen does not hide, within 0.5 %.
+#[test]
+fn grouped_luminaires_give_the_inverse_square_sum() {
+    let h = 3.0;
+    let lamps: Vec<DVec3> = (0..576)
+        .map(|k| {
+            let (i, j) = ((k / 24) as f64, (k % 24) as f64);
+            DVec3::new(2.5 * i - 28.75, h, 2.5 * j - 28.75)
+        })
+        .collect();
+    let screen_y = 2.5;
+    let behind_screen = |p: DVec3, q: DVec3| {
+        let c = p + (q - p) * ((screen_y - p.y) / (q.y - p.y));
+        (4.3..=40.0).contains(&c.x) && (-40.0..=40.0).contains(&c.z)
+    };
+    for screen in [false, true] {
+        let mut b = SceneBuilder::new();
+        let black = b.material("black", 0.0);
+        b.floor("floor", 2.0, 0.0, black);
+        if screen {
+            let corners = [
+                DVec3::new(4.3, screen_y, -40.0),
+                DVec3::new(40.0, screen_y, -40.0),
+                DVec3::new(40.0, screen_y, 40.0),
+                DVec3::new(4.3, screen_y, 40.0),
+            ];
+            b.quad("screen", corners, black);
+        }
+        let ies = cosine_source();
+        let profile = b.profile("cosine", ies.as_bytes(), Format::Ies);
+        for (k, q) in lamps.iter().enumerate() {
+            b.place_luminaire(&format!("l{k}"), profile, *q, -DVec3::Y, DVec3::X, 1.0, None);
+        }
+        let r = bake(&b.build(), &Settings::default(), &Silent).unwrap();
+        let floor = &r.surfaces[0];
+        let mut worst = 0.0f64;
+        for (v, p) in floor.positions.iter().enumerate() {
+            let p = *p;
+            let want: f64 = lamps
+                .iter()
+                .filter(|q| !(screen && behind_screen(p, **q)))
+                .map(|q| 1000.0 * h * h / (*q - p).length_squared().powi(2))
+                .sum();
+            worst = worst.max(rel(floor.illuminance[v] as f64, want));
+        }
+        eprintln!("576 luminaires, screen {screen}: worst {worst:.2e}");
+        let limit = if screen { 5e-3 } else { 1e-3 };
+        assert!(worst < limit, "screen {screen}: worst {worst}");
+    }
+}

@@ -18,7 +18,7 @@ mod meshing;
 mod receivers;
 mod solution;
 
-use crate::direct::{bounds::ProfileBounds, emitters, sources::DirectSource};
+use crate::direct::{bounds::ProfileBounds, emitters, groups::Groups, sources::DirectSource};
 use crate::error::{Error, Result};
 use crate::patches::PatchMesh;
 use crate::progress::Progress;
@@ -45,6 +45,8 @@ pub struct Solution<'a> {
     pub settings: &'a Settings,
     /// Lights, luminaires and profiled emitting surfaces.
     pub sources: Vec<DirectSource<'a>>,
+    /// The luminaires among `sources` grouped for shared visibility.
+    pub groups: Groups,
     pub mesh: PatchMesh,
     pub occluder: Occluder,
     pub tree: PatchTree,
@@ -173,8 +175,12 @@ pub fn solve<'a>(
     lap("mesh", &mut timings);
 
     progress.stage("direct light", mesh.receivers.len() as u64);
+    let groups = Groups::new(&sources);
     let direct = receivers::direct_at_receivers(
-        &sources,
+        receivers::Lights {
+            sources: &sources,
+            groups: &groups,
+        },
         &mesh,
         &occluder,
         &emitter_tree,
@@ -182,7 +188,7 @@ pub fn solve<'a>(
         params.tau_direct,
         progress,
     );
-    let lights = light_patch_flux(&sources, &mesh, &occluder);
+    let lights = light_patch_flux(&sources, &groups, &mesh, &occluder);
     lap("direct", &mut timings);
 
     progress.stage("form factors", mesh.receivers.len() as u64);
@@ -238,6 +244,7 @@ pub fn solve<'a>(
         scene,
         settings,
         sources,
+        groups,
         mesh,
         occluder,
         tree,
@@ -315,20 +322,28 @@ struct LightFlux {
     per_source: Vec<f64>,
 }
 
-fn light_patch_flux(sources: &[DirectSource], mesh: &PatchMesh, occ: &Occluder) -> LightFlux {
+fn light_patch_flux(
+    sources: &[DirectSource],
+    groups: &Groups,
+    mesh: &PatchMesh,
+    occ: &Occluder,
+) -> LightFlux {
     let per: Vec<Vec<(f64, f64)>> = mesh
         .patches
         .par_iter()
         .map(|p| {
             let corners = p.corners(&mesh.receivers);
-            sources
-                .iter()
-                .map(|s| {
-                    let (front, back) = s.patch_flux(occ, &corners, p.normal);
-                    // A double-sided patch's back is its twin, which takes that light as front.
-                    (front, if p.double_sided { 0.0 } else { back })
-                })
-                .collect()
+            // Group rays leave from the centroid (pulled a hair inside, like the integrator's
+            // corner samples), off whichever side faces the group.
+            let c = (corners[0] + corners[1] + corners[2]) / 3.0;
+            let clear = |q: DVec3, n: DVec3| occ.clear(c, n, q, DVec3::ZERO);
+            let mut row = vec![(0.0, 0.0); sources.len()];
+            groups.visit(c, &[p.normal, -p.normal], clear, |k, known| {
+                let (front, back) = sources[k].patch_flux(occ, &corners, p.normal, known);
+                // A double-sided patch's back is its twin, which takes that light as front.
+                row[k] = (front, if p.double_sided { 0.0 } else { back });
+            });
+            row
         })
         .collect();
     let mut out = LightFlux {

@@ -3,7 +3,7 @@
 //! split into sub-sources near their openings), emitting surfaces through the gather interface on
 //! the tree of emitting patches.
 
-use crate::direct::sources::DirectSource;
+use crate::direct::{groups::Groups, sources::DirectSource};
 use crate::patches::PatchMesh;
 use crate::progress::Progress;
 use crate::transport::{
@@ -14,9 +14,16 @@ use crate::visibility::Occluder;
 use glam::DVec3;
 use rayon::prelude::*;
 
+/// The direct sources and the luminaires among them grouped for shared visibility.
+#[derive(Clone, Copy)]
+pub struct Lights<'s, 'a> {
+    pub sources: &'s [DirectSource<'a>],
+    pub groups: &'s Groups,
+}
+
 /// Direct illuminance (lx, RGB) at every receiver of `mesh`.
 pub fn direct_at_receivers(
-    sources: &[DirectSource],
+    lights: Lights,
     mesh: &PatchMesh,
     occ: &Occluder,
     emitter_tree: &PatchTree,
@@ -36,7 +43,10 @@ pub fn direct_at_receivers(
         .flat_map_iter(|chunk| {
             let out: Vec<DVec3> = chunk
                 .iter()
-                .map(|r| direct_at(sources, occ, &gatherer, &node_exitance, r.point, r.normal))
+                .map(|r| {
+                    let normals = [r.normal];
+                    direct_at_faces(lights, occ, &gatherer, &node_exitance, r.point, &normals)[0]
+                })
                 .collect();
             progress.advance(chunk.len() as u64);
             out
@@ -44,22 +54,10 @@ pub fn direct_at_receivers(
         .collect()
 }
 
-/// Direct illuminance (lx, RGB) at point `p` with unit normal `n`.
-pub fn direct_at(
-    sources: &[DirectSource],
-    occ: &Occluder,
-    emitters: &Gatherer,
-    node_exitance: &NodeField,
-    p: DVec3,
-    n: DVec3,
-) -> DVec3 {
-    direct_at_faces(sources, occ, emitters, node_exitance, p, &[n])[0]
-}
-
-/// [`direct_at`] on several planes through `p` (a probe's faces), sharing what the sources can
-/// share between them.
+/// Direct illuminance (lx, RGB) at `p` on planes with the unit `normals` (one for a vertex, six
+/// for a probe), sharing what the sources can share between them.
 pub fn direct_at_faces(
-    sources: &[DirectSource],
+    lights: Lights,
     occ: &Occluder,
     emitters: &Gatherer,
     node_exitance: &NodeField,
@@ -68,13 +66,15 @@ pub fn direct_at_faces(
 ) -> Vec<DVec3> {
     let mut e = vec![DVec3::ZERO; normals.len()];
     let mut each = vec![0.0; normals.len()];
-    for source in sources {
+    let clear = |q: DVec3, n: DVec3| occ.clear(p, n, q, DVec3::ZERO);
+    lights.groups.visit(p, normals, clear, |k, known| {
+        let source = &lights.sources[k];
         each.fill(0.0);
-        source.illuminance_faces(occ, p, normals, &mut each);
+        source.illuminance_faces(occ, p, normals, &mut each, known);
         for (e, x) in e.iter_mut().zip(&each) {
             *e += source.color() * *x;
         }
-    }
+    });
     let mut links = Vec::new();
     for (e, n) in e.iter_mut().zip(normals) {
         links.clear();

@@ -29,7 +29,10 @@ impl Solution<'_> {
             tau: self.settings.params().tau_direct,
         };
         super::receivers::direct_at_faces(
-            &self.sources,
+            super::receivers::Lights {
+                sources: &self.sources,
+                groups: &self.groups,
+            },
             &self.occluder,
             &emitters,
             &self.node_exitance,

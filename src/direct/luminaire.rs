@@ -17,6 +17,7 @@
 
 use super::bounds::{AngleBounds, ProfileBounds};
 use super::flux::{self, Radiator, Spread};
+use super::groups::Known;
 use crate::geom::lambert;
 use crate::photometry::{Opening, OpeningShape, Photometry};
 use crate::scene::{Luminaire, Scene};
@@ -36,6 +37,11 @@ const MAX_SPLITS: u32 = 10;
 /// may be coarser: any split conserves the flux, it only shifts it between nearby patches.
 const PATCH_RATIO: f64 = 0.3;
 const PATCH_MAX_SPLITS: u32 = 6;
+
+/// A patch whose bounding radius is below this fraction of its distance to a luminaire takes its
+/// visibility from one ray at its centroid (per sub-source) rather than from its corners: a
+/// shadow edge across it then moves at most its own flux, a 2 cm chair facet 3 m from the light.
+const TINY_PATCH: f64 = 0.01;
 
 /// A luminaire ready for evaluation.
 pub struct Source<'a> {
@@ -158,15 +164,23 @@ impl<'a> Source<'a> {
     /// Illuminance (lx, photometric) at point `p` with unit normal `n`.
     pub fn illuminance(&self, occ: &Occluder, p: DVec3, n: DVec3) -> f64 {
         let mut e = [0.0];
-        self.illuminance_faces(occ, p, &[n], &mut e);
+        self.illuminance_faces(occ, p, &[n], &mut e, Known::Trace);
         e[0]
     }
 
     /// Illuminance (lx, photometric) at `p` on planes with the unit `normals` (a probe's faces),
     /// added to `out`: the sub-sources, their intensities and each one's shadow ray are shared
-    /// (the ray leaves `p` off the first plane that faces the sub-source).
-    pub fn illuminance_faces(&self, occ: &Occluder, p: DVec3, normals: &[DVec3], out: &mut [f64]) {
-        if !self.reaches(p) {
+    /// (the ray leaves `p` off the first plane that faces the sub-source). `known`: what a
+    /// group's rays already said of its visibility ([`super::groups`]).
+    pub fn illuminance_faces(
+        &self,
+        occ: &Occluder,
+        p: DVec3,
+        normals: &[DVec3],
+        out: &mut [f64],
+        known: Known,
+    ) {
+        if known == Known::Hidden || !self.reaches(p) {
             return;
         }
         for (q, share) in self.split(p) {
@@ -180,7 +194,8 @@ impl<'a> Source<'a> {
             }
             let dist = dist2.sqrt();
             let i = self.intensity(-d / dist) * share;
-            if i <= 0.0 || !occ.clear(p, normals[first], q, DVec3::ZERO) {
+            if i <= 0.0 || (known == Known::Trace && !occ.clear(p, normals[first], q, DVec3::ZERO))
+            {
                 continue;
             }
             for (e, n) in out.iter_mut().zip(normals) {
@@ -199,7 +214,11 @@ impl<'a> Source<'a> {
         corners: &[DVec3; 3],
         normal: DVec3,
         budget: f64,
+        known: Known,
     ) -> (f64, f64) {
+        if known == Known::Hidden {
+            return (0.0, 0.0);
+        }
         let c = (corners[0] + corners[1] + corners[2]) / 3.0;
         let size = corners
             .iter()
@@ -212,12 +231,21 @@ impl<'a> Source<'a> {
         let mut subs = Vec::new();
         let rule = (PATCH_RATIO, PATCH_MAX_SPLITS);
         self.split_rect([0.0, 0.0], self.half, c, 1.0, 0, rule, &mut subs);
+        // A patch tiny against its distance (tessellated clutter across the room) takes one
+        // shadow ray per sub-source, from its centroid, instead of one per corner.
+        let tiny = near > 0.0 && size < TINY_PATCH * near;
         let mut total = (0.0, 0.0);
         for (q, share) in subs {
+            let seen = match known {
+                Known::Seen => Some(true),
+                _ if tiny => Some(occ.clear(c, normal, q, DVec3::ZERO)),
+                _ => None,
+            };
             let sub = SubSource {
                 source: self,
                 position: q,
                 share,
+                seen,
             };
             let facing = normal.dot(q - corners[0]) > 0.0;
             let (f, b) = flux::patch_flux(&sub, occ, corners, normal, facing, budget * share);
@@ -238,6 +266,9 @@ struct SubSource<'s, 'a> {
     source: &'s Source<'a>,
     position: DVec3,
     share: f64,
+    /// Its visibility from the whole patch, when already known (a group's rays saw the
+    /// luminaire, or the patch is tiny and its centroid's ray decided).
+    seen: Option<bool>,
 }
 
 impl Radiator for SubSource<'_, '_> {
@@ -277,7 +308,8 @@ impl Radiator for SubSource<'_, '_> {
     }
 
     fn sees(&self, occ: &Occluder, p: DVec3, n: DVec3) -> bool {
-        occ.clear(p, n, self.position, DVec3::ZERO)
+        self.seen
+            .unwrap_or_else(|| occ.clear(p, n, self.position, DVec3::ZERO))
     }
 }
 

@@ -4,6 +4,7 @@
 pub mod bounds;
 pub mod emitters;
 pub mod flux;
+pub mod groups;
 pub mod luminaire;
 pub mod profiled;
 pub mod punctual;

@@ -3,6 +3,7 @@
 //! surfaces are not here: their light travels through the patch field (see `direct::emitters`).
 
 use super::bounds::ProfileBounds;
+use super::groups::Known;
 use super::{luminaire, profiled, punctual};
 use crate::patches::PatchMesh;
 use crate::scene::{Light, LightKind, Scene};
@@ -120,9 +121,17 @@ impl<'a> DirectSource<'a> {
 
     /// Illuminance (lx, photometric) at `p` on planes with the unit `normals`, added to `out`
     /// (luminaires share their sub-sources' intensities and shadow rays between the planes).
-    pub fn illuminance_faces(&self, occ: &Occluder, p: DVec3, normals: &[DVec3], out: &mut [f64]) {
+    /// `known`: what a group's rays said of a luminaire's visibility ([`super::groups`]).
+    pub fn illuminance_faces(
+        &self,
+        occ: &Occluder,
+        p: DVec3,
+        normals: &[DVec3],
+        out: &mut [f64],
+        known: Known,
+    ) {
         match self {
-            DirectSource::Luminaire(s) => s.illuminance_faces(occ, p, normals, out),
+            DirectSource::Luminaire(s) => s.illuminance_faces(occ, p, normals, out, known),
             _ => {
                 for (e, n) in out.iter_mut().zip(normals) {
                     *e += self.illuminance(occ, p, *n);
@@ -131,14 +140,21 @@ impl<'a> DirectSource<'a> {
         }
     }
 
-    /// `(front, back)` flux (lm, photometric) into a triangle patch.
-    pub fn patch_flux(&self, occ: &Occluder, corners: &[DVec3; 3], normal: DVec3) -> (f64, f64) {
+    /// `(front, back)` flux (lm, photometric) into a triangle patch (`known`: as for
+    /// [`DirectSource::illuminance_faces`]).
+    pub fn patch_flux(
+        &self,
+        occ: &Occluder,
+        corners: &[DVec3; 3],
+        normal: DVec3,
+        known: Known,
+    ) -> (f64, f64) {
         match self {
             DirectSource::Punctual(l) => {
                 let budget = punctual::refinement_budget(l, occ.diagonal);
                 punctual::patch_flux(l, occ, corners, normal, budget)
             }
-            DirectSource::Luminaire(s) => s.patch_flux(occ, corners, normal, s.budget()),
+            DirectSource::Luminaire(s) => s.patch_flux(occ, corners, normal, s.budget(), known),
             DirectSource::Profiled(s) => s.patch_flux(occ, corners, normal),
         }
     }
