@@ -324,7 +324,15 @@ fn grouped_luminaires_give_the_inverse_square_sum() {
         let ies = cosine_source();
         let profile = b.profile("cosine", ies.as_bytes(), Format::Ies);
         for (k, q) in lamps.iter().enumerate() {
-            b.place_luminaire(&format!("l{k}"), profile, *q, -DVec3::Y, DVec3::X, 1.0, None);
+            b.place_luminaire(
+                &format!("l{k}"),
+                profile,
+                *q,
+                -DVec3::Y,
+                DVec3::X,
+                1.0,
+                None,
+            );
         }
         let r = bake(&b.build(), &Settings::default(), &Silent).unwrap();
         let floor = &r.surfaces[0];

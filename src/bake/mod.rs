@@ -333,8 +333,8 @@ fn light_patch_flux(
         .par_iter()
         .map(|p| {
             let corners = p.corners(&mesh.receivers);
-            // Group rays leave from the centroid (pulled a hair inside, like the integrator's
-            // corner samples), off whichever side faces the group.
+            // A group's rays leave from the centroid, pulled off the side that faces it (the
+            // back of a single-sided patch absorbs what reaches it).
             let c = (corners[0] + corners[1] + corners[2]) / 3.0;
             let clear = |q: DVec3, n: DVec3| occ.clear(c, n, q, DVec3::ZERO);
             let mut row = vec![(0.0, 0.0); sources.len()];

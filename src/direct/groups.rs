@@ -3,17 +3,21 @@
 //!
 //! Input: the scene's direct sources. Output: [`Groups`], a binary tree over the luminaires among
 //! them (median splits along the longest axis of their positions; deterministic). Queried with a
-//! point and a plane normal, it names every source once with what is known of its visibility
-//! ([`Known`]). Only visibility is shared: each luminaire's intensity, distance and cosine are
+//! point and the normals of its planes (one for a vertex, six for a probe, a patch's two sides),
+//! it names every source once with what is known of its visibility ([`Known`]). Only visibility is shared: each luminaire's intensity, distance and cosine are
 //! still evaluated exactly.
 //!
 //! The rule is the one the patch gather uses for far nodes: a group whose bounding radius is below
-//! [`GROUP_TAU`] × its distance and which lies wholly on one side of the plane is tested with
-//! rays to two of its luminaires (at the quartiles of its order). Both clear: all its luminaires
+//! [`GROUP_TAU`] × its distance, which holds [`MIN_GROUP`] luminaires or more and whose box lies
+//! wholly in front of one of the planes is tested with rays to two of its luminaires (at the quartiles of its order). Both clear: all its luminaires
 //! are taken as seen (their sub-sources too); both blocked: all hidden; otherwise its halves are
 //! tested in turn, down to single luminaires, which are traced as before. An open-plan floor
 //! has luminaires in proportion to its area, so without this its direct light costs receivers ×
-//! luminaires shadow rays: quadratic in the floor's size.
+//! luminaires shadow rays: quadratic in the floor's size. Measured on a 3·10⁵-triangle floor
+//! (179 luminaires, same mesh): direct stage 83 → 69 s, its rays 240 → 143 M (with the tiny-patch
+//! rule of `luminaire.rs`); 99 % of the receivers' direct light within 0.6 % of tracing every
+//! luminaire, 56 of 259 450 off by more than 10 % (where two rays miss a partly hidden group's
+//! other members), the total unchanged (−0.003 %).
 
 use super::sources::DirectSource;
 use glam::DVec3;
