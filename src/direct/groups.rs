@@ -4,20 +4,21 @@
 //! Input: the scene's direct sources. Output: [`Groups`], a binary tree over the luminaires among
 //! them (median splits along the longest axis of their positions; deterministic). Queried with a
 //! point and the normals of its planes (one for a vertex, six for a probe, a patch's two sides),
-//! it names every source once with what is known of its visibility ([`Known`]). Only visibility is shared: each luminaire's intensity, distance and cosine are
-//! still evaluated exactly.
+//! it names every source once with what is known of its visibility ([`Known`]). Only visibility
+//! is shared: each luminaire's intensity, distance and cosine are still evaluated exactly.
 //!
-//! The rule is the one the patch gather uses for far nodes: a group whose bounding radius is below
-//! [`GROUP_TAU`] × its distance, which holds [`MIN_GROUP`] luminaires or more and whose box lies
-//! wholly in front of one of the planes is tested with rays to two of its luminaires (at the quartiles of its order). Both clear: all its luminaires
-//! are taken as seen (their sub-sources too); both blocked: all hidden; otherwise its halves are
-//! tested in turn, down to single luminaires, which are traced as before. An open-plan floor
-//! has luminaires in proportion to its area, so without this its direct light costs receivers ×
-//! luminaires shadow rays: quadratic in the floor's size. Measured on a 3·10⁵-triangle floor
-//! (179 luminaires, same mesh): direct stage 83 → 69 s, its rays 240 → 143 M (with the tiny-patch
-//! rule of `luminaire.rs`); 99 % of the receivers' direct light within 0.6 % of tracing every
-//! luminaire, 56 of 259 450 off by more than 10 % (where two rays miss a partly hidden group's
-//! other members), the total unchanged (−0.003 %).
+//! The rule is the one the patch gather uses for far nodes: a group whose bounding radius is
+//! below [`GROUP_TAU`] × its distance, which holds [`MIN_GROUP`] luminaires or more and whose box
+//! lies wholly in front of one of the planes is tested with rays to two of its luminaires (at the
+//! quartiles of its order). Both clear: all its luminaires are taken as seen (their sub-sources
+//! too); both blocked: all hidden; otherwise its halves are tested in turn, down to single
+//! luminaires, which are traced as before. An open-plan floor has luminaires in proportion to its
+//! area, so without this its direct light costs receivers × luminaires shadow rays: quadratic in
+//! the floor's size. Measured on a 3·10⁵-triangle floor (179 luminaires, same mesh): direct stage
+//! 83 → 69 s, its rays 240 → 143 M (with the tiny-patch rule of `luminaire.rs`); 99 % of the
+//! receivers' direct light within 0.6 % of tracing every luminaire, 56 of 259 450 off by more
+//! than 10 % (where two rays miss a partly hidden group's other members), the total unchanged
+//! (−0.003 %).
 
 use super::sources::DirectSource;
 use glam::DVec3;
@@ -114,7 +115,6 @@ impl Groups {
             .fold(0.0, f64::max);
         let half = (hi - lo) / 2.0 + opening;
         let n = slice.len();
-        let reps = [pos(slice[n / 4]), pos(slice[(3 * n) / 4])];
         let index = self.nodes.len() as u32;
         self.nodes.push(Node {
             center,
@@ -123,7 +123,8 @@ impl Groups {
             start,
             end,
             children: [LEAF; 2],
-            reps,
+            // A leaf's own luminaire (leaves are never tested as groups).
+            reps: [pos(slice[0]); 2],
         });
         if n > 1 {
             let extent = hi - lo;
