@@ -26,6 +26,8 @@
 //! gathered without rays of their own — of a node showing both sides, those facing the
 //! receiver (its representatives faced it; the backs behind them are traced). Such a node whose
 //! form factor is below 10⁻³ however its patches turn gets one ray, to its median patch.
+//! A far node crossing the receiver's plane whose part above it cannot have a form factor of
+//! 10⁻⁵ ([`HORIZON`]: a sliver of something far away on the horizon) is skipped.
 
 use super::tree::{NodeBounds, PatchTree};
 use crate::geom::lambert;
@@ -205,6 +207,9 @@ impl Gatherer<'_> {
             if node.radius >= self.tau * dist {
                 push_children(&mut stack, node, seen); // too close
                 continue;
+            }
+            if below < 0.0 && node.horizon_bound(p, n, dist) < HORIZON {
+                continue; // far, on the horizon: what rises above it is worth nothing
             }
             let facing = node.facing(p);
             if below < 0.0 || (facing.is_none() && !node.curved) {
@@ -512,6 +517,17 @@ impl Gatherer<'_> {
 /// against the converged reference (bench/).
 const SMALL_NODE: f64 = 1e-3;
 
+/// A far node crossing the receiver's plane whose part above it can have a form factor no larger
+/// than this ([`NodeBounds::horizon_bound`]) is skipped: refining it would trace its patches
+/// along the horizon one by one, and a receiver's tilted plane (a chair's) cuts a whole floor of
+/// furniture. Measured: on the 10⁶-triangle open plan it removed 28 % of the links stage's tree
+/// visits and a quarter of its rays per receiver; on the 10⁵ floor 6 % of the bake's rays, every
+/// vertex within 10⁻⁴ of the bake without it (mean 4·10⁻⁷); in an empty 60 m hall, where
+/// nothing on the horizon is hidden, tilted receivers lose at most 1.5·10⁻⁵ of their coverage.
+/// 10⁻⁴ removed 40 % of the visits, but a 6 m wall 20 m away, cut by the plane, lost 2.7 % of
+/// its form factor (3·10⁻⁵ of the hemisphere).
+const HORIZON: f64 = 1e-5;
+
 /// Patches a far node must hold before its rays may settle it ([`Gatherer::sight`]): two rays
 /// on a smaller node cost about what tracing its leaves would. Measured: on the 10⁴
 /// open plan 2 and 8 both cut the bake's rays by a fifth, and 4 was 7 % faster than 8; on the
@@ -636,6 +652,43 @@ mod tests {
     /// formula clips to the hemisphere).
     fn screen_exact(x: (f64, f64)) -> f64 {
         lambert::form_factor(DVec3::ZERO, DVec3::Y, &panel(x, SCREEN_Y, -2.0))
+    }
+
+    /// Tilted receivers in an empty 60 × 45 × 3 m hall (a closed box: coverage exactly 1 from
+    /// anywhere inside, and nothing hidden, the worst case for [`HORIZON`]). Their planes cut
+    /// the far walls, floor and ceiling along the horizon, where the rule skips nodes (a
+    /// twentieth to two fifths of the links); measured: coverage 1 − 4.6·10⁻⁴ at worst, of which
+    /// the rule costs 1.5·10⁻⁵ (the far-field expansion the rest).
+    #[test]
+    fn tilted_receivers_in_a_long_hall_see_all_of_it() {
+        let mut b = SceneBuilder::new();
+        let grey = b.material("grey", 0.5);
+        b.axis_box("hall", DVec3::ZERO, DVec3::new(60.0, 3.0, 45.0), true, grey);
+        let scene = b.build();
+        let occluder = Occluder::build(&scene, OccluderOptions::default());
+        let mesh = crate::patches::build(&scene, 0.5, None);
+        let tree = PatchTree::build(&mesh, (0..mesh.patches.len() as u32).collect());
+        let gatherer = Gatherer {
+            mesh: &mesh,
+            tree: &tree,
+            occluder: &occluder,
+            tau: 0.3,
+        };
+        let mut worst: f64 = 0.0;
+        for (p, tilt, turn) in [
+            (DVec3::new(5.0, 1.0, 5.0), 30.0f64, 40.0f64),
+            (DVec3::new(5.0, 1.0, 5.0), 80.0, 40.0),
+            (DVec3::new(30.0, 0.7, 20.0), 60.0, 10.0),
+            (DVec3::new(55.0, 2.5, 40.0), 89.0, 200.0),
+            (DVec3::new(1.0, 1.5, 22.0), 45.0, 0.0),
+        ] {
+            let (tilt, turn) = (tilt.to_radians(), turn.to_radians());
+            let n = DVec3::new(tilt.sin() * turn.cos(), tilt.cos(), tilt.sin() * turn.sin());
+            let mut links = Vec::new();
+            let c = gatherer.links(p, n, &mut links);
+            worst = worst.max((c.total - 1.0).abs());
+        }
+        assert!(worst < 1e-3, "coverage off by {worst}");
     }
 
     #[test]

@@ -120,6 +120,23 @@ impl NodeBounds {
         (mid - half + tol, mid + half - tol)
     }
 
+    /// A bound on the form factor from `p` (unit normal `n`) to the part of the node above the
+    /// plane through `p`, for a node whose centre lies at `dist` > its radius. Seen from `p`
+    /// the bounding sphere is a cap of angular radius at most α = r/(dist − r), its centre at
+    /// elevation β; the part above the plane is at most the segment of a disk of radius α cut
+    /// off by the horizon, and no direction in it rises above β + α, so the form factor is at
+    /// most that area × sin(β + α) / π. (The flat disk's area bounds the cap's: r/(dist − r)
+    /// exceeds the cap's true angular radius by a factor 1/(1 − r/dist) and more.)
+    pub fn horizon_bound(&self, p: DVec3, n: DVec3, dist: f64) -> f64 {
+        use std::f64::consts::{FRAC_PI_2, PI};
+        let alpha = self.radius / (dist - self.radius);
+        let beta = (n.dot(self.center - p) / dist).clamp(-1.0, 1.0).asin();
+        // The horizon cuts the disk at signed distance −β from its centre: t = −β/α in radii.
+        let t = (-beta / alpha).clamp(-1.0, 1.0);
+        let segment = alpha * alpha * (t.acos() - t * (1.0 - t * t).sqrt());
+        segment * (beta + alpha).clamp(0.0, FRAC_PI_2).sin() / PI
+    }
+
     /// `Some(true)` when every patch of the node faces point `p` (p is in front of each), `Some(false)`
     /// when every patch turns its back to it, `None` when mixed or too close to tell.
     pub fn facing(&self, p: DVec3) -> Option<bool> {
@@ -497,5 +514,50 @@ impl PatchTree {
             }
         }
         NodeField { mean, dipole, sh }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fixtures::SceneBuilder;
+    use crate::geom::lambert;
+
+    /// [`NodeBounds::horizon_bound`] against Lambert's exact form factor of what rises above the
+    /// receiver's plane: a 1 m square facing the receiver from 10 m, the receiver's plane tilted
+    /// so the horizon crosses it at every height. The bound holds, and where the square's centre
+    /// is above the horizon it is within 8× the exact value (not vacuous).
+    #[test]
+    fn horizon_bound_bounds_what_rises_above_the_plane() {
+        let square = [
+            DVec3::new(-0.5, -0.5, -10.0),
+            DVec3::new(0.5, -0.5, -10.0),
+            DVec3::new(0.5, 0.5, -10.0),
+            DVec3::new(-0.5, 0.5, -10.0),
+        ];
+        let mut b = SceneBuilder::new();
+        let grey = b.material("grey", 0.5);
+        b.quad("square", square, grey);
+        let mesh = crate::patches::build(&b.build(), 2.0, None);
+        let tree = PatchTree::build(&mesh, (0..mesh.patches.len() as u32).collect());
+        let root = &tree.bounds[0];
+        let dist = root.center.length();
+        for k in -12..=12 {
+            // The plane through the origin meets the square's plane at height h.
+            let h = k as f64 * 0.05;
+            let n = DVec3::new(0.0, 10.0, h).normalize();
+            let exact = lambert::form_factor(DVec3::ZERO, n, &square);
+            let bound = root.horizon_bound(DVec3::ZERO, n, dist);
+            assert!(
+                bound >= exact,
+                "h {h}: bound {bound:e} below exact {exact:e}"
+            );
+            if h < 0.0 {
+                assert!(
+                    bound < 8.0 * exact,
+                    "h {h}: bound {bound:e}, exact {exact:e}"
+                );
+            }
+        }
     }
 }
