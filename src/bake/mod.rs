@@ -275,7 +275,7 @@ pub fn solve<'a>(
             "patches": solution.mesh.patches.len(),
             "receivers": solution.mesh.receivers.len(),
             "links": links.link_count(),
-            "clusterLinks": links.iter().filter(|l| l.is_cluster()).count(),
+            "clusterLinks": links.far_links().filter(|l| l.is_cluster()).count(),
             "closedReceivers": links.closed.iter().filter(|c| **c).count(),
             "rays": solution.occluder.rays_traced(),
             "convexEmptyScene": solution.occluder.convex_empty,

@@ -1,7 +1,8 @@
 //! The inter-reflection operator at the receivers, built once and applied at every solver step.
 //!
 //! Input: a [`Gatherer`] over the tree of all patches, and the receivers. Output: [`ReceiverLinks`]
-//! in compressed rows: receiver r gathers E_r = Σ coeff·B(node) over `links[offsets[r]..offsets[r+1]]`.
+//! in compressed rows: receiver r gathers E_r = Σ coeff·B(node) over its row's leaf links (one
+//! patch each, 8 bytes) and far-field and cluster links ([`Link`]).
 //!
 //! Closure: a receiver inside a closed space sees geometry in every direction, so its true
 //! coverage is exactly 1; the far-field expansion and sampled visibility leave it off by a little,
@@ -32,10 +33,29 @@ pub struct ReceiverLinks {
     pub closed: Vec<bool>,
 }
 
-/// The rows of [`CHUNK`] consecutive receivers: row j is `links[offsets[j]..offsets[j + 1]]`.
+/// The rows of [`CHUNK`] consecutive receivers: row j is `leaves[leaf_at[j]..leaf_at[j + 1]]`
+/// and `far[far_at[j]..far_at[j + 1]]`.
 struct RowChunk {
-    offsets: Vec<u32>,
-    links: Vec<Link>,
+    leaf_at: Vec<u32>,
+    leaves: Vec<Leaf>,
+    far_at: Vec<u32>,
+    far: Vec<Link>,
+}
+
+/// A link to one patch (a leaf of the tree): exitance is uniform over it, so it has no gradient,
+/// and it takes 8 bytes instead of a [`Link`]'s 20. Most links are leaves: on the open-plan
+/// floors they were most of a bake's memory.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Leaf {
+    pub node: u32,
+    pub coeff: f32,
+}
+
+/// One receiver's row: its leaf links and the rest (far-field and cluster links).
+#[derive(Clone, Copy)]
+pub struct RowRef<'a> {
+    pub leaves: &'a [Leaf],
+    pub far: &'a [Link],
 }
 
 /// Rows are built in parallel over fixed chunks, kept in order: deterministic.
@@ -51,18 +71,37 @@ impl ReceiverLinks {
                     .iter()
                     .map(|r| gather_row(gatherer, r.point, r.normal))
                     .collect();
-                let mut links = Vec::with_capacity(rows.iter().map(|r| r.links.len()).sum());
-                let mut offsets = Vec::with_capacity(rows.len() + 1);
-                offsets.push(0);
+                let is_leaf = |l: &&Link| l.coeff > 0.0 && l.grad == [0.0; 3];
+                let all = rows.iter().flat_map(|r| &r.links);
+                let n_leaves = all.clone().filter(is_leaf).count();
+                let mut leaves = Vec::with_capacity(n_leaves);
+                let mut far = Vec::with_capacity(all.count() - n_leaves);
+                let (mut leaf_at, mut far_at) = (vec![0], vec![0]);
                 for row in &rows {
-                    links.extend_from_slice(&row.links);
-                    offsets.push(links.len() as u32);
+                    for l in &row.links {
+                        if is_leaf(&l) {
+                            leaves.push(Leaf {
+                                node: l.node,
+                                coeff: l.coeff,
+                            });
+                        } else {
+                            far.push(*l);
+                        }
+                    }
+                    leaf_at.push(leaves.len() as u32);
+                    far_at.push(far.len() as u32);
                 }
                 let stats = rows
                     .iter()
                     .map(|r| (r.coverage as f32, r.back as f32, r.closed))
                     .collect();
-                (RowChunk { offsets, links }, stats)
+                let chunk = RowChunk {
+                    leaf_at,
+                    leaves,
+                    far_at,
+                    far,
+                };
+                (chunk, stats)
             })
             .collect();
         let mut chunks = Vec::with_capacity(built.len());
@@ -86,27 +125,35 @@ impl ReceiverLinks {
     }
 
     /// Receiver `r`'s row.
-    pub fn row(&self, r: usize) -> &[Link] {
+    pub fn row(&self, r: usize) -> RowRef<'_> {
         let chunk = &self.chunks[r / CHUNK];
         let j = r % CHUNK;
-        &chunk.links[chunk.offsets[j] as usize..chunk.offsets[j + 1] as usize]
+        let span = |at: &[u32]| at[j] as usize..at[j + 1] as usize;
+        RowRef {
+            leaves: &chunk.leaves[span(&chunk.leaf_at)],
+            far: &chunk.far[span(&chunk.far_at)],
+        }
     }
 
-    /// Every link of every row.
-    pub fn iter(&self) -> impl Iterator<Item = &Link> {
-        self.chunks.iter().flat_map(|c| c.links.iter())
+    /// Every far-field and cluster link of every row (the leaf links aside).
+    pub fn far_links(&self) -> impl Iterator<Item = &Link> {
+        self.chunks.iter().flat_map(|c| c.far.iter())
     }
 
-    /// Number of links.
+    /// Number of links, leaves included.
     pub fn link_count(&self) -> usize {
-        self.chunks.iter().map(|c| c.links.len()).sum()
+        self.chunks
+            .iter()
+            .map(|c| c.leaves.len() + c.far.len())
+            .sum()
     }
 
     /// E at every receiver from a node-summarised exitance field.
     pub fn apply(&self, field: &NodeField, out: &mut [DVec3]) {
         out.par_chunks_mut(256).enumerate().for_each(|(c, chunk)| {
             for (k, e) in chunk.iter_mut().enumerate() {
-                *e = field.gather(self.row(c * 256 + k));
+                let row = self.row(c * 256 + k);
+                *e = field.gather_leaves(row.leaves) + field.gather(row.far);
             }
         });
     }

@@ -450,6 +450,14 @@ pub struct NodeField {
 }
 
 impl NodeField {
+    /// Σ over leaf links of coefficient × the patch's exitance.
+    pub fn gather_leaves(&self, leaves: &[super::links::Leaf]) -> DVec3 {
+        leaves
+            .iter()
+            .map(|l| self.mean[l.node as usize] * l.coeff as f64)
+            .sum()
+    }
+
     /// Σ over `links` of coefficient × mean + gradient · dipole (per channel).
     pub fn gather(&self, links: &[super::gather::Link]) -> DVec3 {
         let mut sum = DVec3::ZERO;
