@@ -568,6 +568,29 @@ mod tests {
         ]
     }
 
+    /// The built scene's occluder, its patches at size `h`, and their tree.
+    fn world(b: SceneBuilder, h: f64) -> (Occluder, PatchMesh, PatchTree) {
+        let scene = b.build();
+        let occluder = Occluder::build(&scene, OccluderOptions::default());
+        let mesh = crate::patches::build(&scene, h, None);
+        let tree = PatchTree::build(&mesh, (0..mesh.patches.len() as u32).collect());
+        (occluder, mesh, tree)
+    }
+
+    /// A gatherer over [`world`]'s parts at the default quality's τ.
+    fn gatherer<'a>(
+        occluder: &'a Occluder,
+        mesh: &'a PatchMesh,
+        tree: &'a PatchTree,
+    ) -> Gatherer<'a> {
+        Gatherer {
+            mesh,
+            tree,
+            occluder,
+            tau: 0.3,
+        }
+    }
+
     const SCREEN_Y: (f64, f64) = (0.0, 0.5);
 
     const WALL: [DVec3; 4] = [
@@ -609,16 +632,8 @@ mod tests {
         }
         let behind = DVec3::new(0.0, -2.0, 5.0);
         b.axis_box("box", behind, behind + 0.5, false, grey);
-        let scene = b.build();
-        let occluder = Occluder::build(&scene, OccluderOptions::default());
-        let mesh = crate::patches::build(&scene, 0.05, None);
-        let tree = PatchTree::build(&mesh, (0..mesh.patches.len() as u32).collect());
-        let gatherer = Gatherer {
-            mesh: &mesh,
-            tree: &tree,
-            occluder: &occluder,
-            tau: 0.3,
-        };
+        let (occluder, mesh, tree) = world(b, 0.05);
+        let gatherer = gatherer(&occluder, &mesh, &tree);
         let mut links = Vec::new();
         let coverage = gatherer.links(DVec3::ZERO, DVec3::Y, &mut links);
         let rays = occluder.rays_traced();
@@ -664,16 +679,8 @@ mod tests {
         let mut b = SceneBuilder::new();
         let grey = b.material("grey", 0.5);
         b.axis_box("hall", DVec3::ZERO, DVec3::new(60.0, 3.0, 45.0), true, grey);
-        let scene = b.build();
-        let occluder = Occluder::build(&scene, OccluderOptions::default());
-        let mesh = crate::patches::build(&scene, 0.5, None);
-        let tree = PatchTree::build(&mesh, (0..mesh.patches.len() as u32).collect());
-        let gatherer = Gatherer {
-            mesh: &mesh,
-            tree: &tree,
-            occluder: &occluder,
-            tau: 0.3,
-        };
+        let (occluder, mesh, tree) = world(b, 0.5);
+        let gatherer = gatherer(&occluder, &mesh, &tree);
         let mut worst: f64 = 0.0;
         for (p, tilt, turn) in [
             (DVec3::new(5.0, 1.0, 5.0), 30.0f64, 40.0f64),

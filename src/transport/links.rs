@@ -42,8 +42,8 @@ struct RowChunk {
     far: Vec<Link>,
 }
 
-/// A link to one patch (a leaf of the tree): exitance is uniform over it, so it has no gradient,
-/// and it takes 8 bytes instead of a [`Link`]'s 20. Most links are leaves: on the open-plan
+/// A link without a gradient — every link to one patch (a leaf of the tree, whose exitance is
+/// uniform) — in 8 bytes instead of a [`Link`]'s 20. Most links are leaves: on the open-plan
 /// floors they were most of a bake's memory.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Leaf {
