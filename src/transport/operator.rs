@@ -24,6 +24,9 @@ use rayon::prelude::*;
 
 const OVERRELAX: f64 = 1.5;
 
+/// The transpose's scatter runs in this many parts (in parallel), summed in order.
+const TRANSPOSE_PARTS: usize = 4;
+
 pub struct PatchOperator<'a> {
     pub mesh: &'a PatchMesh,
     pub tree: &'a PatchTree,
@@ -98,67 +101,69 @@ impl<'a> PatchOperator<'a> {
                 at[v as usize] += y[i] * self.row[i] / 3.0;
             }
         }
-        // Receiver → node (scatter along the links), in fixed chunks summed in order.
+        // Receiver → node (scatter along the links).
         let nodes = self.tree.nodes.len();
-        let mut node_acc = vec![0.0; nodes];
-        let mut node_grad = vec![DVec3::ZERO; nodes];
         // Cluster accumulators only where cluster links can exist (trees with curved nodes).
         let sh_nodes = if self.tree.has_curved() { nodes } else { 0 };
-        let mut node_sh = vec![[0.0; DIST]; sh_nodes];
-        // Fixed chunks (their size depends on the receiver count only, never on the thread
-        // count), at most 8 accumulated at once, each node's parts summed in chunk order.
-        let chunk = mesh.receivers.len().div_ceil(4).clamp(256, 4096);
+        // A fixed number of parts (never the thread count), each accumulated over its receivers
+        // in order into its own arrays, the parts summed in order: deterministic. The count is
+        // fixed rather than the part size because every part costs a pass over all nodes: parts
+        // of a few thousand receivers made that pass quadratic in the scene (10⁶ triangles:
+        // 200 parts × 2·10⁶ nodes × 152 bytes zeroed and summed per transpose).
+        let per_part = mesh.receivers.len().div_ceil(TRANSPOSE_PARTS).max(1);
         let receivers: Vec<usize> = (0..mesh.receivers.len()).collect();
-        for batch in receivers.chunks(chunk * 8) {
-            type Part = (Vec<f64>, Vec<DVec3>, Vec<[f64; DIST]>);
-            let parts: Vec<Part> = batch
-                .par_chunks(chunk)
-                .map(|chunk| {
-                    let mut acc = vec![0.0; nodes];
-                    let mut grad = vec![DVec3::ZERO; nodes];
-                    let mut sh = vec![[0.0; DIST]; sh_nodes];
-                    for &r in chunk {
-                        if at[r] == 0.0 {
+        type Part = (Vec<f64>, Vec<DVec3>, Vec<[f64; DIST]>);
+        let parts: Vec<Part> = receivers
+            .par_chunks(per_part)
+            .map(|part| {
+                let mut acc = vec![0.0; nodes];
+                let mut grad = vec![DVec3::ZERO; nodes];
+                let mut sh = vec![[0.0; DIST]; sh_nodes];
+                for &r in part {
+                    if at[r] == 0.0 {
+                        continue;
+                    }
+                    let row = self.links.row(r);
+                    for l in row.leaves {
+                        acc[l.node as usize] += at[r] * l.coeff as f64;
+                    }
+                    for l in row.far {
+                        if l.is_cluster() {
+                            let (k, w) = l.cluster();
+                            let weights = crate::geom::sh::dist_weights(w);
+                            for (a, x) in sh[l.node as usize].iter_mut().zip(weights) {
+                                *a += at[r] * k * x;
+                            }
                             continue;
                         }
-                        let row = self.links.row(r);
-                        for l in row.leaves {
-                            acc[l.node as usize] += at[r] * l.coeff as f64;
-                        }
-                        for l in row.far {
-                            if l.is_cluster() {
-                                let (k, w) = l.cluster();
-                                let weights = crate::geom::sh::dist_weights(w);
-                                for (a, x) in sh[l.node as usize].iter_mut().zip(weights) {
-                                    *a += at[r] * k * x;
-                                }
-                                continue;
-                            }
-                            acc[l.node as usize] += at[r] * l.coeff as f64;
-                            grad[l.node as usize] += l.grad() * at[r];
-                        }
-                    }
-                    (acc, grad, sh)
-                })
-                .collect();
-            node_sh.par_iter_mut().enumerate().for_each(|(i, a)| {
-                for part in &parts {
-                    for (x, y) in a.iter_mut().zip(&part.2[i]) {
-                        *x += y;
+                        acc[l.node as usize] += at[r] * l.coeff as f64;
+                        grad[l.node as usize] += l.grad() * at[r];
                     }
                 }
+                (acc, grad, sh)
+            })
+            .collect();
+        let mut node_acc = vec![0.0; nodes];
+        let mut node_grad = vec![DVec3::ZERO; nodes];
+        let mut node_sh = vec![[0.0; DIST]; sh_nodes];
+        node_sh.par_iter_mut().enumerate().for_each(|(i, a)| {
+            for part in &parts {
+                for (x, y) in a.iter_mut().zip(&part.2[i]) {
+                    *x += y;
+                }
+            }
+        });
+        node_acc
+            .par_iter_mut()
+            .zip(node_grad.par_iter_mut())
+            .enumerate()
+            .for_each(|(i, (a, g))| {
+                for part in &parts {
+                    *a += part.0[i];
+                    *g += part.1[i];
+                }
             });
-            node_acc
-                .par_iter_mut()
-                .zip(node_grad.par_iter_mut())
-                .enumerate()
-                .for_each(|(i, (a, g))| {
-                    for part in &parts {
-                        *a += part.0[i];
-                        *g += part.1[i];
-                    }
-                });
-        }
+        drop(parts);
         // Node → patches (top-down push). A node's mean is Σ Aⱼ·Bⱼ / A and its dipole
         // Σ Aⱼ·Bⱼ·(cⱼ − c), so patch j collects Aⱼ·Σ_ancestors [acc/A + grad·(cⱼ − c)].
         // Cluster links read Σ Bⱼ·(Aⱼ's normal distribution): patch j collects its own (the leaf's
