@@ -114,9 +114,17 @@ impl<'a> Source<'a> {
     /// The sub-sources seen from `p`: world position and share of the output.
     pub fn split(&self, p: DVec3) -> Vec<(DVec3, f64)> {
         let mut out = Vec::new();
-        let rule = (NEAR_FIELD_RATIO, MAX_SPLITS);
-        self.split_rect([0.0, 0.0], self.half, p, 1.0, 0, rule, &mut out);
+        self.each_sub(p, (NEAR_FIELD_RATIO, MAX_SPLITS), &mut |q, share| {
+            out.push((q, share))
+        });
         out
+    }
+
+    /// Call `f(position, share)` for each sub-source seen from `p` under `rule` (ratio, most
+    /// halvings), without allocating: most luminaires are far enough to stay whole, and this
+    /// runs for every receiver and luminaire.
+    fn each_sub(&self, p: DVec3, rule: (f64, u32), f: &mut dyn FnMut(DVec3, f64)) {
+        self.split_rect([0.0, 0.0], self.half, p, 1.0, 0, rule, f);
     }
 
     #[allow(clippy::too_many_arguments)]
@@ -128,14 +136,14 @@ impl<'a> Source<'a> {
         share: f64,
         depth: u32,
         rule: (f64, u32),
-        out: &mut Vec<(DVec3, f64)>,
+        out: &mut dyn FnMut(DVec3, f64),
     ) {
         let world =
             self.position + self.world_from_photometric * DVec3::new(centre[0], centre[1], 0.0);
         let longer = if half[0] >= half[1] { 0 } else { 1 };
         let side = 2.0 * half[longer];
         if depth >= rule.1 || side <= rule.0 * (p - world).length() {
-            out.push((world, share));
+            out(world, share);
             return;
         }
         let mut h = half;
@@ -183,20 +191,20 @@ impl<'a> Source<'a> {
         if known == Known::Hidden || !self.reaches(p) {
             return;
         }
-        for (q, share) in self.split(p) {
+        self.each_sub(p, (NEAR_FIELD_RATIO, MAX_SPLITS), &mut |q, share| {
             let d = q - p;
             let dist2 = d.length_squared();
             let Some(first) = normals.iter().position(|n| n.dot(d) > 0.0) else {
-                continue;
+                return;
             };
             if dist2 <= 0.0 {
-                continue;
+                return;
             }
             let dist = dist2.sqrt();
             let i = self.intensity(-d / dist) * share;
             if i <= 0.0 || (known == Known::Trace && !occ.clear(p, normals[first], q, DVec3::ZERO))
             {
-                continue;
+                return;
             }
             for (e, n) in out.iter_mut().zip(normals) {
                 let cos = n.dot(d);
@@ -204,7 +212,7 @@ impl<'a> Source<'a> {
                     *e += i * (cos / dist) / dist2;
                 }
             }
-        }
+        });
     }
 
     /// `(front, back)` flux (lm) into a triangle patch, split as seen from its centroid.
@@ -228,14 +236,11 @@ impl<'a> Source<'a> {
         if near > 0.0 && size < 0.1 * near && !self.reaches(c) {
             return (0.0, 0.0);
         }
-        let mut subs = Vec::new();
-        let rule = (PATCH_RATIO, PATCH_MAX_SPLITS);
-        self.split_rect([0.0, 0.0], self.half, c, 1.0, 0, rule, &mut subs);
         // A patch tiny against its distance (tessellated clutter across the room) takes one
         // shadow ray per sub-source, from its centroid, instead of one per corner.
         let tiny = near > 0.0 && size < TINY_PATCH * near;
         let mut total = (0.0, 0.0);
-        for (q, share) in subs {
+        self.each_sub(c, (PATCH_RATIO, PATCH_MAX_SPLITS), &mut |q, share| {
             let seen = match known {
                 Known::Seen => Some(true),
                 _ if tiny => Some(occ.clear(c, normal, q, DVec3::ZERO)),
@@ -251,7 +256,7 @@ impl<'a> Source<'a> {
             let (f, b) = flux::patch_flux(&sub, occ, corners, normal, facing, budget * share);
             total.0 += f;
             total.1 += b;
-        }
+        });
         total
     }
 
