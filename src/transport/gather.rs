@@ -786,11 +786,10 @@ mod tests {
         );
     }
 
-    /// Small far nodes of a panel 12 m away (x from −0.6 to 0.6 m, 2 m below the receiver's
-    /// plane to 0.15 m above it, so three quarters of most of its nodes lie below and their
-    /// representatives with them), as seen from the origin facing +Y: what
-    /// [`Gatherer::sight`] says of each, how many did not cross the plane, and the rays it
-    /// traced for the crossing ones.
+    /// The small far nodes of a panel 12 m away (x from −0.6 to 0.6 m, from 2 m below the
+    /// receiver's plane to 0.15 m above it) that cross the plane with all three representatives
+    /// below it, as seen from the origin facing +Y, with a screen hiding the panel or not: what
+    /// [`Gatherer::sight`] says of each, and the rays it traced for them.
     fn small_crossing_sights(screened: bool) -> (Vec<Sight>, u64) {
         let mut b = SceneBuilder::new();
         let grey = b.material("grey", 0.5);
