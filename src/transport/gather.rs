@@ -354,10 +354,9 @@ impl Gatherer<'_> {
         let own_hits = self.tree.own_hits.as_ref().filter(|_| node.curved);
         // A representative facing away is a fair target when the node's own patches do not
         // count as blockers (a curved node); otherwise its own front would hide it.
-        let usable = |k: usize| {
-            let (q, m) = reps[k];
-            n.dot(q - p) > 0.0 && (facing.is_some() || own_hits.is_some() || m.dot(p - q) > 0.0)
-        };
+        let backs = facing.is_some() || own_hits.is_some();
+        let fair = |(q, m): (DVec3, DVec3)| n.dot(q - p) > 0.0 && (backs || m.dot(p - q) > 0.0);
+        let usable = |k: usize| fair(reps[k]);
         // Worth little (its form factor is below SMALL_NODE however its patches turn), like a
         // small one-sided far node: one ray to the patch at its area median decides.
         let near = (node.center - p).length() - node.radius;
@@ -367,9 +366,7 @@ impl Gatherer<'_> {
             // another representative: a node crossing the plane often has only one above it.
             let target = match [1, 0, 2].into_iter().find(|&k| usable(k)) {
                 Some(k) => Some((k as u8, reps[k])),
-                None => self
-                    .patch_above(p, n, i, facing.is_some() || own_hits.is_some())
-                    .map(|t| (ABOVE_KEY, t)),
+                None => self.patch_above(p, n, i, fair).map(|t| (ABOVE_KEY, t)),
             };
             return match target {
                 Some(t) => self.rep_sight(p, n, i, [t], own_hits, shared),
@@ -425,10 +422,17 @@ impl Gatherer<'_> {
 
     /// A point on one of node `i`'s patches above the plane through `p` (unit normal `n`), with
     /// the patch's normal: on the first leaf with such a point in a depth-first search that
-    /// skips subtrees wholly below the plane, gives up after [`ABOVE_SEARCH`] nodes, and (unless
-    /// `backs`) takes only patches facing `p`. The target of a small node crossing the plane
-    /// none of whose representatives rises above it.
-    fn patch_above(&self, p: DVec3, n: DVec3, i: u32, backs: bool) -> Option<(DVec3, DVec3)> {
+    /// skips subtrees wholly below the plane, gives up after [`ABOVE_SEARCH`] nodes, and takes
+    /// only points `fair` accepts (the test [`Gatherer::sight`] puts its representatives to).
+    /// The target of a small node crossing the plane none of whose representatives rises above
+    /// it.
+    fn patch_above(
+        &self,
+        p: DVec3,
+        n: DVec3,
+        i: u32,
+        fair: impl Fn((DVec3, DVec3)) -> bool,
+    ) -> Option<(DVec3, DVec3)> {
         let mut stack = vec![i];
         for _ in 0..ABOVE_SEARCH {
             let node = &self.tree.bounds[stack.pop()? as usize];
@@ -450,9 +454,8 @@ impl Gatherer<'_> {
                         .into_iter()
                         .max_by(|a, b| height(a).total_cmp(&height(b)))?
                 };
-                let m = patch.normal;
-                if height(&q) > 0.0 && (backs || m.dot(p - q) > 0.0) {
-                    return Some((q, m));
+                if fair((q, patch.normal)) {
+                    return Some((q, patch.normal));
                 }
                 continue;
             }

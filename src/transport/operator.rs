@@ -110,16 +110,17 @@ impl<'a> PatchOperator<'a> {
         // fixed rather than the part size because every part costs a pass over all nodes: parts
         // of a few thousand receivers made that pass quadratic in the scene (10⁶ triangles:
         // 200 parts × 2·10⁶ nodes × 152 bytes zeroed and summed per transpose).
-        let per_part = mesh.receivers.len().div_ceil(TRANSPOSE_PARTS).max(1);
-        let receivers: Vec<usize> = (0..mesh.receivers.len()).collect();
+        let n = mesh.receivers.len();
+        let per_part = n.div_ceil(TRANSPOSE_PARTS).max(1);
         type Part = (Vec<f64>, Vec<DVec3>, Vec<[f64; DIST]>);
-        let parts: Vec<Part> = receivers
-            .par_chunks(per_part)
-            .map(|part| {
+        let parts: Vec<Part> = (0..TRANSPOSE_PARTS)
+            .into_par_iter()
+            .map(|k| {
+                let part = (k * per_part).min(n)..((k + 1) * per_part).min(n);
                 let mut acc = vec![0.0; nodes];
                 let mut grad = vec![DVec3::ZERO; nodes];
                 let mut sh = vec![[0.0; DIST]; sh_nodes];
-                for &r in part {
+                for r in part {
                     if at[r] == 0.0 {
                         continue;
                     }
