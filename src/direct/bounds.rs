@@ -24,6 +24,9 @@ pub struct AngleBounds {
     cells: Vec<Vec<[f64; 36]>>,
     /// `bands[k][b]`: the same over all C.
     bands: Vec<Vec<f64>>,
+    /// `lit[k][b]`: every C sector of `cells[k][b]` is above zero, so any range of C in those
+    /// bands holds some light ([`AngleBounds::lights_cone`] answers without finding its sectors).
+    lit: Vec<Vec<bool>>,
 }
 
 impl AngleBounds {
@@ -76,13 +79,22 @@ impl AngleBounds {
                     .collect()
             })
             .collect();
-        AngleBounds { cells, bands }
+        let lit = cells
+            .iter()
+            .map(|level| {
+                level
+                    .iter()
+                    .map(|row| row.iter().all(|&m| m > 0.0))
+                    .collect()
+            })
+            .collect();
+        AngleBounds { cells, bands, lit }
     }
 
     /// Bound over the directions within `radius` (rad) of the unit world direction `dir`, for a
     /// distribution placed by `world_from_photometric`. When the bound over whole γ bands is
     /// already at most `enough`, that coarser bound is returned without looking at C.
-    pub fn over_cone(
+    fn over_cone(
         &self,
         world_from_photometric: &DMat3,
         dir: DVec3,
@@ -93,6 +105,18 @@ impl AngleBounds {
         let g = gamma_deg(local);
         let widen = radius.to_degrees() + C_MARGIN;
         self.over_range(&[local; 3], (g - widen, g + widen), widen, enough)
+    }
+
+    /// Is the bound over the cone of [`AngleBounds::over_cone`] above zero: can any light leave
+    /// in those directions? The same answer as `over_cone(..) > 0.0`, without looking at C where
+    /// every C sector of the γ bands is lit (a downlight seen from below: most queries).
+    pub fn lights_cone(&self, world_from_photometric: &DMat3, dir: DVec3, radius: f64) -> bool {
+        let g = gamma_deg(world_from_photometric.transpose() * dir);
+        let widen = radius.to_degrees() + C_MARGIN;
+        let (k, a, b) = band_runs((g - widen, g + widen));
+        self.lit[k][a]
+            || self.lit[k][b]
+            || self.over_cone(world_from_photometric, dir, radius, 0.0) > 0.0
     }
 
     /// Bound over the spherical triangle with unit world corner directions `dirs` (its exact
@@ -117,11 +141,7 @@ impl AngleBounds {
     /// frame) span, widened by `widen_c` degrees of arc.
     fn over_range(&self, local: &[DVec3; 3], gammas: (f64, f64), widen_c: f64, enough: f64) -> f64 {
         let (g0, g1) = (gammas.0.max(0.0), gammas.1.min(180.0));
-        let from = (g0.floor() as usize).min(179);
-        let to = (g1.ceil() as usize).clamp(from + 1, 180);
-        // The two power-of-two runs covering bands from..to.
-        let k = (usize::BITS - 1 - (to - from).leading_zeros()) as usize;
-        let (a, b) = (from, to - (1 << k));
+        let (k, a, b) = band_runs(gammas);
         let coarse = self.bands[k][a].max(self.bands[k][b]);
         if coarse <= enough {
             return coarse;
@@ -134,6 +154,17 @@ impl AngleBounds {
             .map(|i| (first + i) % 36)
             .fold(0.0f64, |m, s| m.max(ra[s]).max(rb[s]))
     }
+}
+
+/// The γ bands (1° each) a range of γ in degrees touches, clamped to 0..180, as the two
+/// power-of-two runs of the sparse tables covering them: `(level, first run's start, second
+/// run's start)`.
+fn band_runs(gammas: (f64, f64)) -> (usize, usize, usize) {
+    let (g0, g1) = (gammas.0.max(0.0), gammas.1.min(180.0));
+    let from = (g0.floor() as usize).min(179);
+    let to = (g1.ceil() as usize).clamp(from + 1, 180);
+    let k = (usize::BITS - 1 - (to - from).leading_zeros()) as usize;
+    (k, from, to - (1 << k))
 }
 
 /// Degrees added around a range of directions for the table's sampling. In γ one sample step
@@ -310,6 +341,34 @@ mod tests {
             prop_assert!(lo <= slo + 1e-9 && hi >= shi - 1e-9, "{lo}..{hi} vs sampled {slo}..{shi}");
             prop_assert!(lo >= slo - slack && hi <= shi + slack, "{lo}..{hi} vs sampled {slo}..{shi}");
         }
+    }
+
+    /// The shortcut of [`AngleBounds::lights_cone`] (every C sector of the bands lit) gives the
+    /// answer of the full bound, across a distribution with dark γ ranges and a dark C sector.
+    #[test]
+    fn lights_cone_answers_as_the_full_bound() {
+        let b = AngleBounds::new(|d| {
+            let (g, c) = (gamma_deg(d), d.y.atan2(d.x).to_degrees().rem_euclid(360.0));
+            let lit = (g < 60.0 && !(100.0..140.0).contains(&c)) || (120.0..150.0).contains(&g);
+            if lit { 1.0 + g / 90.0 } else { 0.0 }
+        });
+        let frame = DMat3::from_rotation_x(0.3);
+        let (mut lit, mut dark) = (0, 0);
+        for i in 0..=90 {
+            for j in 0..36 {
+                let dir = frame
+                    * unit(
+                        (i as f64 * 2.0).to_radians(),
+                        (j as f64 * 10.0).to_radians(),
+                    );
+                for radius in [0.001, 0.05, 0.3] {
+                    let full = b.over_cone(&frame, dir, radius, 0.0) > 0.0;
+                    assert_eq!(b.lights_cone(&frame, dir, radius), full, "{dir} {radius}");
+                    if full { lit += 1 } else { dark += 1 }
+                }
+            }
+        }
+        assert!(lit > 1000 && dark > 1000, "lit {lit}, dark {dark}");
     }
 
     #[test]

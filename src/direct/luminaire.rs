@@ -165,8 +165,7 @@ impl<'a> Source<'a> {
         let radius = (self.half[0].hypot(self.half[1]) / dist).min(1.0).asin();
         let dir = d / dist;
         self.bounds
-            .over_cone(&self.world_from_photometric, dir, radius, 0.0)
-            > 0.0
+            .lights_cone(&self.world_from_photometric, dir, radius)
     }
 
     /// Illuminance (lx, photometric) at point `p` with unit normal `n`.
