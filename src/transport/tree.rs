@@ -298,8 +298,7 @@ impl PatchTree {
         let planar = slice.iter().filter(|&&p| !clutter[p as usize]).count();
         if planar > 0 && planar < slice.len() {
             // Planes and clutter apart (planes first).
-            slice.sort_unstable_by_key(|&p| (clutter[p as usize], p));
-            mid = planar;
+            mid = partition(slice, |p| !clutter[p as usize]);
         } else if let Some(k) = (curved || flat)
             .then(|| split_in_space_at_middle(mesh, leaf, slice))
             .flatten()
@@ -386,7 +385,7 @@ fn clutter_patches(mesh: &PatchMesh) -> Vec<bool> {
         .collect()
 }
 
-/// Split curved clutter at the middle of its centroids' longest extent (not at the median
+/// Split a node in space at the middle of its centroids' longest extent (not at the median
 /// patch): returns the first part's length after reordering `patches`, or `None` when every
 /// centroid lies on one side. Clutter is tessellated far more finely in some places than in
 /// others (a chair's castors against its seat), and a median split followed the tessellation
@@ -398,10 +397,17 @@ fn split_in_space_at_middle(
 ) -> Option<usize> {
     // Keys run over 0..=2³² across the extent (quantised as for every spatial split).
     let key = split_key(mesh, leaf, patches, false);
-    let half = 2_147_483_648.0;
-    patches.sort_unstable_by_key(|&p| (key(p) >= half, p));
-    let k = patches.partition_point(|&p| key(p) < half);
+    let k = partition(patches, |p| key(p) < 2_147_483_648.0);
     (k > 0 && k < patches.len()).then_some(k)
+}
+
+/// Reorder `patches` so that those `first` accepts come first, each side in its former order;
+/// returns how many it accepted: linear, and as deterministic as the order it was given.
+fn partition(patches: &mut [u32], first: impl Fn(u32) -> bool) -> usize {
+    let (front, back): (Vec<u32>, Vec<u32>) = patches.iter().partition(|&&p| first(p));
+    patches[..front.len()].copy_from_slice(&front);
+    patches[front.len()..].copy_from_slice(&back);
+    front.len()
 }
 
 /// Do the patches face more than [`CURVED`] distinct directions (normals quantised to 1/8)?
