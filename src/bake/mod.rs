@@ -328,41 +328,61 @@ fn light_patch_flux(
     mesh: &PatchMesh,
     occ: &Occluder,
 ) -> LightFlux {
-    let per: Vec<Vec<(f64, f64)>> = mesh
+    // Fixed chunks of patches, each summed into its own totals, the chunks' totals added in
+    // order: deterministic whatever the thread count. (A row of every source for every patch,
+    // kept until the end, was patches × sources × 16 bytes: 10 GB on the 10⁶-triangle floor,
+    // the bake's peak memory.)
+    let parts: Vec<LightFlux> = mesh
         .patches
-        .par_iter()
-        .map(|p| {
-            let corners = p.corners(&mesh.receivers);
-            // A group's rays leave from the centroid, pulled off the side that faces it (the
-            // back of a single-sided patch absorbs what reaches it).
-            let c = (corners[0] + corners[1] + corners[2]) / 3.0;
-            let clear = |q: DVec3, n: DVec3| occ.clear(c, n, q, DVec3::ZERO);
+        .par_chunks(FLUX_CHUNK)
+        .map(|chunk| {
+            let mut part = LightFlux {
+                per_patch: Vec::with_capacity(chunk.len()),
+                back: DVec3::ZERO,
+                per_source: vec![0.0; sources.len()],
+            };
             let mut row = vec![(0.0, 0.0); sources.len()];
-            groups.visit(c, &[p.normal, -p.normal], clear, |k, known| {
-                let (front, back) = sources[k].patch_flux(occ, &corners, p.normal, known);
-                // A double-sided patch's back is its twin, which takes that light as front.
-                row[k] = (front, if p.double_sided { 0.0 } else { back });
-            });
-            row
+            for p in chunk {
+                let corners = p.corners(&mesh.receivers);
+                // A group's rays leave from the centroid, pulled off the side that faces it (the
+                // back of a single-sided patch absorbs what reaches it).
+                let c = (corners[0] + corners[1] + corners[2]) / 3.0;
+                let clear = |q: DVec3, n: DVec3| occ.clear(c, n, q, DVec3::ZERO);
+                row.fill((0.0, 0.0));
+                groups.visit(c, &[p.normal, -p.normal], clear, |k, known| {
+                    let (front, back) = sources[k].patch_flux(occ, &corners, p.normal, known);
+                    // A double-sided patch's back is its twin, which takes that light as front.
+                    row[k] = (front, if p.double_sided { 0.0 } else { back });
+                });
+                let mut front = DVec3::ZERO;
+                for (k, &(f, b)) in row.iter().enumerate() {
+                    let color = sources[k].color();
+                    front += color * f;
+                    part.back += color * b;
+                    part.per_source[k] += f + b;
+                }
+                part.per_patch.push(front);
+            }
+            part
         })
         .collect();
     let mut out = LightFlux {
-        per_patch: Vec::with_capacity(per.len()),
+        per_patch: Vec::with_capacity(mesh.patches.len()),
         back: DVec3::ZERO,
         per_source: vec![0.0; sources.len()],
     };
-    for row in per {
-        let mut front = DVec3::ZERO;
-        for (k, (f, b)) in row.into_iter().enumerate() {
-            let color = sources[k].color();
-            front += color * f;
-            out.back += color * b;
-            out.per_source[k] += f + b;
+    for part in parts {
+        out.per_patch.extend(part.per_patch);
+        out.back += part.back;
+        for (total, x) in out.per_source.iter_mut().zip(part.per_source) {
+            *total += x;
         }
-        out.per_patch.push(front);
     }
     out
 }
+
+/// Patches per chunk of [`light_patch_flux`].
+const FLUX_CHUNK: usize = 256;
 
 /// Shape the solution for the exporter: one baked surface per patch group.
 fn output_surfaces(scene: &Scene, s: &Solution, settings: &Settings) -> Vec<BakedSurface> {
