@@ -24,8 +24,10 @@ use rayon::prelude::*;
 
 const OVERRELAX: f64 = 1.5;
 
-/// The transpose's scatter runs in this many parts (in parallel), summed in order.
-const TRANSPOSE_PARTS: usize = 4;
+/// The transpose's scatter runs in this many parts (in parallel), summed in order. Each part
+/// holds 152 bytes per tree node while the transpose runs: four parts, with the push-down's own
+/// arrays, were 1.8 GB on the 10⁶-triangle floor's two million nodes (the bake's peak).
+const TRANSPOSE_PARTS: usize = 2;
 
 pub struct PatchOperator<'a> {
     pub mesh: &'a PatchMesh,
@@ -144,56 +146,59 @@ impl<'a> PatchOperator<'a> {
                 (acc, grad, sh)
             })
             .collect();
-        let mut node_acc = vec![0.0; nodes];
-        let mut node_grad = vec![DVec3::ZERO; nodes];
-        let mut node_sh = vec![[0.0; DIST]; sh_nodes];
-        node_sh.par_iter_mut().enumerate().for_each(|(i, a)| {
-            for part in &parts {
-                for (x, y) in a.iter_mut().zip(&part.2[i]) {
+        // The parts summed into the first, in order.
+        let mut parts = parts.into_iter();
+        let (mut node_acc, mut node_grad, mut node_sh) = parts.next().expect("parts");
+        for (acc, grad, sh) in parts {
+            node_acc
+                .par_iter_mut()
+                .zip(node_grad.par_iter_mut())
+                .enumerate()
+                .for_each(|(i, (a, g))| {
+                    *a += acc[i];
+                    *g += grad[i];
+                });
+            node_sh.par_iter_mut().enumerate().for_each(|(i, a)| {
+                for (x, y) in a.iter_mut().zip(&sh[i]) {
                     *x += y;
                 }
-            }
-        });
+            });
+        }
+        // Node → patches (top-down push), in place. A node's mean is Σ Aⱼ·Bⱼ / A and its dipole
+        // Σ Aⱼ·Bⱼ·(cⱼ − c), so patch j collects Aⱼ·Σ_ancestors [acc/A − grad·c + grad·cⱼ]: each
+        // node's (acc/A − grad·c, grad) is added into its children's, parents first (the nodes
+        // are in pre-order), and a leaf reads its sums. Cluster links read Σ Bⱼ·(Aⱼ's normal
+        // distribution): patch j collects its own (the leaf's `normal_sh`) against the sum of its
+        // ancestors' accumulations, pushed down the same way.
         node_acc
             .par_iter_mut()
-            .zip(node_grad.par_iter_mut())
-            .enumerate()
-            .for_each(|(i, (a, g))| {
-                for part in &parts {
-                    *a += part.0[i];
-                    *g += part.1[i];
-                }
+            .zip(&node_grad)
+            .zip(&self.tree.nodes)
+            .for_each(|((a, g), node)| {
+                *a = *a / node.moments.area - g.dot(node.moments.centroid);
             });
-        drop(parts);
-        // Node → patches (top-down push). A node's mean is Σ Aⱼ·Bⱼ / A and its dipole
-        // Σ Aⱼ·Bⱼ·(cⱼ − c), so patch j collects Aⱼ·Σ_ancestors [acc/A + grad·(cⱼ − c)].
-        // Cluster links read Σ Bⱼ·(Aⱼ's normal distribution): patch j collects its own (the leaf's
-        // `normal_sh`) against the sum of its ancestors' accumulations.
-        let mut down = vec![(0.0, DVec3::ZERO, 0.0); nodes];
-        let mut down_sh = vec![[0.0; DIST]; sh_nodes];
         let mut z = vec![0.0; mesh.patches.len()];
         for i in 0..nodes {
             let node = &self.tree.nodes[i];
-            let (s0, g0, k0) = down[i];
-            let sh: Option<[f64; DIST]> =
-                (sh_nodes > 0).then(|| std::array::from_fn(|c| down_sh[i][c] + node_sh[i][c]));
-            let here = (
-                s0 + node_acc[i] / node.moments.area,
-                g0 + node_grad[i],
-                k0 + node_grad[i].dot(node.moments.centroid),
-            );
             if node.is_leaf() {
                 let p = self.tree.order[node.start as usize] as usize;
                 let cj = node.moments.centroid;
-                let clusters: f64 =
-                    sh.map_or(0.0, |sh| (0..DIST).map(|c| sh[c] * node.normal_sh[c]).sum());
-                z[p] = ((here.0 + here.1.dot(cj) - here.2) * mesh.patches[p].area + clusters)
+                let clusters: f64 = node_sh
+                    .get(i)
+                    .map_or(0.0, |sh| (0..DIST).map(|c| sh[c] * node.normal_sh[c]).sum());
+                z[p] = ((node_acc[i] + node_grad[i].dot(cj)) * mesh.patches[p].area + clusters)
                     * self.col[p];
-            } else {
-                for c in node.children {
-                    down[c as usize] = here;
-                    if let Some(sh) = sh {
-                        down_sh[c as usize] = sh;
+                continue;
+            }
+            let (a, g) = (node_acc[i], node_grad[i]);
+            let sh = node_sh.get(i).copied();
+            for c in node.children {
+                let c = c as usize;
+                node_acc[c] += a;
+                node_grad[c] += g;
+                if let Some(sh) = &sh {
+                    for (x, y) in node_sh[c].iter_mut().zip(sh) {
+                        *x += y;
                     }
                 }
             }
