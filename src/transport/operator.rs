@@ -16,7 +16,7 @@
 //! scalings; only the solver's energy bookkeeping uses them.
 
 use super::links::ReceiverLinks;
-use super::tree::PatchTree;
+use super::tree::{LEAF_SLOT, PatchTree};
 use crate::geom::sh::DIST;
 use crate::patches::PatchMesh;
 use glam::DVec3;
@@ -103,10 +103,13 @@ impl<'a> PatchOperator<'a> {
                 at[v as usize] += y[i] * self.row[i] / 3.0;
             }
         }
-        // Receiver → node (scatter along the links).
+        // Receiver → node (scatter along the links): leaf and far-field coefficients per node,
+        // first moments and cluster distributions per inner node (only they are far sources).
         let nodes = self.tree.nodes.len();
+        let inner = self.tree.inner_nodes();
+        let slot = &self.tree.slot;
         // Cluster accumulators only where cluster links can exist (trees with curved nodes).
-        let sh_nodes = if self.tree.has_curved() { nodes } else { 0 };
+        let sh_nodes = if self.tree.has_curved() { inner } else { 0 };
         // A fixed number of parts (never the thread count), each accumulated over its receivers
         // in order into its own arrays, the parts summed in order: deterministic. The count is
         // fixed rather than the part size because every part costs a pass over all nodes: parts
@@ -120,7 +123,7 @@ impl<'a> PatchOperator<'a> {
             .map(|k| {
                 let part = (k * per_part).min(n)..((k + 1) * per_part).min(n);
                 let mut acc = vec![0.0; nodes];
-                let mut grad = vec![DVec3::ZERO; nodes];
+                let mut grad = vec![DVec3::ZERO; inner];
                 let mut sh = vec![[0.0; DIST]; sh_nodes];
                 for r in part {
                     if at[r] == 0.0 {
@@ -131,16 +134,19 @@ impl<'a> PatchOperator<'a> {
                         acc[l.node as usize] += at[r] * l.coeff as f64;
                     }
                     for l in row.far {
+                        let s = slot[l.node as usize] as usize;
                         if l.is_cluster() {
                             let (k, w) = l.cluster();
                             let weights = crate::geom::sh::dist_weights(w);
-                            for (a, x) in sh[l.node as usize].iter_mut().zip(weights) {
+                            for (a, x) in sh[s].iter_mut().zip(weights) {
                                 *a += at[r] * k * x;
                             }
                             continue;
                         }
                         acc[l.node as usize] += at[r] * l.coeff as f64;
-                        grad[l.node as usize] += l.grad() * at[r];
+                        if s != LEAF_SLOT as usize {
+                            grad[s] += l.grad() * at[r];
+                        }
                     }
                 }
                 (acc, grad, sh)
@@ -150,55 +156,63 @@ impl<'a> PatchOperator<'a> {
         let mut parts = parts.into_iter();
         let (mut node_acc, mut node_grad, mut node_sh) = parts.next().expect("parts");
         for (acc, grad, sh) in parts {
-            node_acc
+            node_acc.par_iter_mut().zip(&acc).for_each(|(a, b)| *a += b);
+            node_grad
                 .par_iter_mut()
-                .zip(node_grad.par_iter_mut())
-                .enumerate()
-                .for_each(|(i, (a, g))| {
-                    *a += acc[i];
-                    *g += grad[i];
-                });
-            node_sh.par_iter_mut().enumerate().for_each(|(i, a)| {
-                for (x, y) in a.iter_mut().zip(&sh[i]) {
+                .zip(&grad)
+                .for_each(|(a, b)| *a += *b);
+            node_sh.par_iter_mut().zip(&sh).for_each(|(a, b)| {
+                for (x, y) in a.iter_mut().zip(b) {
                     *x += y;
                 }
             });
         }
         // Node → patches (top-down push), in place. A node's mean is Σ Aⱼ·Bⱼ / A and its dipole
         // Σ Aⱼ·Bⱼ·(cⱼ − c), so patch j collects Aⱼ·Σ_ancestors [acc/A − grad·c + grad·cⱼ]: each
-        // node's (acc/A − grad·c, grad) is added into its children's, parents first (the nodes
-        // are in pre-order), and a leaf reads its sums. Cluster links read Σ Bⱼ·(Aⱼ's normal
-        // distribution): patch j collects its own (the leaf's `normal_sh`) against the sum of its
-        // ancestors' accumulations, pushed down the same way.
-        node_acc
-            .par_iter_mut()
-            .zip(&node_grad)
-            .zip(&self.tree.nodes)
-            .for_each(|((a, g), node)| {
-                *a = *a / node.moments.area - g.dot(node.moments.centroid);
-            });
-        let mut z = vec![0.0; mesh.patches.len()];
-        for i in 0..nodes {
+        // inner node's (acc/A − grad·c, grad) is added into its inner children's, parents first
+        // (the nodes are in pre-order), and a leaf reads its parent's sums. Cluster links read
+        // Σ Bⱼ·(Aⱼ's normal distribution): patch j collects its own (the leaf's `normal_sh`)
+        // against the sum of its ancestors' accumulations, pushed down the same way.
+        node_acc.par_iter_mut().enumerate().for_each(|(i, a)| {
             let node = &self.tree.nodes[i];
-            if node.is_leaf() {
-                let p = self.tree.order[node.start as usize] as usize;
-                let cj = node.moments.centroid;
-                let clusters: f64 = node_sh
-                    .get(i)
-                    .map_or(0.0, |sh| (0..DIST).map(|c| sh[c] * node.normal_sh[c]).sum());
-                z[p] = ((node_acc[i] + node_grad[i].dot(cj)) * mesh.patches[p].area + clusters)
-                    * self.col[p];
+            *a /= node.moments.area;
+            if slot[i] != LEAF_SLOT {
+                *a -= node_grad[slot[i] as usize].dot(node.moments.centroid);
+            }
+        });
+        let mut z = vec![0.0; mesh.patches.len()];
+        // Leaf c (own value `own`) under ancestors whose sums are s, g and sh.
+        let mut leaf = |c: usize, own: f64, s: f64, g: DVec3, sh: Option<&[f64; DIST]>| {
+            let node = &self.tree.nodes[c];
+            let p = self.tree.order[node.start as usize] as usize;
+            let cj = node.moments.centroid;
+            let clusters: f64 =
+                sh.map_or(0.0, |sh| (0..DIST).map(|k| sh[k] * node.normal_sh[k]).sum());
+            z[p] = ((own + s + g.dot(cj)) * mesh.patches[p].area + clusters) * self.col[p];
+        };
+        if nodes > 0 && slot[0] == LEAF_SLOT {
+            leaf(0, node_acc[0], 0.0, DVec3::ZERO, None); // a tree of one patch
+        }
+        for i in 0..nodes {
+            if slot[i] == LEAF_SLOT {
                 continue;
             }
-            let (a, g) = (node_acc[i], node_grad[i]);
-            let sh = node_sh.get(i).copied();
-            for c in node.children {
+            let si = slot[i] as usize;
+            let (a, g) = (node_acc[i], node_grad[si]);
+            let sh = node_sh.get(si).copied();
+            for c in self.tree.nodes[i].children {
                 let c = c as usize;
-                node_acc[c] += a;
-                node_grad[c] += g;
-                if let Some(sh) = &sh {
-                    for (x, y) in node_sh[c].iter_mut().zip(sh) {
-                        *x += y;
+                match slot[c] {
+                    LEAF_SLOT => leaf(c, node_acc[c], a, g, sh.as_ref()),
+                    sc => {
+                        let sc = sc as usize;
+                        node_acc[c] += a;
+                        node_grad[sc] += g;
+                        if let Some(sh) = &sh {
+                            for (x, y) in node_sh[sc].iter_mut().zip(sh) {
+                                *x += y;
+                            }
+                        }
                     }
                 }
             }

@@ -180,7 +180,14 @@ pub struct PatchTree {
     /// is part of the cluster (its own far side, which `visible` accounts for) from one that is
     /// not.
     pub own_hits: Option<(crate::visibility::Occluder, Vec<u32>)>,
+    /// Per node: its index among the inner nodes (in node order), [`LEAF_SLOT`] for leaves.
+    /// Only inner nodes are far-field or cluster sources, so what only those read (a field's
+    /// first moments and normal distributions) is stored per inner node: half the nodes.
+    pub slot: std::sync::Arc<[u32]>,
 }
+
+/// [`PatchTree::slot`] of a leaf.
+pub const LEAF_SLOT: u32 = u32::MAX;
 
 impl PatchTree {
     /// Does any node hold curved clutter (so receivers may link to it as a two-sided cluster)?
@@ -198,6 +205,7 @@ impl PatchTree {
             reps: Vec::new(),
             visible: Vec::new(),
             own_hits: None,
+            slot: std::sync::Arc::from([]),
         };
         if tree.order.is_empty() {
             return tree;
@@ -234,7 +242,24 @@ impl PatchTree {
         tree.reps = (0..tree.nodes.len())
             .map(|i| REP_QUANTILES.map(|q| tree.representative(mesh, i, q)))
             .collect();
+        let mut inner = 0;
+        tree.slot = tree
+            .nodes
+            .iter()
+            .map(|node| match node.is_leaf() {
+                true => LEAF_SLOT,
+                false => {
+                    inner += 1;
+                    inner - 1
+                }
+            })
+            .collect();
         tree
+    }
+
+    /// Number of inner nodes (the length of per-inner-node arrays).
+    pub fn inner_nodes(&self) -> usize {
+        self.slot.iter().filter(|&&s| s != LEAF_SLOT).count()
     }
 
     /// Centroid and normal of node `i`'s patch at area quantile `q` (in leaf order).
@@ -483,14 +508,16 @@ fn longest_axis(extent: DVec3) -> usize {
     }
 }
 
-/// A per-patch RGB field summarised on every node: its area-mean and its first moment
-/// (`dipole[channel]` = Σₖ Aₖ·Bₖ·(cₖ − c_node)), which far-field links use to first order.
+/// A per-patch RGB field summarised on every node: its area-mean, and on inner nodes (indexed
+/// by [`PatchTree::slot`]; a leaf's is zero) its first moment (`dipole[channel]` =
+/// Σₖ Aₖ·Bₖ·(cₖ − c_node)), which far-field links use to first order.
 pub struct NodeField {
     pub mean: Vec<DVec3>,
     pub dipole: Vec<[DVec3; 3]>,
-    /// The exitance-weighted normal distribution per node (RGB, `geom::sh::Dist`): what cluster
-    /// links read.
+    /// The exitance-weighted normal distribution per inner node (RGB, `geom::sh::Dist`): what
+    /// cluster links read.
     pub sh: Vec<[DVec3; sh::DIST]>,
+    slot: std::sync::Arc<[u32]>,
 }
 
 impl NodeField {
@@ -507,17 +534,19 @@ impl NodeField {
         let mut sum = DVec3::ZERO;
         for l in links {
             let i = l.node as usize;
+            // Far-field and cluster links name inner nodes only (a leaf's moment is zero).
+            let slot = self.slot[i] as usize;
             if l.is_cluster() {
                 let (k, w) = l.cluster();
                 let weights = sh::dist_weights(w);
-                let s = &self.sh[i];
+                let s = &self.sh[slot];
                 sum += (0..sh::DIST).map(|c| s[c] * weights[c]).sum::<DVec3>() * k;
                 continue;
             }
             sum += self.mean[i] * l.coeff as f64;
-            if l.grad != [0.0; 3] {
+            if l.grad != [0.0; 3] && slot != LEAF_SLOT as usize {
                 let g = l.grad();
-                let d = &self.dipole[i];
+                let d = &self.dipole[slot];
                 sum += DVec3::new(g.dot(d[0]), g.dot(d[1]), g.dot(d[2]));
             }
         }
@@ -529,24 +558,28 @@ impl PatchTree {
     /// Summarise a per-patch quantity on every node (bottom-up).
     pub fn node_field(&self, patch_values: &[DVec3]) -> NodeField {
         let n = self.nodes.len();
+        let inner = self.inner_nodes();
         let mut mean = vec![DVec3::ZERO; n];
-        let mut dipole = vec![[DVec3::ZERO; 3]; n];
+        let mut dipole = vec![[DVec3::ZERO; 3]; inner];
         // Only cluster links read the normal distributions, and only curved nodes get them.
         let clusters = self.has_curved();
-        let mut sh = vec![[DVec3::ZERO; sh::DIST]; if clusters { n } else { 0 }];
+        let mut sh = vec![[DVec3::ZERO; sh::DIST]; if clusters { inner } else { 0 }];
         for i in (0..n).rev() {
             let node = &self.nodes[i];
             if node.is_leaf() {
-                let v = patch_values[self.order[node.start as usize] as usize];
-                mean[i] = v;
-                if clusters {
-                    sh[i] = node.normal_sh.map(|y| v * y);
-                }
+                mean[i] = patch_values[self.order[node.start as usize] as usize];
                 continue;
             }
+            let here = self.slot[i] as usize;
             let [a, b] = node.children.map(|c| c as usize);
             if clusters {
-                sh[i] = std::array::from_fn(|k| sh[a][k] + sh[b][k]);
+                // A leaf's distribution is its patch's normal, weighted by its value.
+                let of = |c: usize| match self.slot[c] {
+                    LEAF_SLOT => self.nodes[c].normal_sh.map(|y| mean[c] * y),
+                    s => sh[s as usize],
+                };
+                let (sa, sb) = (of(a), of(b));
+                sh[here] = std::array::from_fn(|k| sa[k] + sb[k]);
             }
             let (wa, wb) = (self.nodes[a].moments.area, self.nodes[b].moments.area);
             if wa + wb <= 0.0 {
@@ -558,14 +591,22 @@ impl PatchTree {
                 self.nodes[a].moments.centroid - c,
                 self.nodes[b].moments.centroid - c,
             );
+            let moment = |c: usize| match self.slot[c] {
+                LEAF_SLOT => [DVec3::ZERO; 3],
+                s => dipole[s as usize],
+            };
+            let (ma, mb) = (moment(a), moment(b));
             for ch in 0..3 {
-                dipole[i][ch] = dipole[a][ch]
-                    + dipole[b][ch]
-                    + da * (mean[a][ch] * wa)
-                    + db * (mean[b][ch] * wb);
+                dipole[here][ch] =
+                    ma[ch] + mb[ch] + da * (mean[a][ch] * wa) + db * (mean[b][ch] * wb);
             }
         }
-        NodeField { mean, dipole, sh }
+        NodeField {
+            mean,
+            dipole,
+            sh,
+            slot: self.slot.clone(),
+        }
     }
 }
 
