@@ -12,7 +12,7 @@
 //! V(±e) = silhouette / Σ Aⱼ·max(0, ±mⱼ·e), at most 1. Between the axes a direction w is
 //! weighted by wₖ² (which sums to 1). Every node is measured on its own patches, in parallel.
 
-use super::tree::PatchTree;
+use super::tree::{PatchTree, Shape};
 use crate::patches::PatchMesh;
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
@@ -20,16 +20,17 @@ use rayon::prelude::*;
 /// Pixels per side of the silhouette grid.
 pub const GRID: usize = 16;
 
-/// Visible shares for every node of `tree` (index as `tree.nodes`).
-pub fn visible_shares(tree: &PatchTree, mesh: &PatchMesh) -> Vec<[f32; 6]> {
+/// Visible shares for every node of `tree` (index as `tree.nodes`; `shapes` are their boxes).
+pub fn visible_shares(tree: &PatchTree, mesh: &PatchMesh, shapes: &[Shape]) -> Vec<[f32; 6]> {
     tree.nodes
         .par_iter()
-        .map(|node| {
+        .zip(shapes)
+        .map(|(node, shape)| {
             if !node.curved || node.is_leaf() {
                 return [1.0; 6];
             }
             let patches = &tree.order[node.start as usize..node.end as usize];
-            shares(mesh, patches, node.lo, node.hi)
+            shares(mesh, patches, shape.lo, shape.hi)
         })
         .collect()
 }

@@ -39,17 +39,11 @@ pub const NO_CHILD: u32 = u32::MAX;
 /// outer ones, a single ray to the median.
 pub const REP_QUANTILES: [f64; 3] = [0.25, 0.5, 0.75];
 
+/// A node of the hierarchy: what gathers and the solver read besides [`NodeBounds`] (its box
+/// and normal cone are there, in the form a visit reads them).
 #[derive(Debug, Clone)]
 pub struct TreeNode {
     pub moments: AreaMoments,
-    /// Bounding box of the node's patches, and the sphere around it (centre = box centre).
-    pub lo: DVec3,
-    pub hi: DVec3,
-    pub center: DVec3,
-    pub radius: f64,
-    /// Unit axis and half-angle (rad) of a cone containing every patch normal.
-    pub cone_axis: DVec3,
-    pub cone_angle: f64,
     pub children: [u32; 2],
     /// Area of the node's single-sided patches: only their backs absorb (a double-sided patch's
     /// back is its twin, counted on its own).
@@ -69,6 +63,18 @@ impl TreeNode {
     pub fn is_leaf(&self) -> bool {
         self.children[0] == NO_CHILD
     }
+}
+
+/// A node's box and normal cone while the tree is built (kept afterwards only as
+/// [`NodeBounds`]).
+#[derive(Debug, Clone, Copy)]
+pub struct Shape {
+    /// Bounding box of the node's patches (the sphere around it is centred on the box).
+    pub lo: DVec3,
+    pub hi: DVec3,
+    /// Unit axis and half-angle (rad) of a cone containing every patch normal.
+    pub cone_axis: DVec3,
+    pub cone_angle: f64,
 }
 
 /// The part of a [`TreeNode`] a gather reads at every node it visits, packed apart from the rest
@@ -93,15 +99,15 @@ pub struct NodeBounds {
 }
 
 impl NodeBounds {
-    fn of(node: &TreeNode) -> Self {
+    fn of(node: &TreeNode, shape: &Shape) -> Self {
         NodeBounds {
-            center: node.center,
-            half: (node.hi - node.lo) * 0.5,
-            radius: node.radius,
+            center: (shape.lo + shape.hi) * 0.5,
+            half: (shape.hi - shape.lo) * 0.5,
+            radius: (shape.hi - shape.lo).length() * 0.5,
             centroid: node.moments.centroid,
-            cone_axis: node.cone_axis,
-            cone_chord: 2.0 * (node.cone_angle / 2.0).sin(),
-            cone_wide: node.cone_angle >= std::f64::consts::FRAC_PI_2,
+            cone_axis: shape.cone_axis,
+            cone_chord: 2.0 * (shape.cone_angle / 2.0).sin(),
+            cone_wide: shape.cone_angle >= std::f64::consts::FRAC_PI_2,
             curved: node.curved,
             children: node.children,
             start: node.start,
@@ -217,9 +223,15 @@ impl PatchTree {
             .collect();
         let n = tree.order.len() as u32;
         tree.split(mesh, &leaf, &clutter_patches(mesh), 0, n);
-        tree.finish(mesh, &leaf);
-        tree.bounds = tree.nodes.iter().map(NodeBounds::of).collect();
-        tree.visible = super::silhouette::visible_shares(&tree, mesh);
+        let shapes = tree.finish(mesh, &leaf);
+        tree.bounds = tree
+            .nodes
+            .iter()
+            .zip(&shapes)
+            .map(|(n, s)| NodeBounds::of(n, s))
+            .collect();
+        tree.visible = super::silhouette::visible_shares(&tree, mesh, &shapes);
+        drop(shapes);
         if tree.nodes.iter().any(|n| n.curved) {
             let tris: Vec<[DVec3; 3]> = mesh
                 .patches
@@ -295,12 +307,6 @@ impl PatchTree {
         let index = self.nodes.len() as u32;
         self.nodes.push(TreeNode {
             moments: AreaMoments::ZERO,
-            lo: DVec3::ZERO,
-            hi: DVec3::ZERO,
-            center: DVec3::ZERO,
-            radius: 0.0,
-            cone_axis: DVec3::Y,
-            cone_angle: 0.0,
             single_sided_area: 0.0,
             normal_sh: [0.0; sh::DIST],
             curved: false,
@@ -342,8 +348,15 @@ impl PatchTree {
         index
     }
 
-    /// Fill in moments, bounds and cones bottom-up.
-    fn finish(&mut self, mesh: &PatchMesh, leaf: &[AreaMoments]) {
+    /// Fill in moments and normal distributions bottom-up; returns every node's box and cone.
+    fn finish(&mut self, mesh: &PatchMesh, leaf: &[AreaMoments]) -> Vec<Shape> {
+        let unset = Shape {
+            lo: DVec3::ZERO,
+            hi: DVec3::ZERO,
+            cone_axis: DVec3::Y,
+            cone_angle: 0.0,
+        };
+        let mut shapes = vec![unset; self.nodes.len()];
         for i in (0..self.nodes.len()).rev() {
             let node = &self.nodes[i];
             if node.is_leaf() {
@@ -351,40 +364,40 @@ impl PatchTree {
                 let patch = &mesh.patches[p];
                 let corners = patch.corners(&mesh.receivers);
                 let (lo, hi) = bounds(corners.iter().copied());
+                shapes[i] = Shape {
+                    lo,
+                    hi,
+                    cone_axis: patch.normal,
+                    cone_angle: 0.0,
+                };
                 let node = &mut self.nodes[i];
                 node.moments = leaf[p];
-                node.lo = lo;
-                node.hi = hi;
-                node.center = (lo + hi) * 0.5;
-                node.radius = (hi - lo).length() * 0.5;
-                node.cone_axis = patch.normal;
-                node.cone_angle = 0.0;
                 node.single_sided_area = if patch.double_sided { 0.0 } else { patch.area };
                 node.normal_sh = sh::dist_point(patch.normal, patch.area);
             } else {
-                let [a, b] = node.children.map(|c| &self.nodes[c as usize]);
+                let [ia, ib] = node.children.map(|c| c as usize);
+                let [a, b] = [&self.nodes[ia], &self.nodes[ib]];
+                let [sa, sb] = [shapes[ia], shapes[ib]];
                 let moments = a.moments.combine(&b.moments);
-                let (lo, hi) = (a.lo.min(b.lo), a.hi.max(b.hi));
-                let center = (lo + hi) * 0.5;
-                let radius = (hi - lo).length() * 0.5;
-                let axis = moments.normal_sum.try_normalize().unwrap_or(a.cone_axis);
+                let axis = moments.normal_sum.try_normalize().unwrap_or(sa.cone_axis);
                 let spread =
-                    |c: &TreeNode| c.cone_axis.dot(axis).clamp(-1.0, 1.0).acos() + c.cone_angle;
-                let cone_angle = spread(a).max(spread(b)).min(std::f64::consts::PI);
+                    |c: &Shape| c.cone_axis.dot(axis).clamp(-1.0, 1.0).acos() + c.cone_angle;
+                let cone_angle = spread(&sa).max(spread(&sb)).min(std::f64::consts::PI);
+                shapes[i] = Shape {
+                    lo: sa.lo.min(sb.lo),
+                    hi: sa.hi.max(sb.hi),
+                    cone_axis: axis,
+                    cone_angle,
+                };
                 let single = a.single_sided_area + b.single_sided_area;
                 let normal_sh = std::array::from_fn(|k| a.normal_sh[k] + b.normal_sh[k]);
                 let node = &mut self.nodes[i];
                 node.normal_sh = normal_sh;
                 node.single_sided_area = single;
                 node.moments = moments;
-                node.lo = lo;
-                node.hi = hi;
-                node.center = center;
-                node.radius = radius;
-                node.cone_axis = axis;
-                node.cone_angle = cone_angle;
             }
         }
+        shapes
     }
 }
 
