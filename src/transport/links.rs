@@ -51,37 +51,50 @@ pub struct Leaf {
     pub coeff: f32,
 }
 
-/// A far-field or cluster [`Link`] in 16 bytes instead of 20: its gradient in half precision
-/// (11 significant bits; below 6·10⁻⁵ m⁻¹ an absolute step of 6·10⁻⁸). The gradient is the
-/// first-order correction of a far source whose radius is below τ × its distance, so rounding it
-/// moves the link's value by under 10⁻³ × τ of it; a cluster link's, K × its direction, is kept
-/// as the direction (the negated gradient over the coefficient), exact to 10⁻³ however small K
-/// is. On the 10⁶-triangle floor the 4 bytes were 0.3 GB.
+/// A far-field or cluster [`Link`] in 16 bytes instead of 20: its gradient (for a cluster
+/// link, K × its direction) as three 16-bit integers scaled by a shared power of two, each
+/// within 2⁻¹⁵ of the largest component (whatever the scene's scale: the exponent adapts).
+/// The gradient is the first-order correction of a far source whose radius is below τ × its
+/// distance, so its rounding moves the link's value by under 10⁻⁴ × τ of it. On the
+/// 10⁶-triangle floor the 4 bytes were 0.3 GB.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FarLink {
     pub node: u32,
     pub coeff: f32,
-    grad: [half::f16; 3],
+    grad: [i16; 3],
+    exponent: i16,
 }
+
+/// Largest stored magnitude of a gradient component.
+const STEPS: f32 = 32767.0;
 
 impl FarLink {
     fn of(l: &Link) -> Self {
-        let c = l.coeff;
-        let scale = if l.is_cluster() { 1.0 / c } else { 1.0 };
+        let largest = l.grad.iter().fold(0.0f32, |m, g| m.max(g.abs()));
+        // The smallest power of two at least the largest component (0 when all are 0).
+        let exponent = if largest > 0.0 && largest.is_finite() {
+            largest.log2().ceil() as i16
+        } else {
+            0
+        };
+        let unit = 2f32.powi(exponent as i32);
         FarLink {
             node: l.node,
-            coeff: c,
-            grad: l.grad.map(|g| half::f16::from_f32(g * scale)),
+            coeff: l.coeff,
+            grad: l
+                .grad
+                .map(|g| (g / unit * STEPS).round().clamp(-STEPS, STEPS) as i16),
+            exponent,
         }
     }
 
     /// The link it stands for (its gradient rounded as stored).
     pub fn link(&self) -> Link {
-        let scale = if self.is_cluster() { self.coeff } else { 1.0 };
+        let unit = 2f32.powi(self.exponent as i32) / STEPS;
         Link {
             node: self.node,
             coeff: self.coeff,
-            grad: self.grad.map(|g| g.to_f32() * scale),
+            grad: self.grad.map(|m| m as f32 * unit),
         }
     }
 
@@ -94,7 +107,14 @@ impl FarLink {
 #[derive(Clone, Copy)]
 pub struct RowRef<'a> {
     pub leaves: &'a [Leaf],
-    pub far: &'a [FarLink],
+    far: &'a [FarLink],
+}
+
+impl RowRef<'_> {
+    /// The far-field and cluster links.
+    pub fn far(&self) -> impl Iterator<Item = Link> + '_ {
+        self.far.iter().map(FarLink::link)
+    }
 }
 
 /// Rows are built in parallel over fixed chunks, kept in order: deterministic.
@@ -192,8 +212,7 @@ impl ReceiverLinks {
         out.par_chunks_mut(256).enumerate().for_each(|(c, chunk)| {
             for (k, e) in chunk.iter_mut().enumerate() {
                 let row = self.row(c * 256 + k);
-                *e = field.gather_leaves(row.leaves)
-                    + field.gather_iter(row.far.iter().map(FarLink::link));
+                *e = field.gather_leaves(row.leaves) + field.gather_iter(row.far());
             }
         });
     }
@@ -250,33 +269,34 @@ fn enclosed(gatherer: &Gatherer, p: DVec3, n: DVec3) -> bool {
 mod tests {
     use super::*;
 
-    /// Far links take 16 bytes, and their gradients come back within half precision's rounding
-    /// (a cluster link's direction too, however small its coefficient).
+    /// Far links take 16 bytes, and their gradients come back within 2⁻¹⁵ of their largest
+    /// component at any scale (a cluster link's direction too, however small its coefficient).
     #[test]
     fn far_links_are_compact_and_keep_their_gradients() {
         assert_eq!(std::mem::size_of::<FarLink>(), 16);
         assert_eq!(std::mem::size_of::<Leaf>(), 8);
-        let far = Link::new(7, 0.0123, DVec3::new(-0.0031, 0.00047, 2.5e-6));
-        let back = FarLink::of(&far).link();
-        assert_eq!((back.node, back.coeff), (far.node, far.coeff));
-        for (a, b) in back.grad.iter().zip(far.grad) {
-            assert!((a - b).abs() <= 1e-3 * b.abs() + 1e-7, "{a} vs {b}");
-        }
         let w = DVec3::new(0.6, -0.8, 0.0);
-        for k in [0.02, 3e-9] {
-            let back = FarLink::of(&Link::new(3, -k, w * k)).link();
-            assert!(back.is_cluster());
-            let (kb, dir) = back.cluster();
-            assert!(
-                (kb / k - 1.0).abs() < 1e-6 && (dir - w).length() < 1e-3,
-                "{kb} {dir}"
-            );
-        }
-        // A grazing far node: tiny form factor, large gradient.
-        let grazing = Link::new(5, 9.9e-7, DVec3::new(-2.52, -2.2e-4, -4.7e-5));
-        let back = FarLink::of(&grazing).link();
-        for (a, b) in back.grad.iter().zip(grazing.grad) {
-            assert!((a - b).abs() <= 1e-3 * b.abs() + 1e-7, "{a} vs {b}");
+        let links = [
+            Link::new(7, 0.0123, DVec3::new(-0.0031, 0.00047, 2.5e-6)),
+            // A grazing far node in a millimetre scene: tiny form factor, huge gradient (m⁻³).
+            Link::new(5, 9.9e-7, DVec3::new(-5.5e8, 1.16e9, -2.0e3)),
+            // The first in a kilometre scene.
+            Link::new(7, 0.0123, DVec3::new(-0.0031, 0.00047, 2.5e-6) * 1e-9),
+            Link::new(3, -0.02, w * 0.02),
+            Link::new(3, -3e-9, w * 3e-9),
+            Link::new(9, 0.5, DVec3::ZERO),
+        ];
+        for l in links {
+            let back = FarLink::of(&l).link();
+            assert_eq!((back.node, back.coeff), (l.node, l.coeff));
+            let largest = l.grad.iter().fold(0.0f32, |m, g| m.max(g.abs()));
+            for (a, b) in back.grad.iter().zip(l.grad) {
+                assert!((a - b).abs() <= largest * 3.1e-5, "{a} vs {b}");
+            }
+            if l.is_cluster() {
+                let (k, dir) = back.cluster();
+                assert!((k / -l.coeff as f64 - 1.0).abs() < 1e-6 && (dir - w).length() < 1e-4);
+            }
         }
     }
 }

@@ -133,7 +133,7 @@ impl<'a> PatchOperator<'a> {
                     for l in row.leaves {
                         acc[l.node as usize] += at[r] * l.coeff as f64;
                     }
-                    for l in row.far.iter().map(|l| l.link()) {
+                    for l in row.far() {
                         let s = slot[l.node as usize] as usize;
                         if l.is_cluster() {
                             let (k, w) = l.cluster();
