@@ -68,6 +68,17 @@ pub struct FarLink {
 /// Largest stored magnitude of a gradient component.
 const STEPS: f32 = 32767.0;
 
+/// 2ᵉ as f32: from its bits in the normal range (every solver step decodes every far link),
+/// by `powi` outside it.
+#[inline]
+fn pow2(e: i16) -> f32 {
+    if (-126..=127).contains(&e) {
+        f32::from_bits(((e as i32 + 127) as u32) << 23)
+    } else {
+        2f32.powi(e as i32)
+    }
+}
+
 impl FarLink {
     fn of(l: &Link) -> Self {
         let largest = l.grad.iter().fold(0.0f32, |m, g| m.max(g.abs()));
@@ -77,7 +88,7 @@ impl FarLink {
         } else {
             0
         };
-        let unit = 2f32.powi(exponent as i32);
+        let unit = pow2(exponent);
         FarLink {
             node: l.node,
             coeff: l.coeff,
@@ -89,8 +100,9 @@ impl FarLink {
     }
 
     /// The link it stands for (its gradient rounded as stored).
+    #[inline]
     pub fn link(&self) -> Link {
-        let unit = 2f32.powi(self.exponent as i32) / STEPS;
+        let unit = pow2(self.exponent) * (1.0 / STEPS);
         Link {
             node: self.node,
             coeff: self.coeff,
@@ -275,6 +287,9 @@ mod tests {
     fn far_links_are_compact_and_keep_their_gradients() {
         assert_eq!(std::mem::size_of::<FarLink>(), 16);
         assert_eq!(std::mem::size_of::<Leaf>(), 8);
+        for e in [-127, -126, -1, 0, 1, 30, 127] {
+            assert_eq!(pow2(e), 2f32.powi(e as i32), "2^{e}");
+        }
         let w = DVec3::new(0.6, -0.8, 0.0);
         let links = [
             Link::new(7, 0.0123, DVec3::new(-0.0031, 0.00047, 2.5e-6)),

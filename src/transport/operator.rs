@@ -25,8 +25,9 @@ use rayon::prelude::*;
 const OVERRELAX: f64 = 1.5;
 
 /// The transpose's scatter runs in this many parts (in parallel), summed in order. Each part
-/// holds 152 bytes per tree node while the transpose runs: four parts, with the push-down's own
-/// arrays, were 1.8 GB on the 10⁶-triangle floor's two million nodes (the bake's peak).
+/// holds 8 bytes per tree node and 144 per inner node while the transpose runs; four parts of
+/// 152 bytes per node, with the push-down's own arrays, were 1.8 GB on the 10⁶-triangle floor's
+/// two million nodes.
 const TRANSPOSE_PARTS: usize = 2;
 
 pub struct PatchOperator<'a> {
@@ -106,7 +107,7 @@ impl<'a> PatchOperator<'a> {
         // Receiver → node (scatter along the links): leaf and far-field coefficients per node,
         // first moments and cluster distributions per inner node (only they are far sources).
         let nodes = self.tree.nodes.len();
-        let inner = self.tree.inner_nodes();
+        let inner = self.tree.inner_nodes;
         let slot = &self.tree.slot;
         // Cluster accumulators only where cluster links can exist (trees with curved nodes).
         let sh_nodes = if self.tree.has_curved() { inner } else { 0 };

@@ -190,6 +190,8 @@ pub struct PatchTree {
     /// Only inner nodes are far-field or cluster sources, so what only those read (a field's
     /// first moments and normal distributions) is stored per inner node: half the nodes.
     pub slot: std::sync::Arc<[u32]>,
+    /// Number of inner nodes (the length of per-inner-node arrays).
+    pub inner_nodes: usize,
 }
 
 /// [`PatchTree::slot`] of a leaf.
@@ -212,6 +214,7 @@ impl PatchTree {
             visible: Vec::new(),
             own_hits: None,
             slot: std::sync::Arc::from([]),
+            inner_nodes: 0,
         };
         if tree.order.is_empty() {
             return tree;
@@ -266,12 +269,8 @@ impl PatchTree {
                 }
             })
             .collect();
+        tree.inner_nodes = inner as usize;
         tree
-    }
-
-    /// Number of inner nodes (the length of per-inner-node arrays).
-    pub fn inner_nodes(&self) -> usize {
-        self.slot.iter().filter(|&&s| s != LEAF_SLOT).count()
     }
 
     /// Centroid and normal of node `i`'s patch at area quantile `q` (in leaf order).
@@ -576,7 +575,7 @@ impl PatchTree {
     /// Summarise a per-patch quantity on every node (bottom-up).
     pub fn node_field(&self, patch_values: &[DVec3]) -> NodeField {
         let n = self.nodes.len();
-        let inner = self.inner_nodes();
+        let inner = self.inner_nodes;
         let mut mean = vec![DVec3::ZERO; n];
         let mut dipole = vec![[DVec3::ZERO; 3]; inner];
         // Only cluster links read the normal distributions, and only curved nodes get them.
