@@ -2,7 +2,7 @@
 //!
 //! Input: a [`Gatherer`] over the tree of all patches, and the receivers. Output: [`ReceiverLinks`]
 //! in compressed rows: receiver r gathers E_r = Σ coeff·B(node) over its row's leaf links (one
-//! patch each, 8 bytes) and far-field and cluster links ([`FarLink`], 16 bytes).
+//! patch each, 8 bytes) and far-field and cluster links ([`Link`]).
 //!
 //! Closure: a receiver inside a closed space sees geometry in every direction, so its true
 //! coverage is exactly 1; the far-field expansion and sampled visibility leave it off by a little,
@@ -39,7 +39,7 @@ struct RowChunk {
     leaf_at: Vec<u32>,
     leaves: Vec<Leaf>,
     far_at: Vec<u32>,
-    far: Vec<FarLink>,
+    far: Vec<Link>,
 }
 
 /// A link without a gradient — every link to one patch (a leaf of the tree, whose exitance is
@@ -51,82 +51,11 @@ pub struct Leaf {
     pub coeff: f32,
 }
 
-/// A far-field or cluster [`Link`] in 16 bytes instead of 20: its gradient (for a cluster
-/// link, K × its direction) as three 16-bit integers scaled by a shared power of two, each
-/// within 2⁻¹⁵ of the largest component (whatever the scene's scale: the exponent adapts).
-/// The gradient is the first-order correction of a far source whose radius is below τ × its
-/// distance, so its rounding moves the link's value by under 10⁻⁴ × τ of it. On the
-/// 10⁶-triangle floor the 4 bytes were 0.3 GB.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct FarLink {
-    pub node: u32,
-    pub coeff: f32,
-    grad: [i16; 3],
-    exponent: i16,
-}
-
-/// Largest stored magnitude of a gradient component.
-const STEPS: f32 = 32767.0;
-
-/// 2ᵉ as f32: from its bits in the normal range (every solver step decodes every far link),
-/// by `powi` outside it.
-#[inline]
-fn pow2(e: i16) -> f32 {
-    if (-126..=127).contains(&e) {
-        f32::from_bits(((e as i32 + 127) as u32) << 23)
-    } else {
-        2f32.powi(e as i32)
-    }
-}
-
-impl FarLink {
-    fn of(l: &Link) -> Self {
-        let largest = l.grad.iter().fold(0.0f32, |m, g| m.max(g.abs()));
-        // The smallest power of two at least the largest component (0 when all are 0).
-        let exponent = if largest > 0.0 && largest.is_finite() {
-            largest.log2().ceil() as i16
-        } else {
-            0
-        };
-        let unit = pow2(exponent);
-        FarLink {
-            node: l.node,
-            coeff: l.coeff,
-            grad: l
-                .grad
-                .map(|g| (g / unit * STEPS).round().clamp(-STEPS, STEPS) as i16),
-            exponent,
-        }
-    }
-
-    /// The link it stands for (its gradient rounded as stored).
-    #[inline]
-    pub fn link(&self) -> Link {
-        let unit = pow2(self.exponent) * (1.0 / STEPS);
-        Link {
-            node: self.node,
-            coeff: self.coeff,
-            grad: self.grad.map(|m| m as f32 * unit),
-        }
-    }
-
-    pub fn is_cluster(&self) -> bool {
-        self.coeff < 0.0
-    }
-}
-
 /// One receiver's row: its leaf links and the rest (far-field and cluster links).
 #[derive(Clone, Copy)]
 pub struct RowRef<'a> {
     pub leaves: &'a [Leaf],
-    far: &'a [FarLink],
-}
-
-impl RowRef<'_> {
-    /// The far-field and cluster links.
-    pub fn far(&self) -> impl Iterator<Item = Link> + '_ {
-        self.far.iter().map(FarLink::link)
-    }
+    pub far: &'a [Link],
 }
 
 /// Rows are built in parallel over fixed chunks, kept in order: deterministic.
@@ -156,7 +85,7 @@ impl ReceiverLinks {
                                 coeff: l.coeff,
                             });
                         } else {
-                            far.push(FarLink::of(l));
+                            far.push(*l);
                         }
                     }
                     leaf_at.push(leaves.len() as u32);
@@ -207,7 +136,7 @@ impl ReceiverLinks {
     }
 
     /// Every far-field and cluster link of every row (the leaf links aside).
-    pub fn far_links(&self) -> impl Iterator<Item = &FarLink> {
+    pub fn far_links(&self) -> impl Iterator<Item = &Link> {
         self.chunks.iter().flat_map(|c| c.far.iter())
     }
 
@@ -224,7 +153,7 @@ impl ReceiverLinks {
         out.par_chunks_mut(256).enumerate().for_each(|(c, chunk)| {
             for (k, e) in chunk.iter_mut().enumerate() {
                 let row = self.row(c * 256 + k);
-                *e = field.gather_leaves(row.leaves) + field.gather_iter(row.far());
+                *e = field.gather_leaves(row.leaves) + field.gather(row.far);
             }
         });
     }
@@ -275,43 +204,4 @@ pub fn gather_row_shared(
 /// True when none of 64 stratified cosine-weighted rays from the point escapes the scene.
 fn enclosed(gatherer: &Gatherer, p: DVec3, n: DVec3) -> bool {
     samples::cosine_directions(n, 8).all(|d| !gatherer.occluder.escapes(p, n, d))
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Far links take 16 bytes, and their gradients come back within 2⁻¹⁵ of their largest
-    /// component at any scale (a cluster link's direction too, however small its coefficient).
-    #[test]
-    fn far_links_are_compact_and_keep_their_gradients() {
-        assert_eq!(std::mem::size_of::<FarLink>(), 16);
-        assert_eq!(std::mem::size_of::<Leaf>(), 8);
-        for e in [-127, -126, -1, 0, 1, 30, 127] {
-            assert_eq!(pow2(e), 2f32.powi(e as i32), "2^{e}");
-        }
-        let w = DVec3::new(0.6, -0.8, 0.0);
-        let links = [
-            Link::new(7, 0.0123, DVec3::new(-0.0031, 0.00047, 2.5e-6)),
-            // A grazing far node in a millimetre scene: tiny form factor, huge gradient (m⁻³).
-            Link::new(5, 9.9e-7, DVec3::new(-5.5e8, 1.16e9, -2.0e3)),
-            // The first in a kilometre scene.
-            Link::new(7, 0.0123, DVec3::new(-0.0031, 0.00047, 2.5e-6) * 1e-9),
-            Link::new(3, -0.02, w * 0.02),
-            Link::new(3, -3e-9, w * 3e-9),
-            Link::new(9, 0.5, DVec3::ZERO),
-        ];
-        for l in links {
-            let back = FarLink::of(&l).link();
-            assert_eq!((back.node, back.coeff), (l.node, l.coeff));
-            let largest = l.grad.iter().fold(0.0f32, |m, g| m.max(g.abs()));
-            for (a, b) in back.grad.iter().zip(l.grad) {
-                assert!((a - b).abs() <= largest * 3.1e-5, "{a} vs {b}");
-            }
-            if l.is_cluster() {
-                let (k, dir) = back.cluster();
-                assert!((k / -l.coeff as f64 - 1.0).abs() < 1e-6 && (dir - w).length() < 1e-4);
-            }
-        }
-    }
 }

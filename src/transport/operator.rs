@@ -134,7 +134,7 @@ impl<'a> PatchOperator<'a> {
                     for l in row.leaves {
                         acc[l.node as usize] += at[r] * l.coeff as f64;
                     }
-                    for l in row.far() {
+                    for l in row.far {
                         let s = slot[l.node as usize] as usize;
                         if l.is_cluster() {
                             let (k, w) = l.cluster();
