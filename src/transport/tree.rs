@@ -543,11 +543,6 @@ impl NodeField {
 
     /// Σ over `links` of coefficient × mean + gradient · dipole (per channel).
     pub fn gather(&self, links: &[super::gather::Link]) -> DVec3 {
-        self.gather_iter(links.iter().copied())
-    }
-
-    /// [`NodeField::gather`] over links given one by one.
-    pub fn gather_iter(&self, links: impl Iterator<Item = super::gather::Link>) -> DVec3 {
         let mut sum = DVec3::ZERO;
         for l in links {
             let i = l.node as usize;
