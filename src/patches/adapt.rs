@@ -61,8 +61,12 @@ pub struct SurfaceMesh {
 /// many edges were split.
 pub fn refine(m: &mut SurfaceMesh, signs: &[f64], a: &Adapt) -> usize {
     let mut split_total = 0;
-    // Illuminance per vertex and side, extended as vertices are added.
+    // Illuminance per vertex and side, extended as vertices are added; NaN until a candidate
+    // edge needs it. Each vertex is judged where the mesh of the round that added it puts it
+    // (`asked`), but probed only when an edge ending there is long enough to split: a surface
+    // whose edges are all short (a chair's tessellation) costs no probe at all.
     let mut at: Vec<Vec<f64>> = signs.iter().map(|_| Vec::new()).collect();
+    let mut asked: Vec<Vec<(DVec3, DVec3)>> = signs.iter().map(|_| Vec::new()).collect();
     // Each side's last query and answer per edge: an edge left whole keeps its midpoint, and
     // unless a neighbouring triangle was split its query point is the same, so it is not
     // probed again in the next round.
@@ -76,10 +80,8 @@ pub fn refine(m: &mut SurfaceMesh, signs: &[f64], a: &Adapt) -> usize {
         let pulled = |i: usize| m.positions[i] + inward[i].normalize_or_zero() * (PULL * local[i]);
         for (s, sign) in signs.iter().enumerate() {
             let from = at[s].len();
-            let queries: Vec<(DVec3, DVec3)> = (from..m.positions.len())
-                .map(|i| (pulled(i), m.normals[i] * *sign))
-                .collect();
-            at[s].extend((a.probe)(&queries));
+            asked[s].extend((from..m.positions.len()).map(|i| (pulled(i), m.normals[i] * *sign)));
+            at[s].resize(m.positions.len(), f64::NAN);
         }
         // Candidate edges in first-seen order (deterministic), each with the direction into its
         // triangles from its midpoint.
@@ -108,6 +110,26 @@ pub fn refine(m: &mut SurfaceMesh, signs: &[f64], a: &Adapt) -> usize {
         }
         if edges.is_empty() {
             break;
+        }
+        // The candidate edges' ends not probed yet, in vertex order, one batch per side.
+        let mut ends: Vec<u32> = edges.iter().flat_map(|&(u, v)| [u, v]).collect();
+        ends.sort_unstable();
+        ends.dedup();
+        for s in 0..signs.len() {
+            let fresh: Vec<u32> = ends
+                .iter()
+                .copied()
+                .filter(|&v| at[s][v as usize].is_nan())
+                .collect();
+            let probed = (a.probe)(
+                &fresh
+                    .iter()
+                    .map(|&v| asked[s][v as usize])
+                    .collect::<Vec<_>>(),
+            );
+            for (&v, e) in fresh.iter().zip(probed) {
+                at[s][v as usize] = e;
+            }
         }
         let mid = |m: &SurfaceMesh, &(u, v): &(u32, u32)| {
             let (u, v) = (u as usize, v as usize);
