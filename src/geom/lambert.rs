@@ -36,17 +36,36 @@ pub fn form_factor_rising(p: DVec3, n: DVec3, verts: &[DVec3]) -> f64 {
 }
 
 /// Does the polygon reach above the plane through `p` with normal `n` (by more than 10⁻¹² of
-/// its distance)? When not, its form factor is zero: in particular a polygon lying in the
-/// receiver's own plane (the patch the receiver sits on) covers no solid angle above it, where
-/// the contour sum would see the whole hemisphere from a point inside it.
+/// its distance), and does `p` lie off the polygon's own plane (by more than [`IN_PLANE`] of
+/// its distance)? When not, its form factor is zero: a polygon lying in the receiver's own
+/// plane covers no solid angle above it, and neither does one whose plane passes through the
+/// receiver — seen edge-on. The second case is the patch a vertex receiver sits in on a curved,
+/// smooth-shaded surface: its shading normal differs from the facet's (by 10⁻⁶ rad for f32
+/// normals), the facet pokes above the receiver's plane by a hair, and the contour sum from a
+/// point inside the facet then saw the whole hemisphere (vertices of a column read 30–70 %
+/// too much inter-reflected light).
 pub fn rises_above(p: DVec3, n: DVec3, verts: &[DVec3]) -> bool {
     let (mut height, mut reach) = (0.0f64, 0.0f64);
     for v in verts {
         height = height.max(n.dot(*v - p));
         reach = reach.max((*v - p).length());
     }
-    height > 1e-12 * reach
+    if height <= 1e-12 * reach {
+        return false;
+    }
+    // Newell's normal of the polygon (twice its vector area).
+    let mut area = DVec3::ZERO;
+    for (i, a) in verts.iter().enumerate() {
+        area += a.cross(verts[(i + 1) % verts.len()]);
+    }
+    let len = area.length();
+    len > 0.0 && (area.dot(p - verts[0]) / len).abs() > IN_PLANE * reach
 }
+
+/// A point nearer a polygon's plane than this share of its distance to the polygon's farthest
+/// vertex lies in that plane (f64 rounding of coordinates leaves ~10⁻¹⁶; a receiver nudged off
+/// a room's corner sits 10⁻⁴ × the patch size off the neighbouring wall).
+const IN_PLANE: f64 = 1e-9;
 
 /// Σ βᵢ (n·ĝᵢ) over the edges, signed by the polygon's orientation as seen from `p`.
 fn contour_sum(p: DVec3, n: DVec3, verts: &[DVec3]) -> f64 {
@@ -124,6 +143,32 @@ mod tests {
         let sx = (1.0 + x * x).sqrt();
         let sy = (1.0 + y * y).sqrt();
         (x / sx * (y / sx).atan() + y / sy * (x / sy).atan()) / (2.0 * PI)
+    }
+
+    #[test]
+    fn a_polygon_through_the_receiver_is_seen_edge_on() {
+        // The receiver inside a triangle (on its edge, at its vertex) whose plane is turned by
+        // 10⁻⁶ rad from the receiver's: part of it lies above the receiver's plane, yet from a
+        // point in its own plane it covers no solid angle. Off the plane by 10⁻⁴ of its size
+        // (a receiver nudged off a room's corner) it counts again.
+        let tilt = 1e-6f64;
+        let n = DVec3::new(0.0, tilt.cos(), tilt.sin());
+        let tri = [
+            DVec3::new(-1.0, 0.0, -1.0),
+            DVec3::new(1.0, 0.0, -1.0),
+            DVec3::new(0.0, 0.0, 1.0),
+        ];
+        for p in [DVec3::ZERO, DVec3::new(0.0, 0.0, -1.0), tri[2]] {
+            assert_eq!(form_factor(p, n, &tri), 0.0, "from {p}");
+        }
+        let wall = [
+            DVec3::new(0.0, 0.0, 0.0),
+            DVec3::new(0.0, 1.0, 0.0),
+            DVec3::new(0.0, 1.0, 1.0),
+            DVec3::new(0.0, 0.0, 1.0),
+        ];
+        let f = form_factor(DVec3::new(1e-4, 1e-4, 0.5), DVec3::Y, &wall);
+        assert!((f - 0.5).abs() < 0.01, "{f}");
     }
 
     #[test]

@@ -857,4 +857,60 @@ mod tests {
         assert!(ball);
         assert!(!sight.contains(&Sight::Seen), "{sight:?}");
     }
+
+    #[test]
+    fn no_vertex_of_a_smooth_column_sees_more_than_its_hemisphere() {
+        // A closed 4 × 3 × 4 m room and a 48-sided column (radius 0.2 m, smooth normals) from
+        // floor to ceiling. The patch size splits the column's vertical edges, so vertices sit
+        // on the ridges between facets, inside the facets above and below them: such a vertex's
+        // shading normal differs from those facets' normals by rounding only. The form factors
+        // of all it sees sum to its coverage, which no point can have above 1 (the
+        // cosine-weighted hemisphere); in a closed room it is 1 but for sampled visibility.
+        // Before facets through the receiver counted as edge-on, a vertex in the facet above it
+        // saw the whole hemisphere in it: coverage 1.5, a third of its light from its own
+        // column.
+        let mut b = SceneBuilder::new();
+        let white = b.material("white", 0.5);
+        b.axis_box("room", DVec3::ZERO, DVec3::new(4.0, 3.0, 4.0), true, white);
+        let mut column = crate::fixtures::openplan::shapes::Mesh::new();
+        let (foot, top) = (DVec3::new(2.0, 0.0, 2.0), DVec3::new(2.0, 3.0, 2.0));
+        column.frustum(foot, top, 0.2, 0.2, 48, (false, false));
+        b.surface(
+            "column",
+            column.positions,
+            column.normals,
+            column.triangles,
+            white,
+        );
+        let (occ, mesh, tree) = world(b, 0.25);
+        let g = gatherer(&occ, &mesh, &tree);
+        let group = mesh
+            .groups
+            .iter()
+            .position(|g| g.surface == 6)
+            .expect("the column");
+        let receivers = mesh.groups[group].receivers.clone();
+        assert!(
+            receivers.len() > 48 * 4,
+            "{} column vertices",
+            receivers.len()
+        );
+        // Least coverage away from the floor and ceiling (where the column meets them, sampled
+        // visibility of the patches it touches loses a little), most anywhere.
+        let mut worst: (f64, f64) = (f64::INFINITY, 0.0);
+        for r in &mesh.receivers[receivers] {
+            let mut links = Vec::new();
+            let c = g.links(r.point, r.normal, &mut links);
+            if (0.3..2.7).contains(&r.position.y) {
+                worst.0 = worst.0.min(c.total);
+            }
+            worst.1 = worst.1.max(c.total);
+        }
+        assert!(
+            worst.1 <= 1.02 && worst.0 >= 0.95,
+            "column vertices' coverage from {} to {}",
+            worst.0,
+            worst.1
+        );
+    }
 }
