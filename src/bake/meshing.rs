@@ -95,15 +95,15 @@ pub fn mesh(
             m
         })
         .collect();
-    // The mean over all receivers (each group's mean weighted by its receiver count).
-    let counted: f64 = coarse.groups.iter().map(|g| g.receivers.len() as f64).sum();
+    // The mean over all receivers (each group's mean weighted by its receiver count; the
+    // groups' ranges cover the receivers once).
     let mean = coarse
         .groups
         .iter()
         .zip(&group_means)
         .map(|(g, m)| g.receivers.len() as f64 * m)
         .sum::<f64>()
-        / counted.max(1.0);
+        / coarse.receivers.len().max(1) as f64;
     let indirect = indirect_estimate(scene, &coarse, &group_means);
     let contact = h * CONTACT;
     let probe = |q: &[(DVec3, DVec3)]| -> Vec<f64> {
