@@ -13,13 +13,15 @@ use super::Solution;
 use crate::direct::sources::DirectSource;
 use crate::geom::samples;
 use crate::scene::luma;
-use crate::transport::links::ReceiverLinks;
 use glam::DVec3;
 use rayon::prelude::*;
 
 pub struct Inputs<'a> {
     pub solution: &'a Solution<'a>,
-    pub links: &'a ReceiverLinks,
+    /// Per receiver: the fraction of its hemisphere covered by back faces, and whether it is
+    /// enclosed (`ReceiverLinks::back`, `ReceiverLinks::closed`).
+    pub back: &'a [f32],
+    pub closed: &'a [bool],
     /// Direct irradiance of each patch's front (lx, RGB).
     pub direct_patch: &'a [DVec3],
     /// Flux of punctual lights onto back faces of single-sided patches (lm, RGB).
@@ -78,13 +80,9 @@ pub fn balance(i: Inputs) -> EnergyBalance {
     let mut to_back = 0.0;
     let mut surfaces_escaped = 0.0;
     let mut absorbed_front = 0.0;
-    let open = open_fractions(i.solution, i.links);
+    let open = open_fractions(i.solution, i.closed);
     for (k, p) in mesh.patches.iter().enumerate() {
-        let back =
-            p.v.iter()
-                .map(|&v| i.links.back[v as usize] as f64)
-                .sum::<f64>()
-                / 3.0;
+        let back = p.v.iter().map(|&v| i.back[v as usize] as f64).sum::<f64>() / 3.0;
         let open = open[k];
         let emitted_here = p.area * luma(s.exitance[k]);
         let out = emitted_here + p.area * luma(s.reflected[k]);
@@ -121,12 +119,12 @@ pub fn balance(i: Inputs) -> EnergyBalance {
 /// Fraction of each patch's outgoing (cosine-distributed) flux that leaves the scene: 0 for
 /// patches whose receivers are all enclosed, else measured with 16 × 16 stratified
 /// cosine-weighted rays from the patch centroid.
-fn open_fractions(s: &Solution, links: &ReceiverLinks) -> Vec<f64> {
+fn open_fractions(s: &Solution, closed: &[bool]) -> Vec<f64> {
     let mesh = &s.mesh;
     mesh.patches
         .par_iter()
         .map(|p| {
-            if p.v.iter().all(|&v| links.closed[v as usize]) {
+            if p.v.iter().all(|&v| closed[v as usize]) {
                 return 0.0;
             }
             let c = p.corners(&mesh.receivers);

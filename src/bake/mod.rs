@@ -198,7 +198,7 @@ pub fn solve<'a>(
         occluder: &occluder,
         tau: params.tau,
     };
-    let links = ReceiverLinks::build(&gatherer, &mesh.receivers);
+    let mut links = ReceiverLinks::build(&gatherer, &mesh.receivers);
     lap("links", &mut timings);
 
     progress.stage("solving", 0);
@@ -234,6 +234,17 @@ pub fn solve<'a>(
     let indirect = operator.gather_receivers(&reflected);
     lap("solve", &mut timings);
     drop(operator);
+    // The rows are done with (the largest thing a bake holds): keep what the report needs.
+    let link_counts = serde_json::json!({
+        "links": links.link_count(),
+        "clusterLinks": links.far_links().filter(|l| l.is_cluster()).count(),
+        "closedReceivers": links.closed.iter().filter(|c| **c).count(),
+    });
+    let (back, closed) = (
+        std::mem::take(&mut links.back),
+        std::mem::take(&mut links.closed),
+    );
+    drop(links);
 
     let node_exitance = emitter_tree.node_field(&exitance);
     let node_reflected = tree.node_field(&reflected);
@@ -261,7 +272,8 @@ pub fn solve<'a>(
     };
     let balance = energy::balance(energy::Inputs {
         solution: &solution,
-        links: &links,
+        back: &back,
+        closed: &closed,
         direct_patch: &direct_patch,
         light_back: lights.back,
         sources: &solution.sources,
@@ -274,9 +286,9 @@ pub fn solve<'a>(
             "surfaces": scene.surfaces.len(),
             "patches": solution.mesh.patches.len(),
             "receivers": solution.mesh.receivers.len(),
-            "links": links.link_count(),
-            "clusterLinks": links.far_links().filter(|l| l.is_cluster()).count(),
-            "closedReceivers": links.closed.iter().filter(|c| **c).count(),
+            "links": link_counts["links"],
+            "clusterLinks": link_counts["clusterLinks"],
+            "closedReceivers": link_counts["closedReceivers"],
             "rays": solution.occluder.rays_traced(),
             "convexEmptyScene": solution.occluder.convex_empty,
         },

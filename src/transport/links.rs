@@ -14,7 +14,7 @@
 //! is left alone. Open receivers keep their rows as computed.
 
 use super::gather::{Gatherer, Link, SharedRays};
-use super::tree::NodeField;
+use super::tree::{ClusterSlots, NodeField};
 use crate::geom::samples;
 use crate::patches::Receiver;
 use glam::DVec3;
@@ -31,6 +31,9 @@ pub struct ReceiverLinks {
     pub back: Vec<f32>,
     /// Rows normalised because the receiver is enclosed.
     pub closed: Vec<bool>,
+    /// The nodes cluster links name: the only ones whose normal distributions the solver's
+    /// node fields need.
+    pub clusters: ClusterSlots,
 }
 
 /// The rows of [`CHUNK`] consecutive receivers: row j is `leaves[leaf_at[j]..leaf_at[j + 1]]`
@@ -116,11 +119,20 @@ impl ReceiverLinks {
                 closed.push(k);
             }
         }
+        let clusters = ClusterSlots::named(
+            gatherer.tree.nodes.len(),
+            chunks
+                .iter()
+                .flat_map(|c| c.far.iter())
+                .filter(|l| l.is_cluster())
+                .map(|l| l.node),
+        );
         ReceiverLinks {
             chunks,
             coverage,
             back,
             closed,
+            clusters,
         }
     }
 

@@ -70,7 +70,7 @@ impl<'a> PatchOperator<'a> {
 
     /// Irradiance per receiver from per-patch exitance (unscaled: what users see).
     pub fn gather_receivers(&self, b: &[DVec3]) -> Vec<DVec3> {
-        let field = self.tree.node_field(b);
+        let field = self.tree.node_field_for(b, &self.links.clusters);
         let mut out = vec![DVec3::ZERO; self.mesh.receivers.len()];
         self.links.apply(&field, &mut out);
         out
@@ -109,8 +109,8 @@ impl<'a> PatchOperator<'a> {
         let nodes = self.tree.nodes.len();
         let inner = self.tree.inner_nodes;
         let slot = &self.tree.slot;
-        // Cluster accumulators only where cluster links can exist (trees with curved nodes).
-        let sh_nodes = if self.tree.has_curved() { inner } else { 0 };
+        // Cluster accumulators only for the nodes cluster links name.
+        let clusters = &self.links.clusters;
         // A fixed number of parts (never the thread count), each accumulated over its receivers
         // in order into its own arrays, the parts summed in order: deterministic. The count is
         // fixed rather than the part size because every part costs a pass over all nodes: parts
@@ -125,7 +125,7 @@ impl<'a> PatchOperator<'a> {
                 let part = (k * per_part).min(n)..((k + 1) * per_part).min(n);
                 let mut acc = vec![0.0; nodes];
                 let mut grad = vec![DVec3::ZERO; inner];
-                let mut sh = vec![[0.0; DIST]; sh_nodes];
+                let mut sh = vec![[0.0; DIST]; clusters.len()];
                 for r in part {
                     if at[r] == 0.0 {
                         continue;
@@ -135,16 +135,17 @@ impl<'a> PatchOperator<'a> {
                         acc[l.node as usize] += at[r] * l.coeff as f64;
                     }
                     for l in row.far {
-                        let s = slot[l.node as usize] as usize;
                         if l.is_cluster() {
                             let (k, w) = l.cluster();
                             let weights = crate::geom::sh::dist_weights(w);
-                            for (a, x) in sh[s].iter_mut().zip(weights) {
+                            let c = clusters.get(l.node as usize).expect("a named node");
+                            for (a, x) in sh[c].iter_mut().zip(weights) {
                                 *a += at[r] * k * x;
                             }
                             continue;
                         }
                         acc[l.node as usize] += at[r] * l.coeff as f64;
+                        let s = slot[l.node as usize] as usize;
                         if s != LEAF_SLOT as usize {
                             grad[s] += l.grad() * at[r];
                         }
@@ -194,26 +195,37 @@ impl<'a> PatchOperator<'a> {
         if nodes > 0 && slot[0] == LEAF_SLOT {
             leaf(0, node_acc[0], 0.0, DVec3::ZERO, None); // a tree of one patch
         }
+        // Cluster sums go down a stack of the inner nodes above the current one (their ends in
+        // `order` and cumulative sums): only the named nodes have accumulators of their own.
+        let mut path: Vec<(u32, [f64; DIST])> = Vec::new();
         for i in 0..nodes {
             if slot[i] == LEAF_SLOT {
                 continue;
             }
             let si = slot[i] as usize;
             let (a, g) = (node_acc[i], node_grad[si]);
-            let sh = node_sh.get(si).copied();
-            for c in self.tree.nodes[i].children {
+            let node = &self.tree.nodes[i];
+            let sh = (!clusters.is_empty()).then(|| {
+                while path.last().is_some_and(|(end, _)| *end <= node.start) {
+                    path.pop();
+                }
+                let own = clusters.get(i).map(|c| node_sh[c]);
+                let sum = match (own, path.last()) {
+                    (Some(own), Some((_, up))) => std::array::from_fn(|k| own[k] + up[k]),
+                    (Some(own), None) => own,
+                    (None, Some((_, up))) => *up,
+                    (None, None) => [0.0; DIST],
+                };
+                path.push((node.end, sum));
+                sum
+            });
+            for c in node.children {
                 let c = c as usize;
                 match slot[c] {
                     LEAF_SLOT => leaf(c, node_acc[c], a, g, sh.as_ref()),
                     sc => {
-                        let sc = sc as usize;
                         node_acc[c] += a;
-                        node_grad[sc] += g;
-                        if let Some(sh) = &sh {
-                            for (x, y) in node_sh[sc].iter_mut().zip(sh) {
-                                *x += y;
-                            }
-                        }
+                        node_grad[sc as usize] += g;
                     }
                 }
             }
@@ -364,5 +376,64 @@ mod tests {
         let lhs: f64 = y.iter().zip(&gb).map(|(a, b)| a * b).sum();
         let rhs: f64 = gty.iter().zip(&b).map(|(a, b)| a * b).sum();
         assert!((lhs / rhs - 1.0).abs() < 1e-9, "{lhs} vs {rhs}");
+    }
+
+    /// The solver's fields keep the normal distributions of the nodes cluster links name, and
+    /// only those: bit for bit the full field's, so every row gathers the same light from both.
+    #[test]
+    fn solver_fields_keep_only_the_named_clusters_bit_for_bit() {
+        let scene = cluttered_room();
+        let occluder = Occluder::build(&scene, OccluderOptions::default());
+        let mesh = crate::patches::build(&scene, 0.2, None);
+        let tree = PatchTree::build(&mesh, (0..mesh.patches.len() as u32).collect());
+        let gatherer = Gatherer {
+            mesh: &mesh,
+            tree: &tree,
+            occluder: &occluder,
+            tau: 0.3,
+        };
+        let links = ReceiverLinks::build(&gatherer, &mesh.receivers);
+        let kept = links.clusters.len();
+        assert!(
+            kept > 0 && kept < tree.inner_nodes / 2,
+            "{kept} of {}",
+            tree.inner_nodes
+        );
+        let b: Vec<DVec3> = (0..mesh.patches.len())
+            .map(|k| DVec3::new(1.0, 2.0, 0.5) * (1.0 + 0.3 * (k as f64 * 0.9).sin()))
+            .collect();
+        let full = tree.node_field(&b);
+        let solver = tree.node_field_for(&b, &links.clusters);
+        assert_eq!(solver.sh.len(), kept);
+        let mut named = 0;
+        for i in 0..tree.nodes.len() {
+            if let Some(c) = links.clusters.get(i) {
+                assert_eq!(solver.sh[c], full.sh[tree.slot[i] as usize], "node {i}");
+                named += 1;
+                // Against the definition: Σ over the node's patches of value × distribution.
+                let node = &tree.nodes[i];
+                let mut direct = [DVec3::ZERO; DIST];
+                for &p in &tree.order[node.start as usize..node.end as usize] {
+                    let patch = &mesh.patches[p as usize];
+                    let d = crate::geom::sh::dist_point(patch.normal, patch.area);
+                    for k in 0..DIST {
+                        direct[k] += b[p as usize] * d[k];
+                    }
+                }
+                let scale = direct
+                    .iter()
+                    .map(|v| v.abs().max_element())
+                    .fold(0.0, f64::max);
+                for k in 0..DIST {
+                    let err = (solver.sh[c][k] - direct[k]).abs().max_element();
+                    assert!(err <= 1e-12 * scale, "node {i} coefficient {k}: {err}");
+                }
+            }
+        }
+        assert_eq!(named, kept);
+        for r in 0..mesh.receivers.len() {
+            let row = links.row(r);
+            assert_eq!(solver.gather(row.far), full.gather(row.far), "receiver {r}");
+        }
     }
 }
