@@ -416,8 +416,8 @@ mod tests {
                 for &p in &tree.order[node.start as usize..node.end as usize] {
                     let patch = &mesh.patches[p as usize];
                     let d = crate::geom::sh::dist_point(patch.normal, patch.area);
-                    for k in 0..DIST {
-                        direct[k] += b[p as usize] * d[k];
+                    for (x, y) in direct.iter_mut().zip(d) {
+                        *x += b[p as usize] * y;
                     }
                 }
                 let scale = direct
