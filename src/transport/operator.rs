@@ -424,8 +424,8 @@ mod tests {
                     .iter()
                     .map(|v| v.abs().max_element())
                     .fold(0.0, f64::max);
-                for k in 0..DIST {
-                    let err = (solver.sh[c][k] - direct[k]).abs().max_element();
+                for (k, (x, y)) in solver.sh[c].iter().zip(&direct).enumerate() {
+                    let err = (*x - *y).abs().max_element();
                     assert!(err <= 1e-12 * scale, "node {i} coefficient {k}: {err}");
                 }
             }
