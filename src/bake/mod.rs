@@ -246,8 +246,8 @@ pub fn solve<'a>(
     );
     drop(links);
 
-    let node_exitance = emitter_tree.node_field(&exitance);
-    let node_reflected = tree.node_field(&reflected);
+    let node_exitance = emitter_tree.node_field(&mesh, &exitance);
+    let node_reflected = tree.node_field(&mesh, &reflected);
     let first_reflected_flux: f64 = (0..mesh.patches.len())
         .map(|i| luma(rho[i] * direct_patch[i]) * areas[i])
         .sum();

@@ -31,7 +31,7 @@ pub fn direct_at_receivers(
     tau: f64,
     progress: &dyn Progress,
 ) -> Vec<DVec3> {
-    let node_exitance = emitter_tree.node_field(exitance);
+    let node_exitance = emitter_tree.node_field(mesh, exitance);
     let gatherer = Gatherer {
         mesh,
         tree: emitter_tree,

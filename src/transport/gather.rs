@@ -312,7 +312,8 @@ impl Gatherer<'_> {
         // What the cluster hides from itself is neither seen nor covers anything.
         let seen = super::silhouette::share_toward(&self.tree.visible[i as usize], w);
         let k = (-n.dot(w)).max(0.0) * vis * seen / (std::f64::consts::PI * d2);
-        let shown = crate::geom::sh::dist_projected(&node.normal_sh, w).max(0.0);
+        let own = &self.tree.normal_sh[self.tree.slot[i as usize] as usize];
+        let shown = crate::geom::sh::dist_projected(own, w).max(0.0);
         coverage.total += k * shown;
         if k > 0.0 {
             out.push(Link::new(i, -k, w * k));
@@ -350,7 +351,7 @@ impl Gatherer<'_> {
             return Sight::Seen;
         }
         let node = &self.tree.bounds[i as usize];
-        let reps = &self.tree.reps[i as usize];
+        let reps = self.tree.reps_of(self.mesh, i as usize);
         let own_hits = self.tree.own_hits.as_ref().filter(|_| node.curved);
         // A representative facing away is a fair target when the node's own patches do not
         // count as blockers (a curved node); otherwise its own front would hide it.
@@ -525,12 +526,11 @@ impl Gatherer<'_> {
         };
         let node = &self.tree.nodes[i as usize];
         let own = node.start..node.end;
-        let reps = &self.tree.reps[i as usize];
         let visible = [0, 2]
             .iter()
             .filter(|&&k| {
                 Self::ray(shared, (i, CLUSTER_KEY + k as u8), || {
-                    let (q, m) = reps[k];
+                    let (q, m) = self.tree.rep(self.mesh, i as usize, k);
                     match patches.first_hit(p, n, q, m) {
                         None => true,
                         Some(hit) => own.contains(&rank[hit]),
@@ -554,12 +554,12 @@ impl Gatherer<'_> {
         if self.occluder.convex_empty {
             return 1.0;
         }
-        let reps = &self.tree.reps[i as usize];
         let visible = at
             .iter()
             .filter(|&&k| {
                 Self::ray(shared, (i, REP_KEY + k as u8), || {
-                    self.occluder.clear(p, n, reps[k].0, reps[k].1)
+                    let (q, m) = self.tree.rep(self.mesh, i as usize, k);
+                    self.occluder.clear(p, n, q, m)
                 })
             })
             .count();
@@ -815,7 +815,8 @@ mod tests {
             let area = tree.nodes[i as usize].moments.area;
             let near = (node.center - p).length() - node.radius;
             let small = area < SMALL_NODE * std::f64::consts::PI * near * near;
-            let reps_below = tree.reps[i as usize]
+            let reps_below = tree
+                .reps_of(&mesh, i as usize)
                 .iter()
                 .all(|(q, _)| n.dot(*q - p) <= 0.0);
             if on_panel && !node.is_leaf() && small && below < 0.0 && above > 0.0 && reps_below {

@@ -70,7 +70,7 @@ impl<'a> PatchOperator<'a> {
 
     /// Irradiance per receiver from per-patch exitance (unscaled: what users see).
     pub fn gather_receivers(&self, b: &[DVec3]) -> Vec<DVec3> {
-        let field = self.tree.node_field_for(b, &self.links.clusters);
+        let field = self.tree.node_field_for(self.mesh, b, &self.links.clusters);
         let mut out = vec![DVec3::ZERO; self.mesh.receivers.len()];
         self.links.apply(&field, &mut out);
         out
@@ -188,8 +188,10 @@ impl<'a> PatchOperator<'a> {
             let node = &self.tree.nodes[c];
             let p = self.tree.order[node.start as usize] as usize;
             let cj = node.moments.centroid;
-            let clusters: f64 =
-                sh.map_or(0.0, |sh| (0..DIST).map(|k| sh[k] * node.normal_sh[k]).sum());
+            let clusters: f64 = sh.map_or(0.0, |sh| {
+                let own = super::tree::leaf_sh(&mesh.patches[p]);
+                (0..DIST).map(|k| sh[k] * own[k]).sum()
+            });
             z[p] = ((own + s + g.dot(cj)) * mesh.patches[p].area + clusters) * self.col[p];
         };
         if nodes > 0 && slot[0] == LEAF_SLOT {
@@ -402,8 +404,8 @@ mod tests {
         let b: Vec<DVec3> = (0..mesh.patches.len())
             .map(|k| DVec3::new(1.0, 2.0, 0.5) * (1.0 + 0.3 * (k as f64 * 0.9).sin()))
             .collect();
-        let full = tree.node_field(&b);
-        let solver = tree.node_field_for(&b, &links.clusters);
+        let full = tree.node_field(&mesh, &b);
+        let solver = tree.node_field_for(&mesh, &b, &links.clusters);
         assert_eq!(solver.sh.len(), kept);
         let mut named = 0;
         for i in 0..tree.nodes.len() {

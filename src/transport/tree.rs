@@ -48,9 +48,6 @@ pub struct TreeNode {
     /// Area of the node's single-sided patches: only their backs absorb (a double-sided patch's
     /// back is its twin, counted on its own).
     pub single_sided_area: f64,
-    /// The node's normal distribution (`geom::sh::Dist`: axis bins, the rest to order 2),
-    /// for far receivers that see its patches from both sides (a chair across the room).
-    pub normal_sh: sh::Dist,
     /// Its patches face more than [`CURVED`] distinct directions (a tessellated chair, not a
     /// room's planes): only such nodes are split in space and treated as two-sided clusters.
     pub curved: bool,
@@ -175,9 +172,15 @@ pub struct PatchTree {
     pub order: Vec<u32>,
     /// Prefix sums of patch area in leaf order (`len = order.len() + 1`).
     pub area_prefix: Vec<f64>,
-    /// Per node: centroid and unit normal of its patches at the area quantiles [`REP_QUANTILES`]
-    /// (in leaf order): the shadow-ray targets that stand for the node.
-    pub reps: Vec<[(DVec3, DVec3); 3]>,
+    /// Per node: its patches at the area quantiles [`REP_QUANTILES`] (in leaf order), whose
+    /// centroids and normals ([`PatchTree::rep`]) are the shadow-ray targets that stand for the
+    /// node. Patch indices rather than points: 12 bytes a node instead of 144 (10⁶ triangles:
+    /// 270 MB).
+    pub reps: Vec<[u32; 3]>,
+    /// Per inner node ([`PatchTree::slot`]): its normal distribution (`geom::sh::Dist`: axis
+    /// bins, the rest to order 2), for far receivers that see its patches from both sides (a
+    /// chair across the room). A leaf's is its patch's, [`leaf_sh`].
+    pub normal_sh: Vec<sh::Dist>,
     /// Per node: the share of its front-facing area it does not hide from itself, along ±x,
     /// ±y, ±z (`silhouette`; 1 for nodes that are never two-sided clusters).
     pub visible: Vec<[f32; 6]>,
@@ -211,6 +214,7 @@ impl PatchTree {
             order: subset,
             area_prefix: Vec::new(),
             reps: Vec::new(),
+            normal_sh: Vec::new(),
             visible: Vec::new(),
             own_hits: None,
             slot: std::sync::Arc::from([]),
@@ -226,6 +230,19 @@ impl PatchTree {
             .collect();
         let n = tree.order.len() as u32;
         tree.split(mesh, &leaf, &clutter_patches(mesh), 0, n);
+        let mut inner = 0;
+        tree.slot = tree
+            .nodes
+            .iter()
+            .map(|node| match node.is_leaf() {
+                true => LEAF_SLOT,
+                false => {
+                    inner += 1;
+                    inner - 1
+                }
+            })
+            .collect();
+        tree.inner_nodes = inner as usize;
         let shapes = tree.finish(mesh, &leaf);
         tree.bounds = tree
             .nodes
@@ -255,26 +272,34 @@ impl PatchTree {
             tree.area_prefix.push(acc);
         }
         tree.reps = (0..tree.nodes.len())
-            .map(|i| REP_QUANTILES.map(|q| tree.representative(mesh, i, q)))
+            .map(|i| REP_QUANTILES.map(|q| tree.representative(i, q)))
             .collect();
-        let mut inner = 0;
-        tree.slot = tree
-            .nodes
-            .iter()
-            .map(|node| match node.is_leaf() {
-                true => LEAF_SLOT,
-                false => {
-                    inner += 1;
-                    inner - 1
-                }
-            })
-            .collect();
-        tree.inner_nodes = inner as usize;
         tree
     }
 
-    /// Centroid and normal of node `i`'s patch at area quantile `q` (in leaf order).
-    fn representative(&self, mesh: &PatchMesh, i: usize, q: f64) -> (DVec3, DVec3) {
+    /// Centroid and unit normal of node `i`'s representative `k` (at area quantile
+    /// `REP_QUANTILES[k]`).
+    pub fn rep(&self, mesh: &PatchMesh, i: usize, k: usize) -> (DVec3, DVec3) {
+        let patch = &mesh.patches[self.reps[i][k] as usize];
+        let c = patch.corners(&mesh.receivers);
+        ((c[0] + c[1] + c[2]) / 3.0, patch.normal)
+    }
+
+    /// All three of node `i`'s representatives ([`PatchTree::rep`]).
+    pub fn reps_of(&self, mesh: &PatchMesh, i: usize) -> [(DVec3, DVec3); 3] {
+        [0, 1, 2].map(|k| self.rep(mesh, i, k))
+    }
+
+    /// Node `i`'s normal distribution: its own for an inner node, its patch's for a leaf.
+    pub fn node_sh(&self, mesh: &PatchMesh, i: usize) -> sh::Dist {
+        match self.slot[i] {
+            LEAF_SLOT => leaf_sh(&mesh.patches[self.order[self.nodes[i].start as usize] as usize]),
+            s => self.normal_sh[s as usize],
+        }
+    }
+
+    /// Node `i`'s patch at area quantile `q` (in leaf order).
+    fn representative(&self, i: usize, q: f64) -> u32 {
         let node = &self.nodes[i];
         let (a0, a1) = (
             self.area_prefix[node.start as usize],
@@ -285,9 +310,7 @@ impl PatchTree {
             .partition_point(|&a| a <= target)
             .saturating_sub(1)
             .min((node.end - node.start - 1) as usize);
-        let patch = &mesh.patches[self.order[node.start as usize + k] as usize];
-        let c = patch.corners(&mesh.receivers);
-        ((c[0] + c[1] + c[2]) / 3.0, patch.normal)
+        self.order[node.start as usize + k]
     }
 
     pub fn is_empty(&self) -> bool {
@@ -307,7 +330,6 @@ impl PatchTree {
         self.nodes.push(TreeNode {
             moments: AreaMoments::ZERO,
             single_sided_area: 0.0,
-            normal_sh: [0.0; sh::DIST],
             curved: false,
             children: [NO_CHILD; 2],
             start,
@@ -356,6 +378,7 @@ impl PatchTree {
             cone_angle: 0.0,
         };
         let mut shapes = vec![unset; self.nodes.len()];
+        self.normal_sh = vec![[0.0; sh::DIST]; self.inner_nodes];
         for i in (0..self.nodes.len()).rev() {
             let node = &self.nodes[i];
             if node.is_leaf() {
@@ -372,7 +395,6 @@ impl PatchTree {
                 let node = &mut self.nodes[i];
                 node.moments = leaf[p];
                 node.single_sided_area = if patch.double_sided { 0.0 } else { patch.area };
-                node.normal_sh = sh::dist_point(patch.normal, patch.area);
             } else {
                 let [ia, ib] = node.children.map(|c| c as usize);
                 let [a, b] = [&self.nodes[ia], &self.nodes[ib]];
@@ -389,15 +411,20 @@ impl PatchTree {
                     cone_angle,
                 };
                 let single = a.single_sided_area + b.single_sided_area;
-                let normal_sh = std::array::from_fn(|k| a.normal_sh[k] + b.normal_sh[k]);
+                let (da, db) = (self.node_sh(mesh, ia), self.node_sh(mesh, ib));
+                self.normal_sh[self.slot[i] as usize] = std::array::from_fn(|k| da[k] + db[k]);
                 let node = &mut self.nodes[i];
-                node.normal_sh = normal_sh;
                 node.single_sided_area = single;
                 node.moments = moments;
             }
         }
         shapes
     }
+}
+
+/// A leaf's normal distribution: its patch's area at its normal.
+pub fn leaf_sh(patch: &crate::patches::Patch) -> sh::Dist {
+    sh::dist_point(patch.normal, patch.area)
 }
 
 fn bounds(points: impl Iterator<Item = DVec3>) -> (DVec3, DVec3) {
@@ -635,8 +662,8 @@ impl NodeField {
 impl PatchTree {
     /// Summarise a per-patch quantity on every node (bottom-up), with the normal distributions
     /// of every inner node (a field any new point may gather from).
-    pub fn node_field(&self, patch_values: &[DVec3]) -> NodeField {
-        self.node_field_for(patch_values, &ClusterSlots::all(self))
+    pub fn node_field(&self, mesh: &PatchMesh, patch_values: &[DVec3]) -> NodeField {
+        self.node_field_for(mesh, patch_values, &ClusterSlots::all(self))
     }
 
     /// [`PatchTree::node_field`] keeping the normal distributions of `clusters` only. The
@@ -644,7 +671,12 @@ impl PatchTree {
     /// same order, so the kept ones are bit for bit those of the full field), the pending
     /// children's on a stack: in a reverse pre-order sweep a node's left child was swept last
     /// and its right child's subtree just before, so their values are the stack's top two.
-    pub fn node_field_for(&self, patch_values: &[DVec3], clusters: &ClusterSlots) -> NodeField {
+    pub fn node_field_for(
+        &self,
+        mesh: &PatchMesh,
+        patch_values: &[DVec3],
+        clusters: &ClusterSlots,
+    ) -> NodeField {
         let n = self.nodes.len();
         let inner = self.inner_nodes;
         let mut mean = vec![DVec3::ZERO; n];
@@ -655,10 +687,11 @@ impl PatchTree {
         for i in (0..n).rev() {
             let node = &self.nodes[i];
             if node.is_leaf() {
-                mean[i] = patch_values[self.order[node.start as usize] as usize];
+                let p = self.order[node.start as usize] as usize;
+                mean[i] = patch_values[p];
                 if with_sh {
                     // A leaf's distribution is its patch's normal, weighted by its value.
-                    pending.push(node.normal_sh.map(|y| mean[i] * y));
+                    pending.push(leaf_sh(&mesh.patches[p]).map(|y| mean[i] * y));
                 }
                 continue;
             }
