@@ -188,7 +188,7 @@ pub fn solve<'a>(
         params.tau_direct,
         progress,
     );
-    let lights = light_patch_flux(&sources, &groups, &mesh, &occluder);
+    let mut lights = light_patch_flux(&sources, &groups, &mesh, &occluder);
     lap("direct", &mut timings);
 
     progress.stage("form factors", mesh.receivers.len() as u64);
@@ -220,14 +220,17 @@ pub fn solve<'a>(
     let direct_patch: Vec<DVec3> = (0..mesh.patches.len())
         .map(|i| lights.per_patch[i] / areas[i] + from_emitters[i])
         .collect();
+    // Not needed past here: two patch-sized vectors fewer while the solver runs.
+    drop(from_emitters);
+    lights.per_patch = Vec::new();
     let b: Vec<DVec3> = (0..mesh.patches.len())
         .map(|i| rho[i] * direct_patch[i])
         .collect();
     let apply = |x: &[DVec3], out: &mut [DVec3]| {
-        let e = operator.apply(x);
+        operator.apply_into(x, out);
         out.par_iter_mut()
             .enumerate()
-            .for_each(|(i, o)| *o = x[i] - rho[i] * e[i]);
+            .for_each(|(i, o)| *o = x[i] - rho[i] * *o);
     };
     let (reflected, stats) = solve::gmres(apply, &b, &areas, params.tolerance, 2_000, 40);
     let indirect_patch = operator.apply(&reflected);

@@ -70,6 +70,11 @@ impl<'a> PatchOperator<'a> {
 
     /// Irradiance per receiver from per-patch exitance (unscaled: what users see).
     pub fn gather_receivers(&self, b: &[DVec3]) -> Vec<DVec3> {
+        self.gather_scaled(|p| b[p])
+    }
+
+    /// Irradiance per receiver from the per-patch exitance `b(patch)`.
+    fn gather_scaled(&self, b: impl Fn(usize) -> DVec3) -> Vec<DVec3> {
         let field = self.tree.node_field_for(self.mesh, b, &self.links.clusters);
         let mut out = vec![DVec3::ZERO; self.mesh.receivers.len()];
         self.links.apply(&field, &mut out);
@@ -78,14 +83,22 @@ impl<'a> PatchOperator<'a> {
 
     /// Irradiance per patch from per-patch exitance, with the balancing scalings.
     pub fn apply(&self, b: &[DVec3]) -> Vec<DVec3> {
-        let scaled: Vec<DVec3> = b.iter().zip(&self.col).map(|(v, c)| *v * *c).collect();
-        let at = self.gather_receivers(&scaled);
+        let mut out = vec![DVec3::ZERO; b.len()];
+        self.apply_into(b, &mut out);
+        out
+    }
+
+    /// [`PatchOperator::apply`] into `out`.
+    pub fn apply_into(&self, b: &[DVec3], out: &mut [DVec3]) {
+        let at = self.gather_scaled(|p| b[p] * self.col[p]);
         self.mesh
             .patches
             .par_iter()
             .zip(&self.row)
-            .map(|(p, r)| p.v.iter().map(|&v| at[v as usize]).sum::<DVec3>() * (r / 3.0))
-            .collect()
+            .zip(out)
+            .for_each(|((p, r), o)| {
+                *o = p.v.iter().map(|&v| at[v as usize]).sum::<DVec3>() * (r / 3.0)
+            });
     }
 
     /// Scalar version of `apply` (for the balancing).
@@ -405,7 +418,7 @@ mod tests {
             .map(|k| DVec3::new(1.0, 2.0, 0.5) * (1.0 + 0.3 * (k as f64 * 0.9).sin()))
             .collect();
         let full = tree.node_field(&mesh, &b);
-        let solver = tree.node_field_for(&mesh, &b, &links.clusters);
+        let solver = tree.node_field_for(&mesh, |p| b[p], &links.clusters);
         assert_eq!(solver.sh.len(), kept);
         let mut named = 0;
         for i in 0..tree.nodes.len() {

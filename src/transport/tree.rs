@@ -663,10 +663,11 @@ impl PatchTree {
     /// Summarise a per-patch quantity on every node (bottom-up), with the normal distributions
     /// of every inner node (a field any new point may gather from).
     pub fn node_field(&self, mesh: &PatchMesh, patch_values: &[DVec3]) -> NodeField {
-        self.node_field_for(mesh, patch_values, &ClusterSlots::all(self))
+        self.node_field_for(mesh, |p| patch_values[p], &ClusterSlots::all(self))
     }
 
-    /// [`PatchTree::node_field`] keeping the normal distributions of `clusters` only. The
+    /// [`PatchTree::node_field`] of the values `patch_value(patch)` (a closure, so a scaled
+    /// field needs no scaled copy), keeping the normal distributions of `clusters` only. The
     /// distributions are summed bottom-up through every node all the same (the same sums in the
     /// same order, so the kept ones are bit for bit those of the full field), the pending
     /// children's on a stack: in a reverse pre-order sweep a node's left child was swept last
@@ -674,7 +675,7 @@ impl PatchTree {
     pub fn node_field_for(
         &self,
         mesh: &PatchMesh,
-        patch_values: &[DVec3],
+        patch_value: impl Fn(usize) -> DVec3,
         clusters: &ClusterSlots,
     ) -> NodeField {
         let n = self.nodes.len();
@@ -688,7 +689,7 @@ impl PatchTree {
             let node = &self.nodes[i];
             if node.is_leaf() {
                 let p = self.order[node.start as usize] as usize;
-                mean[i] = patch_values[p];
+                mean[i] = patch_value(p);
                 if with_sh {
                     // A leaf's distribution is its patch's normal, weighted by its value.
                     pending.push(leaf_sh(&mesh.patches[p]).map(|y| mean[i] * y));
