@@ -240,7 +240,7 @@ impl Gatherer<'_> {
             }
             // A one-sided node's form factor decides how much its visibility is worth: below
             // SMALL_NODE one ray (to the patch at its area median) stands for it.
-            let moments = &self.tree.nodes[i as usize].moments;
+            let moments = self.tree.moments(i as usize);
             let f = facing.map(|_| moments.form_factor(p, n).abs());
             let vis = match f {
                 Some(_) if seen.covers(facing == Some(true)) => 1.0,
@@ -282,12 +282,12 @@ impl Gatherer<'_> {
             coverage.total += f * vis;
         } else {
             // Only single-sided backs cover anything (double-sided ones have twins).
-            let share = node.single_sided_area / node.moments.area.max(1e-300);
+            let share = node.single_sided_area / node.area.max(1e-300);
             coverage.total += f * vis * share;
             coverage.back += f * vis * share;
         }
         if front && vis > 0.0 && f > 0.0 {
-            let g = node.moments.density_gradient(p, n) * vis;
+            let g = self.tree.moments(i as usize).density_gradient(p, n) * vis;
             out.push(Link::new(i, f * vis, g));
         }
     }
@@ -306,13 +306,14 @@ impl Gatherer<'_> {
         coverage: &mut Coverage,
     ) {
         let node = &self.tree.nodes[i as usize];
-        let c = node.moments.centroid;
+        let c = node.centroid;
         let d2 = (c - p).length_squared();
         let w = (p - c) / d2.sqrt();
         // What the cluster hides from itself is neither seen nor covers anything.
-        let seen = super::silhouette::share_toward(&self.tree.visible[i as usize], w);
+        let slot = self.tree.slot[i as usize] as usize;
+        let seen = super::silhouette::share_toward(&self.tree.visible[slot], w);
         let k = (-n.dot(w)).max(0.0) * vis * seen / (std::f64::consts::PI * d2);
-        let own = &self.tree.normal_sh[self.tree.slot[i as usize] as usize];
+        let own = &self.tree.normal_sh[slot];
         let shown = crate::geom::sh::dist_projected(own, w).max(0.0);
         coverage.total += k * shown;
         if k > 0.0 {
@@ -361,7 +362,7 @@ impl Gatherer<'_> {
         // Worth little (its form factor is below SMALL_NODE however its patches turn), like a
         // small one-sided far node: one ray to the patch at its area median decides.
         let near = (node.center - p).length() - node.radius;
-        let area = self.tree.nodes[i as usize].moments.area;
+        let area = self.tree.nodes[i as usize].area;
         if area < SMALL_NODE * std::f64::consts::PI * near * near {
             // The median patch, or when it lies below the receiver's plane (or turns its back)
             // another representative: a node crossing the plane often has only one above it.
@@ -812,7 +813,7 @@ mod tests {
             let on_panel = (node.start..node.end)
                 .all(|k| mesh.patches[tree.order[k as usize] as usize].group == 0);
             let (below, above) = node.height_range(p, n);
-            let area = tree.nodes[i as usize].moments.area;
+            let area = tree.nodes[i as usize].area;
             let near = (node.center - p).length() - node.radius;
             let small = area < SMALL_NODE * std::f64::consts::PI * near * near;
             let reps_below = tree

@@ -190,9 +190,9 @@ impl<'a> PatchOperator<'a> {
         // against the sum of its ancestors' accumulations, pushed down the same way.
         node_acc.par_iter_mut().enumerate().for_each(|(i, a)| {
             let node = &self.tree.nodes[i];
-            *a /= node.moments.area;
+            *a /= node.area;
             if slot[i] != LEAF_SLOT {
-                *a -= node_grad[slot[i] as usize].dot(node.moments.centroid);
+                *a -= node_grad[slot[i] as usize].dot(node.centroid);
             }
         });
         let mut z = vec![0.0; mesh.patches.len()];
@@ -200,7 +200,7 @@ impl<'a> PatchOperator<'a> {
         let mut leaf = |c: usize, own: f64, s: f64, g: DVec3, sh: Option<&[f64; DIST]>| {
             let node = &self.tree.nodes[c];
             let p = self.tree.order[node.start as usize] as usize;
-            let cj = node.moments.centroid;
+            let cj = node.centroid;
             let clusters: f64 = sh.map_or(0.0, |sh| {
                 let own = super::tree::leaf_sh(&mesh.patches[p]);
                 (0..DIST).map(|k| sh[k] * own[k]).sum()

@@ -2,7 +2,7 @@
 //! far viewer actually sees, along each axis direction.
 //!
 //! Input: a [`PatchTree`] (its curved nodes, see `tree::CURVED`) and the patch mesh. Output: per
-//! node six factors V(±x), V(±y), V(±z) in [0, 1] (1 for nodes that are never clusters).
+//! inner node six factors V(±x), V(±y), V(±z) in [0, 1] (1 for nodes that are never clusters).
 //!
 //! A cluster's order-2 model (`geom::sh`) shows the area Σ Aⱼ·max(0, mⱼ·w) toward w: every
 //! front face counts, even one the cluster hides from itself (the floor under a seat, a leg
@@ -20,13 +20,15 @@ use rayon::prelude::*;
 /// Pixels per side of the silhouette grid.
 pub const GRID: usize = 16;
 
-/// Visible shares for every node of `tree` (index as `tree.nodes`; `shapes` are their boxes).
+/// Visible shares for every inner node of `tree` (index as `tree.slot`: inner nodes in node
+/// order; `shapes` are every node's boxes). Leaves are never clusters.
 pub fn visible_shares(tree: &PatchTree, mesh: &PatchMesh, shapes: &[Shape]) -> Vec<[f32; 6]> {
     tree.nodes
         .par_iter()
         .zip(shapes)
+        .filter(|(node, _)| !node.is_leaf())
         .map(|(node, shape)| {
-            if !node.curved || node.is_leaf() {
+            if !node.curved {
                 return [1.0; 6];
             }
             let patches = &tree.order[node.start as usize..node.end as usize];

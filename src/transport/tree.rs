@@ -43,7 +43,10 @@ pub const REP_QUANTILES: [f64; 3] = [0.25, 0.5, 0.75];
 /// and normal cone are there, in the form a visit reads them).
 #[derive(Debug, Clone)]
 pub struct TreeNode {
-    pub moments: AreaMoments,
+    /// Area of the node's patches and its centroid (a far-field source's full moments, needed
+    /// by inner nodes only, are [`PatchTree::moments`]).
+    pub area: f64,
+    pub centroid: DVec3,
     pub children: [u32; 2],
     /// Area of the node's single-sided patches: only their backs absorb (a double-sided patch's
     /// back is its twin, counted on its own).
@@ -101,7 +104,7 @@ impl NodeBounds {
             center: (shape.lo + shape.hi) * 0.5,
             half: (shape.hi - shape.lo) * 0.5,
             radius: (shape.hi - shape.lo).length() * 0.5,
-            centroid: node.moments.centroid,
+            centroid: node.centroid,
             cone_axis: shape.cone_axis,
             cone_chord: 2.0 * (shape.cone_angle / 2.0).sin(),
             cone_wide: shape.cone_angle >= std::f64::consts::FRAC_PI_2,
@@ -181,8 +184,12 @@ pub struct PatchTree {
     /// bins, the rest to order 2), for far receivers that see its patches from both sides (a
     /// chair across the room). A leaf's is its patch's, [`leaf_sh`].
     pub normal_sh: Vec<sh::Dist>,
-    /// Per node: the share of its front-facing area it does not hide from itself, along ±x,
-    /// ±y, ±z (`silhouette`; 1 for nodes that are never two-sided clusters).
+    /// Per inner node ([`PatchTree::slot`]): its area moments to second order (a far-field
+    /// source's geometry; [`PatchTree::moments`]).
+    inner_moments: Vec<AreaMoments>,
+    /// Per inner node ([`PatchTree::slot`]): the share of its front-facing area it does not
+    /// hide from itself, along ±x, ±y, ±z (`silhouette`; 1 for nodes that are never two-sided
+    /// clusters).
     pub visible: Vec<[f32; 6]>,
     /// Exactly for trees with curved nodes: the patches as ray targets, and each patch's position in
     /// `order` (`u32::MAX` outside the tree), so a cluster's shadow ray can tell a blocker that
@@ -215,6 +222,7 @@ impl PatchTree {
             area_prefix: Vec::new(),
             reps: Vec::new(),
             normal_sh: Vec::new(),
+            inner_moments: Vec::new(),
             visible: Vec::new(),
             own_hits: None,
             slot: std::sync::Arc::from([]),
@@ -290,6 +298,11 @@ impl PatchTree {
         [0, 1, 2].map(|k| self.rep(mesh, i, k))
     }
 
+    /// Inner node `i`'s area moments (panics on a leaf: leaves are never far-field sources).
+    pub fn moments(&self, i: usize) -> &AreaMoments {
+        &self.inner_moments[self.slot[i] as usize]
+    }
+
     /// Node `i`'s normal distribution: its own for an inner node, its patch's for a leaf.
     pub fn node_sh(&self, mesh: &PatchMesh, i: usize) -> sh::Dist {
         match self.slot[i] {
@@ -328,7 +341,8 @@ impl PatchTree {
     ) -> u32 {
         let index = self.nodes.len() as u32;
         self.nodes.push(TreeNode {
-            moments: AreaMoments::ZERO,
+            area: 0.0,
+            centroid: DVec3::ZERO,
             single_sided_area: 0.0,
             curved: false,
             children: [NO_CHILD; 2],
@@ -379,6 +393,12 @@ impl PatchTree {
         };
         let mut shapes = vec![unset; self.nodes.len()];
         self.normal_sh = vec![[0.0; sh::DIST]; self.inner_nodes];
+        self.inner_moments = vec![AreaMoments::ZERO; self.inner_nodes];
+        // A child's moments: its patch's for a leaf.
+        let moments_of = |tree: &Self, c: usize| match tree.slot[c] {
+            LEAF_SLOT => leaf[tree.order[tree.nodes[c].start as usize] as usize],
+            s => tree.inner_moments[s as usize],
+        };
         for i in (0..self.nodes.len()).rev() {
             let node = &self.nodes[i];
             if node.is_leaf() {
@@ -393,13 +413,14 @@ impl PatchTree {
                     cone_angle: 0.0,
                 };
                 let node = &mut self.nodes[i];
-                node.moments = leaf[p];
+                node.area = leaf[p].area;
+                node.centroid = leaf[p].centroid;
                 node.single_sided_area = if patch.double_sided { 0.0 } else { patch.area };
             } else {
                 let [ia, ib] = node.children.map(|c| c as usize);
                 let [a, b] = [&self.nodes[ia], &self.nodes[ib]];
                 let [sa, sb] = [shapes[ia], shapes[ib]];
-                let moments = a.moments.combine(&b.moments);
+                let moments = moments_of(self, ia).combine(&moments_of(self, ib));
                 let axis = moments.normal_sum.try_normalize().unwrap_or(sa.cone_axis);
                 let spread =
                     |c: &Shape| c.cone_axis.dot(axis).clamp(-1.0, 1.0).acos() + c.cone_angle;
@@ -415,7 +436,9 @@ impl PatchTree {
                 self.normal_sh[self.slot[i] as usize] = std::array::from_fn(|k| da[k] + db[k]);
                 let node = &mut self.nodes[i];
                 node.single_sided_area = single;
-                node.moments = moments;
+                node.area = moments.area;
+                node.centroid = moments.centroid;
+                self.inner_moments[self.slot[i] as usize] = moments;
             }
         }
         shapes
@@ -708,16 +731,13 @@ impl PatchTree {
                 }
                 pending.push(d);
             }
-            let (wa, wb) = (self.nodes[a].moments.area, self.nodes[b].moments.area);
+            let (wa, wb) = (self.nodes[a].area, self.nodes[b].area);
             if wa + wb <= 0.0 {
                 continue;
             }
             mean[i] = (mean[a] * wa + mean[b] * wb) / (wa + wb);
-            let c = node.moments.centroid;
-            let (da, db) = (
-                self.nodes[a].moments.centroid - c,
-                self.nodes[b].moments.centroid - c,
-            );
+            let c = node.centroid;
+            let (da, db) = (self.nodes[a].centroid - c, self.nodes[b].centroid - c);
             let moment = |c: usize| match self.slot[c] {
                 LEAF_SLOT => [DVec3::ZERO; 3],
                 s => dipole[s as usize],
