@@ -60,9 +60,11 @@ pub struct Solution<'a> {
     /// Illuminance at each receiver: direct and from inter-reflection (lx, RGB).
     pub direct: Vec<DVec3>,
     pub indirect: Vec<DVec3>,
-    /// The patch fields summarised on the trees, for gathering at new points.
+    /// The patch fields summarised on the trees, for gathering at new points: emitted exitance,
+    /// and reflected exitance built when first needed (a bake without probes never reads it,
+    /// and at 10⁶ triangles it is 480 MB: every inner node's normal distribution).
     pub node_exitance: NodeField,
-    pub node_reflected: NodeField,
+    pub(crate) node_reflected: std::sync::OnceLock<NodeField>,
     /// Cuttle's first reflected flux (lm, photometric): Σ ρ × direct flux onto each patch.
     pub first_reflected_flux: f64,
     /// Closest-hit index over the patches (front faces) and the patch of each of its triangles,
@@ -250,7 +252,6 @@ pub fn solve<'a>(
     drop(links);
 
     let node_exitance = emitter_tree.node_field(&mesh, &exitance);
-    let node_reflected = tree.node_field(&mesh, &reflected);
     let first_reflected_flux: f64 = (0..mesh.patches.len())
         .map(|i| luma(rho[i] * direct_patch[i]) * areas[i])
         .sum();
@@ -269,7 +270,7 @@ pub fn solve<'a>(
         direct,
         indirect,
         node_exitance,
-        node_reflected,
+        node_reflected: Default::default(),
         first_reflected_flux,
         surface_index: Default::default(),
     };

@@ -62,9 +62,15 @@ impl Solution<'_> {
             .iter()
             .map(|n| {
                 let row = links::gather_row_shared(&gatherer, p, *n, shared.as_mut());
-                self.node_reflected.gather(&row.links)
+                self.node_reflected().gather(&row.links)
             })
             .collect()
+    }
+
+    /// The reflected exitance summarised on the tree (built on first use, then shared).
+    fn node_reflected(&self) -> &crate::transport::tree::NodeField {
+        self.node_reflected
+            .get_or_init(|| self.tree.node_field(&self.mesh, &self.reflected))
     }
 
     /// Photometric luminance (cd/m²) of the surface first seen from `p` along the unit `dir`
