@@ -62,7 +62,8 @@ pub struct Solution<'a> {
     pub indirect: Vec<DVec3>,
     /// The patch fields summarised on the trees, for gathering at new points: emitted exitance,
     /// and reflected exitance built when first needed (a bake without probes never reads it,
-    /// and at 10⁶ triangles it is 480 MB: every inner node's normal distribution).
+    /// and on the 10⁶-triangle floor its arrays come to about 480 MB, mostly every inner node's
+    /// normal distribution).
     pub node_exitance: NodeField,
     pub(crate) node_reflected: std::sync::OnceLock<NodeField>,
     /// Cuttle's first reflected flux (lm, photometric): Σ ρ × direct flux onto each patch.
