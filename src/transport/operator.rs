@@ -363,8 +363,8 @@ mod tests {
         b.build()
     }
 
-    #[test]
-    fn transpose_matches_apply_with_cluster_links() {
+    /// [`cluttered_room`] meshed at 0.2 m, its tree and every receiver's links (τ = 0.3).
+    fn cluttered_links() -> (crate::patches::PatchMesh, PatchTree, ReceiverLinks) {
         let scene = cluttered_room();
         let occluder = Occluder::build(&scene, OccluderOptions::default());
         let mesh = crate::patches::build(&scene, 0.2, None);
@@ -376,6 +376,12 @@ mod tests {
             tau: 0.3,
         };
         let links = ReceiverLinks::build(&gatherer, &mesh.receivers);
+        (mesh, tree, links)
+    }
+
+    #[test]
+    fn transpose_matches_apply_with_cluster_links() {
+        let (mesh, tree, links) = cluttered_links();
         let clusters = links.far_links().filter(|l| l.is_cluster()).count();
         assert!(clusters > 100, "{clusters} cluster links");
         let mut op = PatchOperator::new(&mesh, &tree, &links);
@@ -397,17 +403,7 @@ mod tests {
     /// only those: bit for bit the full field's, so every row gathers the same light from both.
     #[test]
     fn solver_fields_keep_only_the_named_clusters_bit_for_bit() {
-        let scene = cluttered_room();
-        let occluder = Occluder::build(&scene, OccluderOptions::default());
-        let mesh = crate::patches::build(&scene, 0.2, None);
-        let tree = PatchTree::build(&mesh, (0..mesh.patches.len() as u32).collect());
-        let gatherer = Gatherer {
-            mesh: &mesh,
-            tree: &tree,
-            occluder: &occluder,
-            tau: 0.3,
-        };
-        let links = ReceiverLinks::build(&gatherer, &mesh.receivers);
+        let (mesh, tree, links) = cluttered_links();
         let kept = links.clusters.len();
         assert!(
             kept > 0 && kept < tree.inner_nodes / 2,
