@@ -352,13 +352,14 @@ impl Gatherer<'_> {
             return Sight::Seen;
         }
         let node = &self.tree.bounds[i as usize];
-        let reps = self.tree.reps_of(self.mesh, i as usize);
         let own_hits = self.tree.own_hits.as_ref().filter(|_| node.curved);
         // A representative facing away is a fair target when the node's own patches do not
         // count as blockers (a curved node); otherwise its own front would hide it.
         let backs = facing.is_some() || own_hits.is_some();
         let fair = |(q, m): (DVec3, DVec3)| n.dot(q - p) > 0.0 && (backs || m.dot(p - q) > 0.0);
-        let usable = |k: usize| fair(reps[k]);
+        // Representatives are read (from their patches' corners: scattered loads) only when a
+        // test needs them.
+        let rep = |k: usize| self.tree.rep(self.mesh, i as usize, k);
         // Worth little (its form factor is below SMALL_NODE however its patches turn), like a
         // small one-sided far node: one ray to the patch at its area median decides.
         let near = (node.center - p).length() - node.radius;
@@ -366,8 +367,11 @@ impl Gatherer<'_> {
         if area < SMALL_NODE * std::f64::consts::PI * near * near {
             // The median patch, or when it lies below the receiver's plane (or turns its back)
             // another representative: a node crossing the plane often has only one above it.
-            let target = match [1, 0, 2].into_iter().find(|&k| usable(k)) {
-                Some(k) => Some((k as u8, reps[k])),
+            let target = match [1, 0, 2].into_iter().find_map(|k| {
+                let r = rep(k);
+                fair(r).then_some((k as u8, r))
+            }) {
+                Some(t) => Some(t),
                 None => self.patch_above(p, n, i, fair).map(|t| (ABOVE_KEY, t)),
             };
             return match target {
@@ -378,13 +382,24 @@ impl Gatherer<'_> {
         if node.end - node.start < HIDDEN_MIN_PATCHES {
             return Sight::Unknown;
         }
-        let targets = match (usable(0), usable(1), usable(2)) {
-            (true, _, true) => [0, 2],
-            (true, true, false) => [0, 1],
-            (false, true, true) => [1, 2],
+        // The first and last quartiles when both are fair targets, else the median with
+        // whichever of them is.
+        let (r0, r2) = (rep(0), rep(2));
+        let targets = match (fair(r0), fair(r2)) {
+            (true, true) => [(0, r0), (2, r2)],
+            (a, b) if a != b => {
+                let r1 = rep(1);
+                if !fair(r1) {
+                    return Sight::Unknown;
+                }
+                if a {
+                    [(0, r0), (1, r1)]
+                } else {
+                    [(1, r1), (2, r2)]
+                }
+            }
             _ => return Sight::Unknown,
         };
-        let targets = targets.map(|k| (k as u8, reps[k]));
         self.rep_sight(p, n, i, targets, own_hits, shared)
     }
 
