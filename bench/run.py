@@ -988,6 +988,23 @@ def write_markdown(results, out, rows):
                      f"{r['peakMiB']:.0f} | {c.get('patches', '—')} | {c.get('links', '—')} | "
                      f"{c.get('rays', '—')} |")
         L.append("")
+        staged = [r for r in results["scaling"]
+                  if r.get("stageSeconds") and (r.get("counts") or {}).get("raysByStage")]
+        if staged:
+            L += ["Where the time and the shadow rays go (stage wall seconds; rays in millions, "
+                  "per receiver in brackets):", "",
+                  "| scene | mesh s | direct s | links s | solve s | rays: meshing | "
+                  "direct at receivers | direct into patches | links |",
+                  "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |"]
+            for r in staged:
+                t, c = r["stageSeconds"], r["counts"]
+                rays, n = c["raysByStage"], max(c.get("receivers") or 1, 1)
+                cell = lambda k: f"{rays.get(k, 0) / 1e6:.1f} ({rays.get(k, 0) / n:.0f})"
+                L.append(f"| {r['scene']} | {t.get('mesh', 0):.1f} | {t.get('direct', 0):.1f} | "
+                         f"{t.get('links', 0):.1f} | {t.get('solve', 0):.1f} | "
+                         f"{cell('meshing')} | {cell('directAtReceivers')} | "
+                         f"{cell('directIntoPatches')} | {cell('links')} |")
+            L.append("")
     if results["notes"]:
         L += ["## Notes", ""] + [f"- {n}" for n in results["notes"]] + [""]
     L += ["Reproduce: see [bench/README.md](../README.md). Raw figures: "

@@ -83,6 +83,12 @@ fn closed_box_with_curved_clutter_is_sumpner() {
             clusters > 1000,
             "{clusters} cluster links: the clusters are not exercised"
         );
+        // The summary's rays by stage account for every ray, and the balls make the links trace.
+        let counts = &r.summary["counts"];
+        let by_stage = counts["raysByStage"].as_object().unwrap();
+        let staged: u64 = by_stage.values().map(|v| v.as_u64().unwrap()).sum();
+        assert_eq!(staged, counts["rays"].as_u64().unwrap(), "{by_stage:?}");
+        assert!(by_stage["links"].as_u64().unwrap() > 0, "{by_stage:?}");
         let s_total: f64 = r
             .surfaces
             .iter()

@@ -176,6 +176,15 @@ pub fn solve<'a>(
         progress.warn("the scene has no light source (no emitting material, light or luminaire): everything bakes to 0 lx");
     }
     lap("mesh", &mut timings);
+    // Shadow rays traced by each stage (the counter runs across stages; read between them).
+    let mut rays_by_stage = serde_json::Map::new();
+    let mut rays_before = 0;
+    let mut count_rays = |stage: &str, occluder: &Occluder| {
+        let now = occluder.rays_traced();
+        rays_by_stage.insert(stage.into(), serde_json::json!(now - rays_before));
+        rays_before = now;
+    };
+    count_rays("meshing", &occluder);
 
     progress.stage("direct light", mesh.receivers.len() as u64);
     let groups = Groups::new(&sources);
@@ -191,7 +200,9 @@ pub fn solve<'a>(
         params.tau_direct,
         progress,
     );
+    count_rays("directAtReceivers", &occluder);
     let mut lights = light_patch_flux(&sources, &groups, &mesh, &occluder);
+    count_rays("directIntoPatches", &occluder);
     lap("direct", &mut timings);
 
     progress.stage("form factors", mesh.receivers.len() as u64);
@@ -203,6 +214,7 @@ pub fn solve<'a>(
     };
     let mut links = ReceiverLinks::build(&gatherer, &mesh.receivers);
     lap("links", &mut timings);
+    count_rays("links", &occluder);
 
     progress.stage("solving", 0);
     let rho: Vec<DVec3> = mesh
@@ -286,6 +298,7 @@ pub fn solve<'a>(
         indirect_patch: &indirect_patch,
         rho: &rho,
     });
+    count_rays("energy", &solution.occluder); // escape rays of the energy report
     let summary = serde_json::json!({
         "counts": {
             "surfaces": scene.surfaces.len(),
@@ -295,6 +308,7 @@ pub fn solve<'a>(
             "clusterLinks": link_counts["clusterLinks"],
             "closedReceivers": link_counts["closedReceivers"],
             "rays": solution.occluder.rays_traced(),
+            "raysByStage": rays_by_stage,
             "convexEmptyScene": solution.occluder.convex_empty,
         },
         "adaptiveMeshing": adaptive,
