@@ -367,13 +367,10 @@ impl Gatherer<'_> {
         if area < SMALL_NODE * std::f64::consts::PI * near * near {
             // The median patch, or when it lies below the receiver's plane (or turns its back)
             // another representative: a node crossing the plane often has only one above it.
-            let target = match [1, 0, 2].into_iter().find_map(|k| {
-                let r = rep(k);
-                fair(r).then_some((k as u8, r))
-            }) {
-                Some(t) => Some(t),
-                None => self.patch_above(p, n, i, fair).map(|t| (ABOVE_KEY, t)),
-            };
+            let target = [1, 0, 2]
+                .into_iter()
+                .find_map(|k| Some((k as u8, rep(k))).filter(|(_, r)| fair(*r)))
+                .or_else(|| self.patch_above(p, n, i, fair).map(|t| (ABOVE_KEY, t)));
             return match target {
                 Some(t) => self.rep_sight(p, n, i, [t], own_hits, shared),
                 None => Sight::Unknown,
