@@ -828,10 +828,7 @@ mod tests {
             let area = tree.nodes[i as usize].area;
             let near = (node.center - p).length() - node.radius;
             let small = area < SMALL_NODE * std::f64::consts::PI * near * near;
-            let reps_below = tree
-                .reps_of(&mesh, i as usize)
-                .iter()
-                .all(|(q, _)| n.dot(*q - p) <= 0.0);
+            let reps_below = (0..3).all(|k| n.dot(tree.rep(&mesh, i as usize, k).0 - p) <= 0.0);
             if on_panel && !node.is_leaf() && small && below < 0.0 && above > 0.0 && reps_below {
                 sights.push(gatherer.sight(p, n, i, node.facing(p), &mut None));
             }

@@ -293,11 +293,6 @@ impl PatchTree {
         ((c[0] + c[1] + c[2]) / 3.0, patch.normal)
     }
 
-    /// All three of node `i`'s representatives ([`PatchTree::rep`]).
-    pub fn reps_of(&self, mesh: &PatchMesh, i: usize) -> [(DVec3, DVec3); 3] {
-        [0, 1, 2].map(|k| self.rep(mesh, i, k))
-    }
-
     /// Inner node `i`'s area moments (panics on a leaf: leaves are never far-field sources).
     pub fn moments(&self, i: usize) -> &AreaMoments {
         &self.inner_moments[self.slot[i] as usize]
