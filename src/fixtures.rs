@@ -166,45 +166,18 @@ impl SceneBuilder {
         (rings, segments): (u32, u32),
         material: usize,
     ) {
-        let mut positions = Vec::new();
-        for i in 0..=rings {
-            let theta = std::f64::consts::PI * i as f64 / rings as f64;
-            for j in 0..segments {
-                let phi = 2.0 * std::f64::consts::PI * j as f64 / segments as f64;
-                let d = DVec3::new(
-                    theta.sin() * phi.cos(),
-                    theta.cos(),
-                    theta.sin() * phi.sin(),
-                );
-                positions.push(centre + d * radius);
+        let (dirs, mut triangles) = lat_long(rings, segments);
+        let positions: Vec<DVec3> = dirs.iter().map(|d| centre + *d * radius).collect();
+        for t in &mut triangles {
+            let p = t.map(|v| dirs[v as usize]);
+            if (p[1] - p[0]).cross(p[2] - p[0]).dot(p[0] + p[1] + p[2]) < 0.0 {
+                t.swap(1, 2);
             }
         }
-        let normals: Vec<DVec3> = positions
+        let normals = positions
             .iter()
             .map(|p| (*p - centre).normalize_or_zero())
             .collect();
-        let at = |i: u32, j: u32| i * segments + j % segments;
-        let mut triangles = Vec::new();
-        for i in 0..rings {
-            for j in 0..segments {
-                let (a, b, c, d) = (at(i, j), at(i, j + 1), at(i + 1, j + 1), at(i + 1, j));
-                let mut quad = Vec::new();
-                if i > 0 {
-                    quad.push([a, b, d]);
-                }
-                if i + 1 < rings {
-                    quad.push([b, c, d]);
-                }
-                for mut t in quad {
-                    let p = t.map(|v| positions[v as usize]);
-                    let out = (p[0] + p[1] + p[2]) / 3.0 - centre;
-                    if (p[1] - p[0]).cross(p[2] - p[0]).dot(out) < 0.0 {
-                        t.swap(1, 2);
-                    }
-                    triangles.push(t);
-                }
-            }
-        }
         self.surface(name, positions, normals, triangles, material);
     }
 
@@ -484,6 +457,107 @@ pub fn closed_box_with_balls(size: DVec3, rho: f64, panel: f64, l: f64) -> Scene
         b.ball(&format!("ball_{k}"), centre, 0.25, (6, 8), walls);
     }
     b.build()
+}
+
+/// Unit directions of a latitude-longitude sphere (`rings` × `segments`, +Y the pole) and its
+/// triangles, unoriented.
+fn lat_long(rings: u32, segments: u32) -> (Vec<DVec3>, Vec<[u32; 3]>) {
+    let mut dirs = Vec::new();
+    for i in 0..=rings {
+        let theta = std::f64::consts::PI * i as f64 / rings as f64;
+        for j in 0..segments {
+            let phi = 2.0 * std::f64::consts::PI * j as f64 / segments as f64;
+            dirs.push(DVec3::new(
+                theta.sin() * phi.cos(),
+                theta.cos(),
+                theta.sin() * phi.sin(),
+            ));
+        }
+    }
+    let at = |i: u32, j: u32| i * segments + j % segments;
+    let mut triangles = Vec::new();
+    for i in 0..rings {
+        for j in 0..segments {
+            let (a, b, c, d) = (at(i, j), at(i, j + 1), at(i + 1, j + 1), at(i + 1, j));
+            if i > 0 {
+                triangles.push([a, b, d]);
+            }
+            if i + 1 < rings {
+                triangles.push([b, c, d]);
+            }
+        }
+    }
+    (dirs, triangles)
+}
+
+/// [`sphere_interior`]'s scene and the figures its closed form needs.
+pub struct SphereInterior {
+    pub scene: Scene,
+    /// Area of all facets, and of the black ones (m²).
+    pub area: f64,
+    pub black_area: f64,
+    /// The black facets' share of the solid angle around the centre (of the light's flux).
+    pub black_light_share: f64,
+}
+
+/// The inside of a tessellated sphere (radius `radius` m, centre at the origin, `rings` ×
+/// `segments` latitude-longitude facets, radial shading normals pointing inward, +Y up) with an
+/// isotropic point light of `flux` lm at the centre. Facets whose centroid lies below y =
+/// `cap_y` are black (reflectance 0, a separate node "cap"), the rest reflect `rho` (node
+/// "shell"). A concave curved enclosure in which every element sees every other in proportion
+/// to its area, so the inter-reflected illuminance is the same at every point.
+pub fn sphere_interior(
+    radius: f64,
+    (rings, segments): (u32, u32),
+    cap_y: f64,
+    rho: f64,
+    flux: f64,
+) -> SphereInterior {
+    let mut b = SceneBuilder::new();
+    let grey = b.material("shell", rho);
+    let black = b.material("black", 0.0);
+    let (dirs, triangles) = lat_long(rings, segments);
+    let positions: Vec<DVec3> = dirs.iter().map(|d| *d * radius).collect();
+    let normals: Vec<DVec3> = dirs.iter().map(|d| -*d).collect();
+    let (mut shell, mut cap) = (Vec::new(), Vec::new());
+    let (mut area, mut black_area, mut black_angle) = (0.0, 0.0, 0.0);
+    for mut t in triangles {
+        let p = t.map(|v| positions[v as usize]);
+        let centroid = (p[0] + p[1] + p[2]) / 3.0;
+        // Counter-clockwise seen from inside: the front faces the centre.
+        if (p[1] - p[0]).cross(p[2] - p[0]).dot(centroid) > 0.0 {
+            t.swap(1, 2);
+        }
+        let a = (p[1] - p[0]).cross(p[2] - p[0]).length() / 2.0;
+        area += a;
+        if centroid.y < cap_y {
+            black_area += a;
+            black_angle += solid_angle(p);
+            cap.push(t);
+        } else {
+            shell.push(t);
+        }
+    }
+    b.surface("shell", positions.clone(), normals.clone(), shell, grey);
+    if !cap.is_empty() {
+        b.surface("cap", positions, normals, cap, black);
+    }
+    b.point_light("lamp", DVec3::ZERO, flux);
+    SphereInterior {
+        scene: b.build(),
+        area,
+        black_area,
+        black_light_share: black_angle / (4.0 * std::f64::consts::PI),
+    }
+}
+
+/// Solid angle (sr) of triangle `p` seen from the origin (Van Oosterom and Strackee).
+fn solid_angle(p: [DVec3; 3]) -> f64 {
+    let [a, b, c] = p;
+    let (la, lb, lc) = (a.length(), b.length(), c.length());
+    let num = a.dot(b.cross(c)).abs();
+    let den = la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la;
+    2.0 * num.atan2(den)
 }
 
 /// The furnace: a closed box whose every surface emits luminance `l` and reflects `rho`; the

@@ -113,6 +113,28 @@ fn closed_box_with_curved_clutter_is_sumpner() {
 }
 
 #[test]
+fn inside_a_sphere_inter_reflected_light_is_sumpner_at_every_vertex() {
+    // Inside a sphere every element sees every other in proportion to its area, so Sumpner's
+    // balance holds pointwise: E_ind = ρ·Φ/(S·(1−ρ)) at every vertex, S the facets' area. A
+    // concave curved surface: its vertices' receivers must not slip behind the facets around
+    // them (they did, and read a sixth of this).
+    let flux = 1000.0;
+    for rho in [0.5, 0.8, 0.99] {
+        let sphere = fixtures::sphere_interior(2.0, (24, 48), f64::NEG_INFINITY, rho, flux);
+        let r = run(&sphere.scene, &Settings::default());
+        let want = rho * flux / (sphere.area * (1.0 - rho));
+        let mut worst: f64 = 0.0;
+        for s in &r.surfaces {
+            for (e, d) in s.illuminance.iter().zip(&s.illuminance_direct) {
+                worst = worst.max(rel((e - d) as f64, want));
+            }
+        }
+        eprintln!("sphere rho {rho}: want {want:.4} lx, worst vertex {worst:.2e}");
+        assert!(worst < 0.005, "rho {rho}: worst vertex off by {worst}");
+    }
+}
+
+#[test]
 fn furnace_exitance_is_uniform_and_exact_at_every_vertex() {
     let (l, rho) = (100.0, 0.9);
     let scene = fixtures::furnace(DVec3::new(2.0, 3.0, 5.0), rho, l);

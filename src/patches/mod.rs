@@ -309,6 +309,7 @@ fn add_group(mesh: &mut PatchMesh, g: GroupInput) {
             double_sided: g.double_sided,
         });
     }
+    let mut offset = Vec::with_capacity(n);
     for i in 0..n {
         let nudge = 1e-4 * local[i].min(g.h);
         let face = face_sum[i].normalize_or_zero();
@@ -324,12 +325,35 @@ fn add_group(mesh: &mut PatchMesh, g: GroupInput) {
             face
         };
         let tangent_in = (inward[i] - normal * inward[i].dot(normal)).normalize_or_zero();
+        offset.push(tangent_in * nudge);
         mesh.receivers.push(Receiver {
             position: g.positions[i],
             normal,
-            point: g.positions[i] + tangent_in * nudge,
+            point: g.positions[i],
             group,
         });
+    }
+    // On a concave curved surface (a dome or a round room seen from inside) a step along the
+    // tangent plane leaves the surface behind the facets around the vertex, which then showed
+    // the receiver their backs over up to half its hemisphere (inside a tessellated sphere the
+    // coverage came to 2 and the inter-reflected light to a sixth of Sumpner's). Lift the step
+    // along the normal until no facet around the vertex has the point behind its plane; the
+    // most tilted one then passes through the point (seen edge-on, it covers nothing). On flat
+    // and convex surfaces the step is already on or in front of every facet around it.
+    let mut lift = vec![0.0f64; n];
+    for t in g.triangles {
+        let p = t.map(|v| g.positions[v as usize]);
+        let facet = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
+        for &v in t {
+            let r = &mesh.receivers[r0 + v as usize];
+            let (behind, rise) = (-facet.dot(offset[v as usize]), facet.dot(r.normal));
+            if behind > 0.0 && rise > 0.0 {
+                lift[v as usize] = lift[v as usize].max(behind / rise);
+            }
+        }
+    }
+    for (i, r) in mesh.receivers[r0..].iter_mut().enumerate() {
+        r.point = g.positions[i] + offset[i] + r.normal * lift[i];
     }
     mesh.groups.push(Group {
         surface: g.surface,
