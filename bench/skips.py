@@ -11,13 +11,18 @@ reference (the same measures as bench/run.py):
   working-plane mean against the harness's converged reference when bench/results/results.json
   has it;
 - outputs not asked for: the office without probes (the default) and with a 1 m probe grid and
-  a working plane (probes cost only when asked).
+  a working plane (probes cost only when asked);
+- black surfaces: the office with its floor, dark desks and picture black (reflectance 0), and
+  with every surface black, each without links to black surfaces (the default) and with them
+  (hidden flag --gather-black); the error is `bake diff` of the two (their meshes are the same).
 Short runs are repeated three times, the fastest kept. Python standard library only.
 """
 
 import argparse
 import json
 import os
+import shutil
+import subprocess
 import sys
 import tempfile
 
@@ -29,11 +34,11 @@ BENCH = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(BENCH)
 
 
-def bake(binary, inp, out_dir, args, repeats=3):
+def bake(binary, inp, out_dir, args, repeats=3, out="out.gltf"):
     best = None
     for _ in range(repeats):
         summary = os.path.join(out_dir, "summary.json")
-        m = measure.run([binary, inp, "-o", os.path.join(out_dir, "out.gltf"), "-q",
+        m = measure.run([binary, inp, "-o", os.path.join(out_dir, out), "-q",
                          "--summary-json", summary] + args)
         if m["returncode"] != 0:
             raise SystemExit(f"bake failed: {args}")
@@ -41,6 +46,31 @@ def bake(binary, inp, out_dir, args, repeats=3):
         if best is None or m["wall"] < best["wall"]:
             best = m
     return best
+
+
+def black_office(tmp, name, black):
+    """A copy of the sample office (its folder, for the profiles) whose materials named in
+    `black` (all when None) reflect nothing."""
+    src = os.path.join(ROOT, "samples", "office")
+    dst = os.path.join(tmp, name)
+    shutil.copytree(src, dst)
+    doc = json.load(open(os.path.join(src, "office.gltf")))
+    for mat in doc["materials"]:
+        if black is None or mat["name"] in black:
+            mat["extensions"]["LUXBAKE_material"]["reflectance"] = 0.0
+    json.dump(doc, open(os.path.join(dst, "office.gltf"), "w"))
+    return os.path.join(dst, "office.gltf")
+
+
+def diff(binary, a, b, mode, quantity):
+    """`bake diff a b --mode mode --json`: the overall relative error of `quantity` (B the
+    reference)."""
+    out = subprocess.run([binary, "diff", a, b, "--mode", mode, "--json"], capture_output=True,
+                         text=True)
+    if out.returncode == 2:
+        raise SystemExit(f"bake diff could not compare: {out.stderr}")
+    q = {x["quantity"]: x["overall"] for x in json.loads(out.stdout)["quantities"]}
+    return q[quantity]
 
 
 def row(name, variant, m, error):
@@ -99,6 +129,28 @@ def main():
             m = bake(a.bake, office, tmp, args)
             out = m["summary"].get("timingsSeconds", {}).get("output", 0.0)
             lines.append(row("office", variant, m, f"output stage {out:.2f} s"))
+        # Black surfaces: nobody gathers from them (the default), or every receiver does.
+        for name, black in [("office, floor + dark desks + picture black", ("floor", "desk_dark", "picture")),
+                            ("office, every surface black", None)]:
+            scene = black_office(tmp, "black" if black else "allblack", black)
+            runs = []
+            for k, args in enumerate([[], ["--gather-black"]]):
+                m = bake(a.bake, scene, tmp, args + ["--working-plane", "0.8",
+                                                     "--working-plane-spacing", "0.5", "--report",
+                                                     "json", "--report-out", os.path.join(tmp, "r.json")],
+                         out=f"black-{k}.gltf")
+                m["wp"] = json.load(open(os.path.join(tmp, "r.json")))["workingPlane"]["eAvg"]
+                runs.append(m)
+            skipped, gathered = runs
+            pa, pb = (os.path.join(tmp, f"black-{k}.gltf") for k in range(2))
+            v = diff(a.bake, pa, pb, "vertices", "illuminance")
+            p = diff(a.bake, pa, pb, "probes", "probeFaces")
+            err = (f"working plane {skipped['wp']:.2f} vs {gathered['wp']:.2f} lx "
+                   f"({(skipped['wp'] / gathered['wp'] - 1) * 100:+.3f} %); vertices p95 "
+                   f"{v['rel']['p95'] * 100:.2f} %, max {v['rel']['max'] * 100:.2f} %; "
+                   f"working-plane probes' six faces max {p['rel']['max'] * 100:.2f} %")
+            lines.append(row(name, "no links to black (default)", skipped, err))
+            lines.append(row(name, "links to black", gathered, "the reference of the line above"))
     lines.append("")
     open(a.out, "w").write("\n".join(lines))
     print("\n".join(lines))

@@ -86,6 +86,9 @@ pub struct Settings {
     /// Trace shadow rays even where the scene is a convex empty enclosure (testing).
     #[serde(skip)]
     pub always_trace: bool,
+    /// Gather from black patches like any other (testing: what skipping them saves).
+    #[serde(skip)]
+    pub gather_black: bool,
     /// Patches of one size everywhere instead of adaptive meshing (see `bake::meshing`).
     pub uniform_patches: bool,
     /// A grid of probes over the floor (`--probe-grid SPACING --probe-height H`).
@@ -120,6 +123,7 @@ impl Default for Settings {
             threads: None,
             record_timings: false,
             always_trace: false,
+            gather_black: false,
             uniform_patches: false,
             probe_grid: None,
             extra_probes: Vec::new(),

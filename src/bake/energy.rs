@@ -118,13 +118,16 @@ pub fn balance(i: Inputs) -> EnergyBalance {
 
 /// Fraction of each patch's outgoing (cosine-distributed) flux that leaves the scene: 0 for
 /// patches whose receivers are all enclosed, else measured with 16 × 16 stratified
-/// cosine-weighted rays from the patch centroid.
+/// cosine-weighted rays from the patch centroid. Not measured (0) for patches that send nothing
+/// out: the fraction is only ever multiplied by what they send.
 fn open_fractions(s: &Solution, closed: &[bool]) -> Vec<f64> {
     let mesh = &s.mesh;
     mesh.patches
         .par_iter()
-        .map(|p| {
-            if p.v.iter().all(|&v| closed[v as usize]) {
+        .enumerate()
+        .map(|(k, p)| {
+            let dark = s.exitance[k] == DVec3::ZERO && s.reflected[k] == DVec3::ZERO;
+            if dark || p.v.iter().all(|&v| closed[v as usize]) {
                 return 0.0;
             }
             let c = p.corners(&mesh.receivers);

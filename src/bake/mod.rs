@@ -66,6 +66,8 @@ pub struct Solution<'a> {
     /// normal distribution).
     pub node_exitance: NodeField,
     pub(crate) node_reflected: std::sync::OnceLock<NodeField>,
+    /// Per tree node, when some are: all its patches are black (`Gatherer::dark`).
+    pub dark: Option<Vec<bool>>,
     /// Cuttle's first reflected flux (lm, photometric): Σ ρ × direct flux onto each patch.
     pub first_reflected_flux: f64,
     /// Closest-hit index over the patches (front faces) and the patch of each of its triangles,
@@ -206,25 +208,37 @@ pub fn solve<'a>(
     lap("direct", &mut timings);
 
     progress.stage("form factors", mesh.receivers.len() as u64);
-    let gatherer = Gatherer {
-        mesh: &mesh,
-        tree: &tree,
-        occluder: &occluder,
-        tau: params.tau,
-    };
-    let mut links = ReceiverLinks::build(&gatherer, &mesh.receivers);
-    lap("links", &mut timings);
-    count_rays("links", &occluder);
-
-    progress.stage("solving", 0);
     let rho: Vec<DVec3> = mesh
         .patches
         .iter()
         .map(|p| scene.materials[mesh.groups[p.group as usize].material].reflectance)
         .collect();
+    // Black nodes: every patch reflects nothing and emits nothing into the patch field, so
+    // their exitance stays zero and nobody gathers from them (only what they cover counts).
+    let dark = match settings.gather_black {
+        true => None,
+        false => tree.nodes_where(|p| rho[p] == DVec3::ZERO && exitance[p] == DVec3::ZERO),
+    };
+    let gatherer = Gatherer {
+        mesh: &mesh,
+        tree: &tree,
+        occluder: &occluder,
+        tau: params.tau,
+        dark: dark.as_deref(),
+    };
+    let mut links = match dark.as_ref().is_some_and(|d| d[0]) {
+        // Black throughout: nothing is reflected, so there is nothing to gather.
+        true => ReceiverLinks::none(mesh.receivers.len(), tree.nodes.len()),
+        false => ReceiverLinks::build(&gatherer, &mesh.receivers),
+    };
+    lap("links", &mut timings);
+    count_rays("links", &occluder);
+
+    progress.stage("solving", 0);
     let areas: Vec<f64> = mesh.patches.iter().map(|p| p.area).collect();
     let mut operator = PatchOperator::new(&mesh, &tree, &links);
-    let balance_stats = operator.balance(40, 1e-6);
+    let black = |p: usize| dark.is_some() && rho[p] == DVec3::ZERO && exitance[p] == DVec3::ZERO;
+    let balance_stats = operator.balance(40, 1e-6, &black);
     // Direct irradiance of each patch: punctual lights exactly (solid angle), emitting surfaces
     // through the balanced operator (so a closed room receives exactly what they emit).
     let from_emitters = if emitter_tree.is_empty() {
@@ -284,6 +298,7 @@ pub fn solve<'a>(
         indirect,
         node_exitance,
         node_reflected: Default::default(),
+        dark,
         first_reflected_flux,
         surface_index: Default::default(),
     };

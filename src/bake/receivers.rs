@@ -37,6 +37,7 @@ pub fn direct_at_receivers(
         tree: emitter_tree,
         occluder: occ,
         tau,
+        dark: None,
     };
     mesh.receivers
         .par_chunks(256)

@@ -27,6 +27,7 @@ impl Solution<'_> {
             tree: &self.emitter_tree,
             occluder: &self.occluder,
             tau: self.settings.params().tau_direct,
+            dark: None,
         };
         super::receivers::direct_at_faces(
             super::receivers::Lights {
@@ -55,6 +56,7 @@ impl Solution<'_> {
             tree: &self.tree,
             occluder: &self.occluder,
             tau: self.settings.params().tau,
+            dark: self.dark.as_deref(),
         };
         // One plane alone has nothing to share.
         let mut shared = (normals.len() > 1).then(SharedRays::default);

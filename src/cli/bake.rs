@@ -36,6 +36,9 @@ pub struct BakeArgs {
     /// Trace shadow rays even inside a convex empty enclosure (to measure what skipping saves).
     #[arg(long, hide = true)]
     always_trace: bool,
+    /// Gather light from black surfaces like any other (to measure what skipping them saves).
+    #[arg(long, hide = true)]
+    gather_black: bool,
     /// Far-field acceptance ratio, radius/distance (overrides the one of --quality).
     #[arg(long, value_name = "RATIO", hide = true, allow_negative_numbers = true)]
     far_field: Option<f64>,
@@ -119,6 +122,7 @@ fn settings(args: &BakeArgs) -> Result<Settings> {
         record_timings: args.timings_in_output,
         uniform_patches: args.uniform_patches,
         always_trace: args.always_trace,
+        gather_black: args.gather_black,
         ..Settings::default()
     };
     args.probes.apply(&mut settings)?;

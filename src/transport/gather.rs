@@ -31,6 +31,8 @@
 //! subtree.
 //! A far node crossing the receiver's plane whose part above it cannot have a form factor of
 //! 10⁻⁵ ([`HORIZON`]: a sliver of something far away on the horizon) is skipped.
+//! Black nodes ([`Gatherer::dark`]: nothing reflected, nothing emitted into the field) are
+//! visited like any other, for what they cover, but get no link.
 
 use super::tree::{NodeBounds, PatchTree};
 use crate::geom::lambert;
@@ -77,6 +79,8 @@ pub struct Coverage {
     pub total: f64,
     /// Back faces of single-sided patches (they absorb what reaches them).
     pub back: f64,
+    /// Front faces of black nodes ([`Gatherer::dark`]): covered, but linked to nothing.
+    pub dark: f64,
 }
 
 /// One source seen by a receiver.
@@ -132,6 +136,13 @@ pub struct Gatherer<'a> {
     pub occluder: &'a Occluder,
     /// Far-field acceptance: bounding radius / distance below which a node is one source.
     pub tau: f64,
+    /// Per tree node, when some are: all its patches are black — they reflect nothing and emit
+    /// nothing into the patch field, so their exitance is zero whatever the solve finds. Such a
+    /// node gets no link, but what it covers is still measured as precisely as any other's,
+    /// because an enclosed receiver's row is normalised by its total coverage: tracing one ray
+    /// per black leaf instead of up to sixteen moved vertices beside a black floor by up to half
+    /// their value.
+    pub dark: Option<&'a [bool]>,
 }
 
 /// Shadow-ray answers shared by gathers at one point with different normals (the six faces of a
@@ -151,6 +162,11 @@ const ABOVE_KEY: u8 = 3;
 const ABOVE_SEARCH: usize = 32;
 
 impl Gatherer<'_> {
+    /// Is node `i` black ([`Gatherer::dark`])?
+    fn is_dark(&self, i: u32) -> bool {
+        self.dark.is_some_and(|d| d[i as usize])
+    }
+
     /// Append the links seen from `p` (normal `n`) to `out`; return the covered fractions.
     pub fn links(&self, p: DVec3, n: DVec3, out: &mut Vec<Link>) -> Coverage {
         self.links_shared(p, n, out, None)
@@ -206,8 +222,9 @@ impl Gatherer<'_> {
                 coverage.total += f * vis;
                 if !front {
                     coverage.back += f * vis;
-                }
-                if front && vis > 0.0 {
+                } else if self.is_dark(i) {
+                    coverage.dark += f * vis;
+                } else {
                     out.push(Link::new(i, f * vis, DVec3::ZERO));
                 }
                 continue;
@@ -280,6 +297,10 @@ impl Gatherer<'_> {
         let node = &self.tree.nodes[i as usize];
         if front {
             coverage.total += f * vis;
+            if self.is_dark(i) {
+                coverage.dark += f * vis;
+                return;
+            }
         } else {
             // Only single-sided backs cover anything (double-sided ones have twins).
             let share = node.single_sided_area / node.area.max(1e-300);
@@ -316,6 +337,10 @@ impl Gatherer<'_> {
         let own = &self.tree.normal_sh[slot];
         let shown = crate::geom::sh::dist_projected(own, w).max(0.0);
         coverage.total += k * shown;
+        if self.is_dark(i) {
+            coverage.dark += k * shown;
+            return;
+        }
         if k > 0.0 {
             out.push(Link::new(i, -k, w * k));
         }
@@ -658,6 +683,7 @@ mod tests {
             tree,
             occluder,
             tau: 0.3,
+            dark: None,
         }
     }
 

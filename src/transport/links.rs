@@ -31,6 +31,9 @@ pub struct ReceiverLinks {
     pub back: Vec<f32>,
     /// Rows normalised because the receiver is enclosed.
     pub closed: Vec<bool>,
+    /// Fraction covered by black nodes, which get no links (after normalisation, like `back`);
+    /// empty when the gatherer has no black nodes ([`ReceiverLinks::dark`]).
+    dark: Vec<f32>,
     /// The nodes cluster links name: the only ones whose normal distributions the solver's
     /// node fields need.
     pub clusters: ClusterSlots,
@@ -66,7 +69,7 @@ const CHUNK: usize = 64;
 
 impl ReceiverLinks {
     pub fn build(gatherer: &Gatherer, receivers: &[Receiver]) -> Self {
-        type Built = (RowChunk, Vec<(f32, f32, bool)>);
+        type Built = (RowChunk, Vec<(f32, f32, bool, f32)>);
         let built: Vec<Built> = receivers
             .par_chunks(CHUNK)
             .map(|chunk| {
@@ -96,7 +99,7 @@ impl ReceiverLinks {
                 }
                 let stats = rows
                     .iter()
-                    .map(|r| (r.coverage as f32, r.back as f32, r.closed))
+                    .map(|r| (r.coverage as f32, r.back as f32, r.closed, r.dark as f32))
                     .collect();
                 let chunk = RowChunk {
                     leaf_at,
@@ -111,12 +114,16 @@ impl ReceiverLinks {
         let mut coverage = Vec::with_capacity(receivers.len());
         let mut back = Vec::with_capacity(receivers.len());
         let mut closed = Vec::with_capacity(receivers.len());
+        let mut dark = Vec::with_capacity(gatherer.dark.map_or(0, |_| receivers.len()));
         for (chunk, stats) in built {
             chunks.push(chunk);
-            for (c, b, k) in stats {
+            for (c, b, k, d) in stats {
                 coverage.push(c);
                 back.push(b);
                 closed.push(k);
+                if gatherer.dark.is_some() {
+                    dark.push(d);
+                }
             }
         }
         let clusters = ClusterSlots::named(
@@ -132,8 +139,36 @@ impl ReceiverLinks {
             coverage,
             back,
             closed,
+            dark,
             clusters,
         }
+    }
+
+    /// No rows at all, for `n` receivers over a tree of `nodes` nodes: a scene that is black
+    /// throughout reflects nothing, so nothing needs gathering (each receiver covered by
+    /// nothing, enclosed by nothing).
+    pub fn none(n: usize, nodes: usize) -> Self {
+        ReceiverLinks {
+            chunks: (0..n.div_ceil(CHUNK))
+                .map(|k| RowChunk {
+                    leaf_at: vec![0; CHUNK.min(n - k * CHUNK) + 1],
+                    leaves: Vec::new(),
+                    far_at: vec![0; CHUNK.min(n - k * CHUNK) + 1],
+                    far: Vec::new(),
+                })
+                .collect(),
+            coverage: vec![0.0; n],
+            back: vec![0.0; n],
+            closed: vec![false; n],
+            dark: Vec::new(),
+            clusters: ClusterSlots::named(nodes, std::iter::empty()),
+        }
+    }
+
+    /// Fraction of receiver `r`'s hemisphere covered by black nodes, which its row does not
+    /// link (normalised like [`ReceiverLinks::back`]).
+    pub fn dark(&self, r: usize) -> f32 {
+        self.dark.get(r).copied().unwrap_or(0.0)
     }
 
     /// Receiver `r`'s row.
@@ -178,6 +213,8 @@ pub struct Row {
     pub coverage: f64,
     /// Back-face fraction (after normalisation).
     pub back: f64,
+    /// Fraction covered by black nodes, which have no links (after normalisation).
+    pub dark: f64,
     pub closed: bool,
 }
 
@@ -196,7 +233,7 @@ pub fn gather_row_shared(
     let mut links = Vec::new();
     let c = gatherer.links_shared(p, n, &mut links, shared);
     let closed = c.total >= 0.999 || (c.total > 0.05 && enclosed(gatherer, p, n));
-    let mut back = c.back;
+    let (mut back, mut dark) = (c.back, c.dark);
     if closed && c.total > 0.0 {
         let scale = 1.0 / c.total;
         for l in &mut links {
@@ -204,11 +241,13 @@ pub fn gather_row_shared(
             l.grad = l.grad.map(|g| g * scale as f32);
         }
         back *= scale;
+        dark *= scale;
     }
     Row {
         links,
         coverage: c.total,
         back,
+        dark,
         closed,
     }
 }

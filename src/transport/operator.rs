@@ -252,7 +252,16 @@ impl<'a> PatchOperator<'a> {
     /// patch's hemisphere covered by back faces (which absorb). By reciprocity the same fraction
     /// of what a patch sends lands on front faces. Patches with (almost) nothing but back faces in
     /// view — inside solid objects — are left alone.
-    pub fn balance(&mut self, max_iterations: usize, tolerance: f64) -> BalanceStats {
+    ///
+    /// Black nodes get no links (`Gatherer::dark`), so a row sums to one minus the back faces
+    /// and the black nodes it sees; the columns of `black` patches (whose exitance is zero
+    /// whatever the scaling) are neither scaled nor measured.
+    pub fn balance(
+        &mut self,
+        max_iterations: usize,
+        tolerance: f64,
+        black: &dyn Fn(usize) -> bool,
+    ) -> BalanceStats {
         let mesh = self.mesh;
         let mean = |p: &crate::patches::Patch, f: &dyn Fn(usize) -> f64| {
             p.v.iter().map(|&v| f(v as usize)).sum::<f64>() / 3.0
@@ -268,6 +277,13 @@ impl<'a> PatchOperator<'a> {
             .zip(&target)
             .map(|(p, t)| *t > 0.05 && p.v.iter().all(|&v| self.links.closed[v as usize]))
             .collect();
+        let row_target: Vec<f64> = mesh
+            .patches
+            .iter()
+            .zip(&target)
+            .map(|(p, t)| (t - mean(p, &|r| self.links.dark(r) as f64)).max(0.0))
+            .collect();
+        let closed_column: Vec<bool> = (0..closed.len()).map(|j| closed[j] && !black(j)).collect();
         let areas: Vec<f64> = mesh.patches.iter().map(|p| p.area).collect();
         let ones = vec![1.0; mesh.patches.len()];
         // The area-weighted mean deviation is what loses or creates flux each bounce; the largest
@@ -277,7 +293,7 @@ impl<'a> PatchOperator<'a> {
             .map(|i| areas[i])
             .sum::<f64>()
             .max(1e-300);
-        let error = |sums: &[f64]| -> f64 {
+        let error = |sums: &[f64], target: &[f64], closed: &[bool]| -> f64 {
             (0..sums.len())
                 .filter(|&i| closed[i])
                 .map(|i| areas[i] * (sums[i] - target[i]).abs())
@@ -286,10 +302,12 @@ impl<'a> PatchOperator<'a> {
         };
         let worst = |sums: &[f64]| -> f64 {
             (0..sums.len())
-                .filter(|&i| closed[i])
+                .filter(|&i| closed_column[i])
                 .map(|i| (sums[i] - target[i]).abs())
                 .fold(0.0, f64::max)
         };
+        let row_error = |sums: &[f64]| error(sums, &row_target, &closed);
+        let column_error = |sums: &[f64]| error(sums, &target, &closed_column);
         let column_sums = |op: &Self| -> Vec<f64> {
             op.apply_transpose(&areas)
                 .iter()
@@ -300,8 +318,8 @@ impl<'a> PatchOperator<'a> {
         let mut cols = column_sums(self);
         let mut stats = BalanceStats {
             iterations: 0,
-            row_error_before: error(&self.apply_scalar(&ones)),
-            column_error_before: error(&cols),
+            row_error_before: row_error(&self.apply_scalar(&ones)),
+            column_error_before: column_error(&cols),
             worst_column_before: worst(&cols),
             row_error_after: 0.0,
             column_error_after: 0.0,
@@ -312,7 +330,7 @@ impl<'a> PatchOperator<'a> {
         for _ in 0..max_iterations {
             // `cols` holds the current scalings' column sums (before the first step, the ones
             // measured above).
-            stats.column_error_after = error(&cols);
+            stats.column_error_after = column_error(&cols);
             stats.worst_column_after = worst(&cols);
             // Stop at the tolerance, or when an iteration no longer gains 5 %: the rest is
             // inconsistency between the estimated targets, not something more sweeps remove.
@@ -322,7 +340,7 @@ impl<'a> PatchOperator<'a> {
             previous = stats.column_error_after;
             stats.iterations += 1;
             for j in 0..cols.len() {
-                if closed[j] && cols[j] > 0.0 {
+                if closed_column[j] && cols[j] > 0.0 {
                     // Over-relaxed Sinkhorn step (exponent ω = 1.5): the slow, smooth part of
                     // the error goes several times faster; the factor is bounded for safety.
                     self.col[j] *= (target[j] / cols[j]).powf(OVERRELAX).clamp(0.5, 2.0);
@@ -331,12 +349,12 @@ impl<'a> PatchOperator<'a> {
             let rows = self.apply_scalar(&ones);
             for i in 0..rows.len() {
                 if closed[i] && rows[i] > 0.0 {
-                    self.row[i] *= target[i] / rows[i];
+                    self.row[i] *= row_target[i] / rows[i];
                 }
             }
             cols = column_sums(self);
         }
-        stats.row_error_after = error(&self.apply_scalar(&ones));
+        stats.row_error_after = row_error(&self.apply_scalar(&ones));
         stats
     }
 }
@@ -374,6 +392,7 @@ mod tests {
             tree: &tree,
             occluder: &occluder,
             tau: 0.3,
+            dark: None,
         };
         let links = ReceiverLinks::build(&gatherer, &mesh.receivers);
         (mesh, tree, links)

@@ -325,6 +325,22 @@ impl PatchTree {
         self.nodes.is_empty()
     }
 
+    /// Per node: does every one of its patches pass `patch` (given a patch index)? `None` when
+    /// no patch does, so callers keep their plain path.
+    pub fn nodes_where(&self, patch: impl Fn(usize) -> bool) -> Option<Vec<bool>> {
+        let mut passing = Vec::with_capacity(self.order.len() + 1);
+        passing.push(0u32);
+        for &p in &self.order {
+            passing.push(passing[passing.len() - 1] + patch(p as usize) as u32);
+        }
+        if passing[passing.len() - 1] == 0 {
+            return None;
+        }
+        let all =
+            |n: &TreeNode| passing[n.end as usize] - passing[n.start as usize] == n.end - n.start;
+        Some(self.nodes.iter().map(all).collect())
+    }
+
     /// Create the node for `order[start..end]` and its subtree (pre-order); returns its index.
     fn split(
         &mut self,
