@@ -18,7 +18,9 @@ mod meshing;
 mod receivers;
 mod solution;
 
-use crate::direct::{bounds::ProfileBounds, emitters, groups::Groups, sources::DirectSource};
+use crate::direct::{
+    bounds::ProfileBounds, emitters, enclosed::Solids, groups::Groups, sources::DirectSource,
+};
 use crate::error::{Error, Result};
 use crate::patches::PatchMesh;
 use crate::progress::Progress;
@@ -203,7 +205,8 @@ pub fn solve<'a>(
         progress,
     );
     count_rays("directAtReceivers", &occluder);
-    let mut lights = light_patch_flux(&sources, &groups, &mesh, &occluder);
+    let solids = Solids::new(scene);
+    let mut lights = light_patch_flux(&sources, &groups, &mesh, &occluder, &solids);
     count_rays("directIntoPatches", &occluder);
     lap("direct", &mut timings);
 
@@ -373,6 +376,7 @@ fn light_patch_flux(
     groups: &Groups,
     mesh: &PatchMesh,
     occ: &Occluder,
+    solids: &Solids,
 ) -> LightFlux {
     // Fixed chunks of patches, each summed into its own totals, the chunks' totals added in
     // order: deterministic whatever the thread count. (A row of every source for every patch,
@@ -395,7 +399,19 @@ fn light_patch_flux(
                 let c = (corners[0] + corners[1] + corners[2]) / 3.0;
                 let clear = |q: DVec3, n: DVec3| occ.clear(c, n, q, DVec3::ZERO);
                 row.fill((0.0, 0.0));
+                // Sources that can light only this patch's back, when that back is lit by its
+                // twin instead (double-sided) or faces the inside of a closed solid they lie
+                // outside of, send it nothing: no rays for them.
+                let dark_back = match p.double_sided {
+                    true => Some(None),
+                    false => solids.of(mesh.groups[p.group as usize].surface).map(Some),
+                };
                 groups.visit(c, &[p.normal, -p.normal], clear, |k, known| {
+                    if dark_back
+                        .is_some_and(|solid| sources[k].behind_and_outside(c, p.normal, solid))
+                    {
+                        return;
+                    }
                     let (front, back) = sources[k].patch_flux(occ, &corners, p.normal, known);
                     // A double-sided patch's back is its twin, which takes that light as front.
                     row[k] = (front, if p.double_sided { 0.0 } else { back });

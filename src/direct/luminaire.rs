@@ -111,6 +111,13 @@ impl<'a> Source<'a> {
                 .intensity(self.world_from_photometric.transpose() * dir)
     }
 
+    /// The corners of the opening (world, m): every sub-source lies in this rectangle.
+    pub fn opening_corners(&self) -> [DVec3; 4] {
+        let [x, y] = self.half;
+        [(-x, -y), (x, -y), (x, y), (-x, y)]
+            .map(|(a, b)| self.position + self.world_from_photometric * DVec3::new(a, b, 0.0))
+    }
+
     /// The sub-sources seen from `p`: world position and share of the output.
     pub fn split(&self, p: DVec3) -> Vec<(DVec3, f64)> {
         let mut out = Vec::new();

@@ -3,6 +3,7 @@
 
 pub mod bounds;
 pub mod emitters;
+pub mod enclosed;
 pub mod flux;
 pub mod groups;
 pub mod luminaire;

@@ -4,7 +4,7 @@
 
 use super::bounds::ProfileBounds;
 use super::groups::Known;
-use super::{luminaire, profiled, punctual};
+use super::{enclosed, luminaire, profiled, punctual};
 use crate::patches::PatchMesh;
 use crate::scene::{Light, LightKind, Scene};
 use crate::visibility::Occluder;
@@ -157,6 +157,28 @@ impl<'a> DirectSource<'a> {
             DirectSource::Luminaire(s) => s.patch_flux(occ, corners, normal, s.budget(), known),
             DirectSource::Profiled(s) => s.patch_flux(occ, corners, normal),
         }
+    }
+
+    /// Does the source lie wholly behind the plane through `c` with unit normal `n` — so that
+    /// there it can light only a patch's back — and, when `solid` is given, wholly outside that
+    /// box? Conservative: profiled emitting surfaces always answer no.
+    pub fn behind_and_outside(&self, c: DVec3, n: DVec3, solid: Option<enclosed::Bounds>) -> bool {
+        let corners: Vec<DVec3> = match self {
+            // At infinity: outside every box.
+            DirectSource::Punctual(l) if l.kind == LightKind::Directional => {
+                return n.dot(l.direction) > 0.0;
+            }
+            DirectSource::Punctual(l) => vec![l.position],
+            DirectSource::Luminaire(s) => s.opening_corners().to_vec(),
+            DirectSource::Profiled(_) => return false,
+        };
+        let behind = corners.iter().all(|q| n.dot(*q - c) < 0.0);
+        let bounds = corners
+            .iter()
+            .fold((corners[0], corners[0]), |(lo, hi), q| {
+                (lo.min(*q), hi.max(*q))
+            });
+        behind && solid.is_none_or(|s| !enclosed::overlap(s, bounds))
     }
 
     /// Emitted flux (lm); `None` for a directional light (it emits what the scene intercepts).
