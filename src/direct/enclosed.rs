@@ -80,17 +80,35 @@ fn solid_bounds(s: &Surface) -> Option<Bounds> {
     if edges.keys().any(|&(a, b)| !edges.contains_key(&(b, a))) {
         return None;
     }
-    // Six times the signed volume, about the box's centre (for precision far from the origin).
+    // Six times the signed volume of each connected part, about the box's centre (for
+    // precision far from the origin): every part must face out. (One mesh may hold a solid and
+    // a small room facing in, whose backs face the world: its whole volume could still be
+    // positive.)
+    let mut parent: Vec<u32> = (0..weld.len() as u32).collect();
+    fn root(parent: &mut [u32], mut i: u32) -> u32 {
+        while parent[i as usize] != i {
+            parent[i as usize] = parent[parent[i as usize] as usize];
+            i = parent[i as usize];
+        }
+        i
+    }
+    for t in &s.triangles {
+        let r = t.map(|k| root(&mut parent, id[k as usize]));
+        parent[r[1] as usize] = r[0];
+        let r2 = root(&mut parent, r[2]);
+        parent[r2 as usize] = r[0];
+    }
     let o = (lo + hi) / 2.0;
-    let volume: f64 = s
+    let mut volume = vec![0.0f64; weld.len()];
+    for t in &s.triangles {
+        let [a, b, c] = t.map(|k| s.positions[k as usize] - o);
+        volume[root(&mut parent, id[t[0] as usize]) as usize] += a.dot(b.cross(c));
+    }
+    let outward = s
         .triangles
         .iter()
-        .map(|t| {
-            let [a, b, c] = t.map(|k| s.positions[k as usize] - o);
-            a.dot(b.cross(c))
-        })
-        .sum();
-    (volume > 0.0).then_some((lo, hi))
+        .all(|t| volume[root(&mut parent, id[t[0] as usize]) as usize] > 0.0);
+    outward.then_some((lo, hi))
 }
 
 /// Do boxes `a` and `b` overlap (touching counts)?
@@ -194,6 +212,27 @@ mod tests {
         };
         assert_eq!(build(true), Some((DVec3::ZERO, DVec3::new(2.0, 1.0, 3.0))));
         assert_eq!(build(false), None, "fronts facing in: the backs face out");
+        // A solid and, in the same mesh, a smaller box facing in: not a solid.
+        let mut b = SceneBuilder::new();
+        let m = b.material("grey", 0.5);
+        let (mut positions, mut triangles) = (Vec::new(), Vec::new());
+        let small = crate::fixtures::box_faces(DVec3::splat(10.0), DVec3::splat(11.0));
+        for (quads, outward) in [(faces, true), (small, false)] {
+            for quad in quads {
+                let k = positions.len() as u32;
+                let q = if outward {
+                    [quad[0], quad[3], quad[2], quad[1]]
+                } else {
+                    quad
+                };
+                positions.extend(q);
+                triangles.push([k, k + 1, k + 2]);
+                triangles.push([k, k + 2, k + 3]);
+            }
+        }
+        let normals = vec![DVec3::Y; positions.len()];
+        b.surface("solid and room", positions, normals, triangles, m);
+        assert_eq!(solids(b)[0], None);
         // One face missing: open.
         let mut b = SceneBuilder::new();
         let m = b.material("grey", 0.5);

@@ -165,6 +165,11 @@ impl ReceiverLinks {
         }
     }
 
+    /// Did the gatherer have black nodes (so rows leave out what they cover)?
+    pub fn has_dark(&self) -> bool {
+        !self.dark.is_empty()
+    }
+
     /// Fraction of receiver `r`'s hemisphere covered by black nodes, which its row does not
     /// link (normalised like [`ReceiverLinks::back`]).
     pub fn dark(&self, r: usize) -> f32 {

@@ -277,13 +277,20 @@ impl<'a> PatchOperator<'a> {
             .zip(&target)
             .map(|(p, t)| *t > 0.05 && p.v.iter().all(|&v| self.links.closed[v as usize]))
             .collect();
-        let row_target: Vec<f64> = mesh
-            .patches
-            .iter()
-            .zip(&target)
-            .map(|(p, t)| (t - mean(p, &|r| self.links.dark(r) as f64)).max(0.0))
-            .collect();
-        let closed_column: Vec<bool> = (0..closed.len()).map(|j| closed[j] && !black(j)).collect();
+        // Without black nodes rows and columns share their targets (two patch-sized arrays
+        // fewer on a 10⁶-triangle bake).
+        use std::borrow::Cow;
+        let (row_target, closed_column): (Cow<[f64]>, Cow<[bool]>) = match self.links.has_dark() {
+            false => (Cow::Borrowed(&target), Cow::Borrowed(&closed)),
+            true => (
+                mesh.patches
+                    .iter()
+                    .zip(&target)
+                    .map(|(p, t)| (t - mean(p, &|r| self.links.dark(r) as f64)).max(0.0))
+                    .collect(),
+                (0..closed.len()).map(|j| closed[j] && !black(j)).collect(),
+            ),
+        };
         let areas: Vec<f64> = mesh.patches.iter().map(|p| p.area).collect();
         let ones = vec![1.0; mesh.patches.len()];
         // The area-weighted mean deviation is what loses or creates flux each bounce; the largest
