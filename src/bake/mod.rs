@@ -216,11 +216,12 @@ pub fn solve<'a>(
         .iter()
         .map(|p| scene.materials[mesh.groups[p.group as usize].material].reflectance)
         .collect();
-    // Black nodes: every patch reflects nothing and emits nothing into the patch field, so
-    // their exitance stays zero and nobody gathers from them (only what they cover counts).
+    // Black patches reflect nothing and emit nothing into the patch field, so their exitance
+    // stays zero and nobody gathers from nodes of them alone (only what they cover counts).
+    let black = |p: usize| rho[p] == DVec3::ZERO && exitance[p] == DVec3::ZERO;
     let dark = match settings.gather_black {
         true => None,
-        false => tree.nodes_where(|p| rho[p] == DVec3::ZERO && exitance[p] == DVec3::ZERO),
+        false => tree.nodes_where(black),
     };
     let gatherer = Gatherer {
         mesh: &mesh,
@@ -240,8 +241,7 @@ pub fn solve<'a>(
     progress.stage("solving", 0);
     let areas: Vec<f64> = mesh.patches.iter().map(|p| p.area).collect();
     let mut operator = PatchOperator::new(&mesh, &tree, &links);
-    let black = |p: usize| dark.is_some() && rho[p] == DVec3::ZERO && exitance[p] == DVec3::ZERO;
-    let balance_stats = operator.balance(40, 1e-6, &black);
+    let balance_stats = operator.balance(40, 1e-6, &|p| dark.is_some() && black(p));
     // Direct irradiance of each patch: punctual lights exactly (solid angle), emitting surfaces
     // through the balanced operator (so a closed room receives exactly what they emit).
     let from_emitters = if emitter_tree.is_empty() {

@@ -186,66 +186,45 @@ mod tests {
         assert!(!sun.behind_and_outside(c, DVec3::X, None));
     }
 
-    #[test]
-    fn a_box_with_split_corners_closes_and_facing_in_does_not() {
-        // Twenty-four vertices (each corner once per face, as exporters write sharp boxes).
-        let faces = crate::fixtures::box_faces(DVec3::ZERO, DVec3::new(2.0, 1.0, 3.0));
-        let build = |outward: bool| {
-            let mut b = SceneBuilder::new();
-            let m = b.material("grey", 0.5);
-            let (mut positions, mut triangles) = (Vec::new(), Vec::new());
-            for quad in faces {
-                // box_faces lists each face counter-clockwise from inside.
-                let q = if outward {
-                    [quad[0], quad[3], quad[2], quad[1]]
-                } else {
-                    quad
-                };
-                let k = positions.len() as u32;
-                positions.extend(q);
-                triangles.push([k, k + 1, k + 2]);
-                triangles.push([k, k + 2, k + 3]);
-            }
-            let normals = vec![DVec3::Y; positions.len()];
-            b.surface("box", positions, normals, triangles, m);
-            solids(b)[0]
-        };
-        assert_eq!(build(true), Some((DVec3::ZERO, DVec3::new(2.0, 1.0, 3.0))));
-        assert_eq!(build(false), None, "fronts facing in: the backs face out");
-        // A solid and, in the same mesh, a smaller box facing in: not a solid.
+    /// One surface made of the quads of `boxes` (each `box_faces`, counter-clockwise from
+    /// inside; turned round for `outward`), four vertices a quad, as exporters write sharp
+    /// boxes: whether it is a solid, and its box.
+    fn quads(boxes: &[(&[[DVec3; 4]], bool)]) -> Option<Bounds> {
         let mut b = SceneBuilder::new();
         let m = b.material("grey", 0.5);
         let (mut positions, mut triangles) = (Vec::new(), Vec::new());
-        let small = crate::fixtures::box_faces(DVec3::splat(10.0), DVec3::splat(11.0));
-        for (quads, outward) in [(faces, true), (small, false)] {
-            for quad in quads {
+        for (faces, outward) in boxes {
+            for quad in faces.iter() {
                 let k = positions.len() as u32;
-                let q = if outward {
-                    [quad[0], quad[3], quad[2], quad[1]]
-                } else {
-                    quad
-                };
-                positions.extend(q);
+                positions.extend(match outward {
+                    true => [quad[0], quad[3], quad[2], quad[1]],
+                    false => *quad,
+                });
                 triangles.push([k, k + 1, k + 2]);
                 triangles.push([k, k + 2, k + 3]);
             }
         }
         let normals = vec![DVec3::Y; positions.len()];
-        b.surface("solid and room", positions, normals, triangles, m);
-        assert_eq!(solids(b)[0], None);
+        b.surface("quads", positions, normals, triangles, m);
+        solids(b)[0]
+    }
+
+    #[test]
+    fn a_box_with_split_corners_closes_and_facing_in_does_not() {
+        let faces = crate::fixtures::box_faces(DVec3::ZERO, DVec3::new(2.0, 1.0, 3.0));
+        let small = crate::fixtures::box_faces(DVec3::splat(10.0), DVec3::splat(11.0));
+        assert_eq!(
+            quads(&[(&faces, true)]),
+            Some((DVec3::ZERO, DVec3::new(2.0, 1.0, 3.0)))
+        );
+        assert_eq!(
+            quads(&[(&faces, false)]),
+            None,
+            "fronts facing in: the backs face out"
+        );
+        // A solid and, in the same mesh, a smaller box facing in: not a solid.
+        assert_eq!(quads(&[(&faces, true), (&small, false)]), None);
         // One face missing: open.
-        let mut b = SceneBuilder::new();
-        let m = b.material("grey", 0.5);
-        let mut positions = Vec::new();
-        let mut triangles = Vec::new();
-        for quad in &faces[1..] {
-            let k = positions.len() as u32;
-            positions.extend([quad[0], quad[3], quad[2], quad[1]]);
-            triangles.push([k, k + 1, k + 2]);
-            triangles.push([k, k + 2, k + 3]);
-        }
-        let normals = vec![DVec3::Y; positions.len()];
-        b.surface("open box", positions, normals, triangles, m);
-        assert_eq!(solids(b)[0], None);
+        assert_eq!(quads(&[(&faces[1..], true)]), None);
     }
 }

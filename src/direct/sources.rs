@@ -163,13 +163,14 @@ impl<'a> DirectSource<'a> {
     /// there it can light only a patch's back — and, when `solid` is given, wholly outside that
     /// box? Conservative: profiled emitting surfaces always answer no.
     pub fn behind_and_outside(&self, c: DVec3, n: DVec3, solid: Option<enclosed::Bounds>) -> bool {
-        let corners: Vec<DVec3> = match self {
+        // Runs for every patch and source: no allocation.
+        let corners: [DVec3; 4] = match self {
             // At infinity: outside every box.
             DirectSource::Punctual(l) if l.kind == LightKind::Directional => {
                 return n.dot(l.direction) > 0.0;
             }
-            DirectSource::Punctual(l) => vec![l.position],
-            DirectSource::Luminaire(s) => s.opening_corners().to_vec(),
+            DirectSource::Punctual(l) => [l.position; 4],
+            DirectSource::Luminaire(s) => s.opening_corners(),
             DirectSource::Profiled(_) => return false,
         };
         let behind = corners.iter().all(|q| n.dot(*q - c) < 0.0);

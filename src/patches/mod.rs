@@ -341,14 +341,13 @@ fn add_group(mesh: &mut PatchMesh, g: GroupInput) {
     // most tilted one then passes through the point (seen edge-on, it covers nothing). On flat
     // and convex surfaces the step is already on or in front of every facet around it.
     let mut lift = vec![0.0f64; n];
-    for t in g.triangles {
-        let p = t.map(|v| g.positions[v as usize]);
-        let facet = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
-        for &v in t {
-            let r = &mesh.receivers[r0 + v as usize];
-            let (behind, rise) = (-facet.dot(offset[v as usize]), facet.dot(r.normal));
+    for p in &mesh.patches[p0..] {
+        for &v in &p.v {
+            let i = v as usize - r0;
+            let normal = mesh.receivers[v as usize].normal;
+            let (behind, rise) = (-p.normal.dot(offset[i]), p.normal.dot(normal));
             if behind > 0.0 && rise > 0.0 {
-                lift[v as usize] = lift[v as usize].max(behind / rise);
+                lift[i] = lift[i].max(behind / rise);
             }
         }
     }
