@@ -13,7 +13,7 @@
 //! keep patches 4× the area of the uniform mesh's; shadow edges and steep gradients get patches
 //! a quarter of it. `--uniform-patches` turns it off (the harness measures both).
 
-use crate::direct::{bounds::ProfileBounds, emitters, groups::Groups, sources::DirectSource};
+use crate::direct::{bounds::ProfileBounds, emitters, sources::DirectSource};
 use crate::patches::{self, PatchMesh, adapt::Adapt};
 use crate::scene::Scene;
 use crate::settings::Settings;
@@ -61,7 +61,7 @@ pub fn mesh(
     // light from downlights, yet its inter-reflected light drops to zero under the fitting: a
     // coarse patch with a covered corner then took a third of the light it receives away
     // (the office's working plane was 1.5 % low in its indirect part).
-    let groups = Groups::new(&sources);
+    let groups = DirectSource::groups(&sources);
     let direct = |p: DVec3, n: DVec3| -> f64 {
         let mut e = [0.0];
         let clear = |q: DVec3, n: DVec3| occluder.clear(p, n, q, DVec3::ZERO);

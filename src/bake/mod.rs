@@ -29,7 +29,7 @@ use crate::scene::{Scene, luma};
 use crate::settings::Settings;
 use crate::solve;
 use crate::transport::{
-    gather::Gatherer, links::ReceiverLinks, operator::PatchOperator, tree::NodeField,
+    field::NodeField, gather::Gatherer, links::ReceiverLinks, operator::PatchOperator,
     tree::PatchTree,
 };
 use crate::visibility::{Occluder, OccluderOptions};
@@ -191,7 +191,7 @@ pub fn solve<'a>(
     count_rays("meshing", &occluder);
 
     progress.stage("direct light", mesh.receivers.len() as u64);
-    let groups = Groups::new(&sources);
+    let groups = DirectSource::groups(&sources);
     let direct = receivers::direct_at_receivers(
         receivers::Lights {
             sources: &sources,
@@ -281,7 +281,7 @@ pub fn solve<'a>(
     );
     drop(links);
 
-    let node_exitance = emitter_tree.node_field(&mesh, &exitance);
+    let node_exitance = NodeField::new(&emitter_tree, &mesh, &exitance);
     let first_reflected_flux: f64 = (0..mesh.patches.len())
         .map(|i| luma(rho[i] * direct_patch[i]) * areas[i])
         .sum();

@@ -6,10 +6,7 @@
 use crate::direct::{groups::Groups, sources::DirectSource};
 use crate::patches::PatchMesh;
 use crate::progress::Progress;
-use crate::transport::{
-    gather::Gatherer,
-    tree::{NodeField, PatchTree},
-};
+use crate::transport::{field::NodeField, gather::Gatherer, tree::PatchTree};
 use crate::visibility::Occluder;
 use glam::DVec3;
 use rayon::prelude::*;
@@ -31,7 +28,7 @@ pub fn direct_at_receivers(
     tau: f64,
     progress: &dyn Progress,
 ) -> Vec<DVec3> {
-    let node_exitance = emitter_tree.node_field(mesh, exitance);
+    let node_exitance = NodeField::new(emitter_tree, mesh, exitance);
     let gatherer = Gatherer {
         mesh,
         tree: emitter_tree,

@@ -7,6 +7,7 @@ use super::Solution;
 use crate::direct::sources::DirectSource;
 use crate::scene::luma;
 use crate::transport::{
+    field::NodeField,
     gather::{Gatherer, SharedRays},
     links,
 };
@@ -70,9 +71,9 @@ impl Solution<'_> {
     }
 
     /// The reflected exitance summarised on the tree (built on first use, then shared).
-    fn node_reflected(&self) -> &crate::transport::tree::NodeField {
+    fn node_reflected(&self) -> &NodeField {
         self.node_reflected
-            .get_or_init(|| self.tree.node_field(&self.mesh, &self.reflected))
+            .get_or_init(|| NodeField::new(&self.tree, &self.mesh, &self.reflected))
     }
 
     /// Photometric luminance (cd/m²) of the surface first seen from `p` along the unit `dir`

@@ -20,7 +20,6 @@
 //! than 10 % (where two rays miss a partly hidden group's other members), the total unchanged
 //! (−0.003 %).
 
-use super::sources::DirectSource;
 use glam::DVec3;
 
 /// Bounding radius / distance below which a group's visibility is settled by two rays.
@@ -66,13 +65,6 @@ pub struct Groups {
 }
 
 impl Groups {
-    pub fn new(sources: &[DirectSource]) -> Self {
-        Self::from_places(sources.iter().map(|s| match s {
-            DirectSource::Luminaire(l) => Some((l.position, l.half[0].hypot(l.half[1]))),
-            _ => None,
-        }))
-    }
-
     /// Groups over sources given by their place: `Some((position, radius of the opening))` for
     /// a luminaire, `None` for a source that is always traced.
     pub fn from_places(places: impl Iterator<Item = Option<(DVec3, f64)>>) -> Self {

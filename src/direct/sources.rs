@@ -3,7 +3,7 @@
 //! surfaces are not here: their light travels through the patch field (see `direct::emitters`).
 
 use super::bounds::ProfileBounds;
-use super::groups::Known;
+use super::groups::{Groups, Known};
 use super::{enclosed, luminaire, profiled, punctual};
 use crate::patches::PatchMesh;
 use crate::scene::{Light, LightKind, Scene};
@@ -36,6 +36,15 @@ impl<'a> DirectSource<'a> {
             .into_iter()
             .map(DirectSource::Profiled);
         lights.chain(luminaires).chain(surfaces).collect()
+    }
+
+    /// The luminaires among `sources` grouped in space for shared visibility (other sources are
+    /// always traced).
+    pub fn groups(sources: &[DirectSource]) -> Groups {
+        Groups::from_places(sources.iter().map(|s| match s {
+            DirectSource::Luminaire(l) => Some((l.position, l.half[0].hypot(l.half[1]))),
+            _ => None,
+        }))
     }
 
     /// What the summary says about this source, given the flux it put onto surfaces (lm).

@@ -13,8 +13,9 @@
 //! touch). A receiver that sees (almost) nothing (coverage ≤ 0.05: pressed against another face)
 //! is left alone. Open receivers keep their rows as computed.
 
-use super::gather::{Gatherer, Link, SharedRays};
-use super::tree::{ClusterSlots, NodeField};
+use super::field::{ClusterSlots, NodeField};
+use super::gather::{Gatherer, SharedRays};
+use super::link::{Leaf, Link};
 use crate::geom::samples;
 use crate::patches::Receiver;
 use glam::DVec3;
@@ -46,15 +47,6 @@ struct RowChunk {
     leaves: Vec<Leaf>,
     far_at: Vec<u32>,
     far: Vec<Link>,
-}
-
-/// A link without a gradient — every link to one patch (a leaf of the tree, whose exitance is
-/// uniform) — in 8 bytes instead of a [`Link`]'s 20. Most links are leaves: on the open-plan
-/// floors they were most of a bake's memory.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Leaf {
-    pub node: u32,
-    pub coeff: f32,
 }
 
 /// One receiver's row: its leaf links and the rest (far-field and cluster links).

@@ -1,7 +1,11 @@
-//! Light transport between patches and receivers: the patch hierarchy ([`tree`]), gathering at
-//! a point ([`gather`]), and the precomputed receiver rows used by the solver ([`links`]).
+//! Light transport between patches and receivers: the patch hierarchy ([`tree`]), fields
+//! summarised on it ([`field`]), gathering at a point ([`gather`], giving [`link`]s), the
+//! precomputed receiver rows used by the solver ([`links`]) and the patch-to-patch operator
+//! ([`operator`]).
 
+pub mod field;
 pub mod gather;
+pub mod link;
 pub mod links;
 pub mod operator;
 pub mod silhouette;

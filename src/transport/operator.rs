@@ -15,6 +15,7 @@
 //! leaving open ones as computed. The values users see are gathered at receivers without these
 //! scalings; only the solver's energy bookkeeping uses them.
 
+use super::field::NodeField;
 use super::links::ReceiverLinks;
 use super::tree::{LEAF_SLOT, PatchTree};
 use crate::geom::sh::DIST;
@@ -75,7 +76,7 @@ impl<'a> PatchOperator<'a> {
 
     /// Irradiance per receiver from the per-patch exitance `b(patch)`.
     fn gather_scaled(&self, b: impl Fn(usize) -> DVec3) -> Vec<DVec3> {
-        let field = self.tree.node_field_for(self.mesh, b, &self.links.clusters);
+        let field = NodeField::for_clusters(self.tree, self.mesh, b, &self.links.clusters);
         let mut out = vec![DVec3::ZERO; self.mesh.receivers.len()];
         self.links.apply(&field, &mut out);
         out
@@ -439,8 +440,8 @@ mod tests {
         let b: Vec<DVec3> = (0..mesh.patches.len())
             .map(|k| DVec3::new(1.0, 2.0, 0.5) * (1.0 + 0.3 * (k as f64 * 0.9).sin()))
             .collect();
-        let full = tree.node_field(&mesh, &b);
-        let solver = tree.node_field_for(&mesh, |p| b[p], &links.clusters);
+        let full = NodeField::new(&tree, &mesh, &b);
+        let solver = NodeField::for_clusters(&tree, &mesh, |p| b[p], &links.clusters);
         assert_eq!(solver.sh.len(), kept);
         let mut named = 0;
         for i in 0..tree.nodes.len() {

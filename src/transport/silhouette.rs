@@ -1,8 +1,8 @@
 //! How much of a clutter cluster is hidden by itself: the share of its front-facing area that a
 //! far viewer actually sees, along each axis direction.
 //!
-//! Input: a [`PatchTree`] (its curved nodes, see `tree::CURVED`) and the patch mesh. Output: per
-//! inner node six factors V(±x), V(±y), V(±z) in [0, 1] (1 for nodes that are never clusters).
+//! Input: the patch mesh, a node's patches and its bounding box. Output: six factors V(±x),
+//! V(±y), V(±z) in [0, 1] (the tree keeps 1 for nodes that are never clusters).
 //!
 //! A cluster's order-2 model (`geom::sh`) shows the area Σ Aⱼ·max(0, mⱼ·w) toward w: every
 //! front face counts, even one the cluster hides from itself (the floor under a seat, a leg
@@ -12,33 +12,14 @@
 //! V(±e) = silhouette / Σ Aⱼ·max(0, ±mⱼ·e), at most 1. Between the axes a direction w is
 //! weighted by wₖ² (which sums to 1). Every node is measured on its own patches, in parallel.
 
-use super::tree::{PatchTree, Shape};
 use crate::patches::PatchMesh;
 use glam::{DVec2, DVec3};
-use rayon::prelude::*;
 
 /// Pixels per side of the silhouette grid.
 pub const GRID: usize = 16;
 
-/// Visible shares for every inner node of `tree` (index as `tree.slot`: inner nodes in node
-/// order; `shapes` are every node's boxes). Leaves are never clusters.
-pub fn visible_shares(tree: &PatchTree, mesh: &PatchMesh, shapes: &[Shape]) -> Vec<[f32; 6]> {
-    tree.nodes
-        .par_iter()
-        .zip(shapes)
-        .filter(|(node, _)| !node.is_leaf())
-        .map(|(node, shape)| {
-            if !node.curved {
-                return [1.0; 6];
-            }
-            let patches = &tree.order[node.start as usize..node.end as usize];
-            shares(mesh, patches, shape.lo, shape.hi)
-        })
-        .collect()
-}
-
 /// V along +x, −x, +y, −y, +z, −z for the patches inside the box `lo..hi`.
-fn shares(mesh: &PatchMesh, patches: &[u32], lo: DVec3, hi: DVec3) -> [f32; 6] {
+pub fn shares(mesh: &PatchMesh, patches: &[u32], lo: DVec3, hi: DVec3) -> [f32; 6] {
     let mut out = [1.0f32; 6];
     for axis in 0..3 {
         let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
