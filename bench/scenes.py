@@ -3,7 +3,7 @@
 CIE 171:2006 test 5.8 as glTF: a 4 m cube (S = 96 m^2) of uniform diffuse reflectance rho,
 faces wound to face into the cube, single-sided, with an isotropic point light of 10 000 lm
 (KHR_lights_punctual point, I = 10 000 / 4 pi cd) at its centre. The closed form of the
-area-weighted mean indirect illuminance (ANALYTIC.md section 3) is rho * PHI / (S * (1 - rho)).
+area-weighted mean indirect illuminance (docs/ANALYTIC.md section 3) is rho * PHI / (S * (1 - rho)).
 Units: metres, lm, cd; glTF axes, +Y up.
 """
 

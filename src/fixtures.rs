@@ -1,5 +1,5 @@
 //! Scenes with known answers, built in code: closed boxes, CIE 171 test rooms, a panel over a
-//! floor. The tests compare bakes of these against closed forms (ANALYTIC.md); the benchmark
+//! floor. The tests compare bakes of these against closed forms (docs/ANALYTIC.md); the benchmark
 //! harness uses them too. Axes: +Y up; lengths in metres.
 
 use crate::scene::{

@@ -1,4 +1,4 @@
-//! The physics against closed forms (ANALYTIC.md): energy balance in closed rooms, the furnace,
+//! The physics against closed forms (docs/ANALYTIC.md): energy balance in closed rooms, furnace,
 //! CIE 171:2006 test 5.8, Lambert's formula for an area source, the inverse-square cosine law,
 //! and shadows. Every number below comes from a formula, never from an earlier bake.
 
@@ -152,7 +152,7 @@ fn furnace_exitance_is_uniform_and_exact_at_every_vertex() {
 
 #[test]
 fn cie_171_test_5_8_indirect_illuminance() {
-    // E_ind = ρΦ/(S(1−ρ)), S = 96 m², Φ = 10 000 lm (ANALYTIC.md §3).
+    // E_ind = ρΦ/(S(1−ρ)), S = 96 m², Φ = 10 000 lm (docs/ANALYTIC.md §3 Sumpner).
     for (rho, published) in [(0.2, 26.0), (0.5, 104.0), (0.9, 937.0), (0.95, 1979.0)] {
         let r = run(&fixtures::cie_5_8(rho), &Settings::default());
         let mean_indirect = area_mean(&r, |s, v| {
@@ -184,7 +184,7 @@ fn cie_171_test_5_8_indirect_illuminance() {
 }
 
 /// E below a parallel rectangle [x0,x1]×[z0,z1] at height c over the point (px, pz), by
-/// superposition of the corner formula (ANALYTIC.md §2), times π·L.
+/// superposition of the corner formula (docs/ANALYTIC.md §2 Lambert), times π·L.
 fn parallel_rect_illuminance(l: f64, c: f64, x: [f64; 2], z: [f64; 2], px: f64, pz: f64) -> f64 {
     let corner = |a: f64, b: f64| -> f64 {
         // Signed: the rectangle from the foot point to (a, b).

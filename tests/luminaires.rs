@@ -48,7 +48,7 @@ fn cosine_source() -> String {
 /// CIE 171:2006 test 5.2: cosine source 3 m above the centre of a 4 × 4 m plane; E = I₀h²/d⁴.
 #[test]
 fn cie_171_test_5_2_cosine_point_source() {
-    // The published table, from the formula (ANALYTIC.md §1).
+    // The published table, from the formula (docs/ANALYTIC.md §1 Inverse square).
     let formula = |x: f64, y: f64| 1000.0 * 9.0 / (9.0 + x * x + y * y).powi(2);
     for (x, y, e) in [(0.0, 0.0, 111.11), (1.0, 0.5, 85.66), (1.5, 1.5, 49.38)] {
         assert!(rel(formula(x, y), e) < 5e-4);

@@ -1,4 +1,4 @@
-//! Cubic illuminance at probes against closed forms (ANALYTIC.md §4) and against a brute-force
+//! Cubic illuminance at probes against closed forms (docs/ANALYTIC.md §4) and against a brute-force
 //! integration of incoming luminance over the sphere.
 
 use glam::{DMat3, DVec3};

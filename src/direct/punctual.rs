@@ -1,6 +1,6 @@
 //! Direct light from `KHR_lights_punctual` lights.
 //!
-//! - At a receiver point: E = I(ω)·cos ξ / d² with one shadow ray (exact; ANALYTIC.md §1);
+//! - At a receiver point: E = I(ω)·cos ξ / d² with one shadow ray (exact; docs/ANALYTIC.md §1);
 //!   directional lights give E⊥·cos ξ when a ray towards the light escapes the scene.
 //! - Into a patch (the flux the radiosity solution reflects): ∫ I(ω) dω over the solid angle the
 //!   patch subtends, times its visible fraction. For a point light this is I·Ω, exact (Van

@@ -1,5 +1,5 @@
 //! Exact unoccluded transfer from a uniform Lambertian polygon to a point: Lambert's contour
-//! formula (ANALYTIC.md §2).
+//! formula (docs/ANALYTIC.md §2 Lambert).
 //!
 //! Input: a receiver point `p` with unit normal `n` and a planar polygon (any winding).
 //! Output: the point-to-polygon form factor F ∈ [0, 1]: the fraction of the receiver's
@@ -136,7 +136,7 @@ mod tests {
         ]
     }
 
-    /// ANALYTIC.md §2: element below one corner of a parallel a × b rectangle at height c.
+    /// docs/ANALYTIC.md §2: element below one corner of a parallel a × b rectangle at height c.
     fn corner_rect(a: f64, b: f64, c: f64) -> f64 {
         let x = a / c;
         let y = b / c;

@@ -1,4 +1,4 @@
-//! Metrics from cubic illuminance (Cuttle 1997; ANALYTIC.md §4). Input: the six face
+//! Metrics from cubic illuminance (Cuttle 1997; docs/ANALYTIC.md §4). Input: the six face
 //! illuminances `[+x, −x, +y, −y, +z, −z]` (lx) in the probe's axes, +y up. Output: [`Metrics`].
 //!
 //! - Illumination vector **E** = (E(−x) − E(+x), E(−y) − E(+y), E(−z) − E(+z)): it points along

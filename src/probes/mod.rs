@@ -1,6 +1,6 @@
 //! Probes: points in the room where luxbake measures **cubic illuminance** (Cuttle 1997) — the
 //! illuminance on the six faces of a small cube — and the metrics derived from it
-//! (ANALYTIC.md §4).
+//! (docs/ANALYTIC.md §4 Cubic illuminance).
 //!
 //! - [`Probe`]: where (world space, m) and how the cube is turned. The cube is axis-aligned with
 //!   the glTF world axes (+Y up) unless `world_from_probe` turns it (rooms not aligned with the
