@@ -2,13 +2,15 @@
 //! and write the lit result back as glTF.
 //!
 //! Pipeline (each stage a function from one data type to the next; see ARCHITECTURE.md):
-//! `import` → [`scene::Scene`] → `mesh` (patches and receivers) → `visibility` (BVH) →
-//! `direct` (lights and emitters at receivers and patches) → `transport` (links) → `solve`
-//! (radiosity) → gather at receivers → [`result::BakeResult`] → `export`.
+//! `import` → [`scene::Scene`] → `bake` (patches and receivers, `visibility`, `direct` light,
+//! `transport` links, `solve`) → [`solution::Solution`] (light at any receiver) →
+//! [`result::BakeResult`] + [`summary::RunSummary`] → `export`; `baked` reads an output back
+//! for `report` and `diff`.
 //!
 //! Units are SI and photometric (m, lx, cd, cd/m², lm); axes are glTF's, +Y up.
 
 pub mod bake;
+pub mod baked;
 pub mod diff;
 pub mod direct;
 pub mod error;
@@ -24,7 +26,9 @@ pub mod report;
 pub mod result;
 pub mod scene;
 pub mod settings;
+pub mod solution;
 pub mod solve;
+pub mod summary;
 pub mod transport;
 pub mod visibility;
 

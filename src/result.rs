@@ -5,17 +5,9 @@
 //! counter-clockwise seen from the side that was baked (for `Side::Back` that is the reverse of the
 //! input winding), in world space. `color` lies in [0, 1].
 
+pub use crate::patches::Side;
+use crate::summary::{RunSummary, StageSeconds};
 use glam::{DVec2, DVec3};
-
-/// Which face of a surface a baked mesh carries.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
-#[serde(rename_all = "camelCase")]
-pub enum Side {
-    Front,
-    /// The back face of a double-sided material, written as an extra primitive with reversed
-    /// winding so viewers show each face its own light.
-    Back,
-}
 
 /// One surface (one side of it), refined into patches, with the baked values at its vertices.
 #[derive(Debug, Clone)]
@@ -48,15 +40,16 @@ pub struct BakeResult {
     /// working plane).
     pub probes: Vec<crate::probes::ProbeResult>,
     /// The run summary; written as the output scene's `extras.luxbake` and by `--summary-json`.
-    pub summary: serde_json::Value,
+    pub summary: RunSummary,
     /// Wall-clock seconds per stage (not part of `summary` unless asked for: they differ run to
     /// run, and bakes must be byte-identical).
-    pub timings: Vec<(String, f64)>,
+    pub timings: StageSeconds,
 }
 
 impl BakeResult {
     /// `scene` as if nothing had been baked: one front side per surface, every value 0, no
-    /// probes, no summary (what an unbaked input scene is written from).
+    /// probes, an empty summary (what an unbaked input scene is written from, without the
+    /// summary).
     pub fn unbaked(scene: &crate::scene::Scene) -> Self {
         let surfaces = scene
             .surfaces
@@ -82,8 +75,8 @@ impl BakeResult {
         BakeResult {
             surfaces,
             probes: Vec::new(),
-            summary: serde_json::Value::Null,
-            timings: Vec::new(),
+            summary: RunSummary::default(),
+            timings: StageSeconds::default(),
         }
     }
 }

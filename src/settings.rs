@@ -2,11 +2,11 @@
 //! value) before any work starts; library users build one directly.
 
 use crate::error::{Error, Result};
-use crate::import::UpAxis;
+pub use crate::probes::{Probe, ProbeGrid};
 
 /// Speed/accuracy trade-off. Each level fixes the patch count target, the far-field acceptance
 /// ratio and the solver tolerance (see [`Quality::params`]).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "camelCase")]
 pub enum Quality {
     Draft,
@@ -16,7 +16,7 @@ pub enum Quality {
 }
 
 /// What a quality level means in numbers.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "camelCase")]
 pub struct QualityParams {
     /// Patch size is √(total area / this), unless `--patch-size` overrides it.
@@ -55,17 +55,20 @@ impl Quality {
 }
 
 /// How baked illuminance maps to the display colour `COLOR_0`.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "camelCase", tag = "mode")]
 pub enum Exposure {
     /// The area-weighted 95th percentile of illuminance on non-emitting surfaces shows at 0.8.
+    #[default]
     Auto,
     /// This illuminance (lx) shows as full white (1.0) before the soft shoulder.
     White { lux: f64 },
 }
 
-#[derive(Debug, Clone, serde::Serialize)]
-#[serde(rename_all = "camelCase")]
+/// How to bake, and where to measure besides the vertices. What of it changes the result is
+/// recorded in the run summary (`summary::SettingsRecord`), which is the file format; this struct
+/// is not.
+#[derive(Debug, Clone)]
 pub struct Settings {
     pub quality: Quality,
     /// Patch edge length in metres; `None` derives it from the quality.
@@ -75,40 +78,25 @@ pub struct Settings {
     pub exposure: Exposure,
     /// Keep the input materials instead of switching them to KHR_materials_unlit.
     pub keep_lit_materials: bool,
-    #[serde(skip)]
-    pub obj_up: UpAxis,
     /// Worker threads (`None`: all cores). Never affects the output.
-    #[serde(skip)]
     pub threads: Option<usize>,
     /// Record wall-clock timings in the output's extras (they make bakes differ run to run).
-    #[serde(skip)]
     pub record_timings: bool,
     /// Trace shadow rays even where the scene is a convex empty enclosure (testing).
-    #[serde(skip)]
     pub always_trace: bool,
     /// Gather from black patches like any other (testing: what skipping them saves).
-    #[serde(skip)]
     pub gather_black: bool,
     /// Patches of one size everywhere instead of adaptive meshing (see `bake::meshing`).
     pub uniform_patches: bool,
     /// A grid of probes over the floor (`--probe-grid SPACING --probe-height H`).
     pub probe_grid: Option<ProbeGrid>,
     /// Probes given explicitly (read from a `--probes` CSV file by the caller).
-    #[serde(skip)]
-    pub extra_probes: Vec<crate::probes::Probe>,
+    pub extra_probes: Vec<Probe>,
     /// The working plane of the report: a grid of upward-facing probes at this height above the
     /// floor (m), and its spacing.
     pub working_plane: Option<ProbeGrid>,
     /// Add a glyph mesh per probe (illumination vector arrow, symmetric sphere) to the output.
     pub probe_glyphs: bool,
-}
-
-/// A horizontal grid of probes: points every `spacing` m over the floor, `height` m above it.
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
-#[serde(rename_all = "camelCase")]
-pub struct ProbeGrid {
-    pub spacing: f64,
-    pub height: f64,
 }
 
 impl Default for Settings {
@@ -119,7 +107,6 @@ impl Default for Settings {
             far_field: None,
             exposure: Exposure::Auto,
             keep_lit_materials: false,
-            obj_up: UpAxis::Y,
             threads: None,
             record_timings: false,
             always_trace: false,

@@ -14,7 +14,7 @@
 
 use glam::DVec3;
 
-#[derive(Debug, Clone, Copy, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "camelCase")]
 pub struct SolveStats {
     pub iterations: usize,

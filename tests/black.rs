@@ -10,6 +10,7 @@ use luxbake::progress::Silent;
 use luxbake::result::BakeResult;
 use luxbake::scene::Scene;
 use luxbake::settings::Settings;
+use luxbake::summary::Counts;
 
 fn run(scene: &Scene, gather_black: bool) -> BakeResult {
     let settings = Settings {
@@ -19,8 +20,8 @@ fn run(scene: &Scene, gather_black: bool) -> BakeResult {
     bake(scene, &settings, &Silent).expect("bake")
 }
 
-fn counts(r: &BakeResult) -> &serde_json::Value {
-    &r.summary["counts"]
+fn counts(r: &BakeResult) -> &Counts {
+    &r.summary.counts
 }
 
 /// Inter-reflected illuminance (lx) at every vertex of every baked surface.
@@ -55,16 +56,13 @@ fn sphere_with_black_cap_matches_the_closed_form_with_and_without_links_to_black
             .fold(0.0, f64::max);
         eprintln!(
             "gather_black {gather_black}: {} links, E_ind mean {mean:.4} lx, closed form {want:.4} lx, worst vertex {worst:.2e}",
-            counts(&r)["links"]
+            counts(&r).links
         );
         assert!((mean - want).abs() < 0.005 * want, "mean {mean} vs {want}");
         assert!(worst < 0.03, "worst vertex off by {worst}");
-        let energy = &r.summary["energy"];
-        assert!(
-            energy["balanceErrorRelative"].as_f64().unwrap() < 0.005,
-            "{energy}"
-        );
-        links.push(counts(&r)["links"].as_u64().unwrap());
+        let energy = &r.summary.energy;
+        assert!(energy.balance_error_relative < 0.005, "{energy:?}");
+        links.push(counts(&r).links);
     }
     // The black cap is 40 % of the sphere: without links to it the rows are much shorter.
     assert!(
@@ -97,10 +95,10 @@ fn black_room_skips_inter_reflection_and_bakes_the_same_light() {
     let scene = b.build();
     let skipped = run(&scene, false);
     let gathered = run(&scene, true);
-    assert_eq!(counts(&skipped)["links"], 0);
-    assert_eq!(counts(&skipped)["raysByStage"]["links"], 0);
-    assert!(counts(&gathered)["links"].as_u64().unwrap() > 1000);
-    assert!(counts(&gathered)["raysByStage"]["links"].as_u64().unwrap() > 0);
+    assert_eq!(counts(&skipped).links, 0);
+    assert_eq!(counts(&skipped).rays_by_stage.links, 0);
+    assert!(counts(&gathered).links > 1000);
+    assert!(counts(&gathered).rays_by_stage.links > 0);
     assert!(indirect(&skipped).iter().all(|e| *e == 0.0));
     assert!(indirect(&gathered).iter().all(|e| *e == 0.0));
     for (a, b) in skipped.surfaces.iter().zip(&gathered.surfaces) {
@@ -110,7 +108,7 @@ fn black_room_skips_inter_reflection_and_bakes_the_same_light() {
             "the lamp lights the room"
         );
     }
-    let (ea, eb) = (&skipped.summary["energy"], &gathered.summary["energy"]);
-    assert_eq!(ea["absorbedLm"], eb["absorbedLm"]);
-    assert!(ea["balanceErrorRelative"].as_f64().unwrap() < 0.005, "{ea}");
+    let (ea, eb) = (&skipped.summary.energy, &gathered.summary.energy);
+    assert_eq!(ea.absorbed_lm, eb.absorbed_lm);
+    assert!(ea.balance_error_relative < 0.005, "{ea:?}");
 }

@@ -228,8 +228,8 @@ fn big_bake_timing() {
         let result = BakeResult {
             surfaces: vec![surface],
             probes: Vec::new(),
-            summary: serde_json::json!({}),
-            timings: Vec::new(),
+            summary: Default::default(),
+            timings: Default::default(),
         };
         let path = dir.join(format!("{name}.glb"));
         export::write(&path, &scene, &result, &ExportOptions::default()).unwrap();

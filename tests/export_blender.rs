@@ -128,7 +128,8 @@ fn blender_imports_baked_attributes_and_properties() {
             "{name}"
         );
         let props = &report["scene"]["properties"];
-        assert_eq!(props["luxbake"], result.summary, "{name}");
+        let summary = serde_json::to_value(&result.summary).unwrap();
+        assert_eq!(props["luxbake"], summary, "{name}");
         assert_eq!(props["project"], "test room", "{name}");
 
         let kinds: Vec<(&str, &str)> = report["objects"]

@@ -76,7 +76,7 @@ fn json_structure() {
     assert_eq!(scene["name"], "Lit room");
     assert_eq!(scene["nodes"], json!([0]));
     assert_eq!(scene["extras"]["project"], "test room");
-    assert_eq!(scene["extras"]["luxbake"]["patches"], 12);
+    assert_eq!(scene["extras"]["luxbake"]["counts"]["patches"], 12);
 
     let m0 = &j["materials"][0];
     assert_eq!(m0["name"], "Textured");

@@ -21,10 +21,7 @@ use support::{gltf_read, scratch, tools};
 
 /// A result with a dark front side for every surface (the values do not matter here).
 fn flat_result(scene: &Scene) -> BakeResult {
-    BakeResult {
-        summary: json!({}),
-        ..BakeResult::unbaked(scene)
-    }
+    BakeResult::unbaked(scene)
 }
 
 /// The base scene made richer: an external IES file, a bufferView EULUMDAT profile, an IES light

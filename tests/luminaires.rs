@@ -78,7 +78,7 @@ fn cie_171_test_5_2_cosine_point_source() {
     );
     assert!(worst < 1e-3, "worst {worst}");
     // The profile's flux is π·I₀.
-    let emitted = r.summary["sources"][0]["emittedLm"].as_f64().unwrap();
+    let emitted = r.summary.sources[0].emitted_lm;
     assert!(rel(emitted, PI * 1000.0) < 5e-3, "{emitted}");
 }
 
@@ -163,12 +163,7 @@ fn mean_and_balance(r: &BakeResult) -> (f64, f64) {
             }
         }
     }
-    (
-        sum / total,
-        r.summary["energy"]["balanceErrorRelative"]
-            .as_f64()
-            .unwrap(),
-    )
+    (sum / total, r.summary.energy.balance_error_relative)
 }
 
 /// A closed 4 × 3 × 5 m room of reflectance 0.8 lit by an IES luminaire with a large opening
@@ -200,7 +195,7 @@ fn energy_balances_with_an_ies_luminaire() {
         Some(opening),
     );
     let r = bake(&b.build(), &Settings::default(), &Silent).unwrap();
-    let phi = r.summary["sources"][0]["emittedLm"].as_f64().unwrap();
+    let phi = r.summary.sources[0].emitted_lm;
     let s = 2.0 * (4.0 * 3.0 + 4.0 * 5.0 + 3.0 * 5.0);
     let (mean, balance) = mean_and_balance(&r);
     let want = phi / (s * (1.0 - rho));
@@ -210,9 +205,7 @@ fn energy_balances_with_an_ies_luminaire() {
     );
     assert!(balance < 5e-3, "balance error {balance}");
     assert!(rel(mean, want) < 5e-3);
-    let reached = r.summary["sources"][0]["reachedSurfacesLm"]
-        .as_f64()
-        .unwrap();
+    let reached = r.summary.sources[0].reached_surfaces_lm;
     assert!(
         rel(reached, phi) < 2e-3,
         "all of the luminaire's flux lands in a closed room: {reached} vs {phi}"
@@ -284,7 +277,7 @@ fn profiled_emitting_surface_with_a_cosine_profile_is_lambertian() {
     }
     eprintln!("profiled panel worst {worst:.2e}");
     assert!(worst < 5e-3, "{worst}");
-    let emitted = r.summary["energy"]["emittedLm"].as_f64().unwrap();
+    let emitted = r.summary.energy.emitted_lm;
     assert!(rel(emitted, PI * 1000.0 * 0.5) < 1e-3, "{emitted}");
 }
 

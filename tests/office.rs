@@ -7,7 +7,7 @@
 use glam::DVec3;
 use luxbake::bake::bake;
 use luxbake::progress::Silent;
-use luxbake::report::{self, By, Filter, Options, ReportInput, Targets};
+use luxbake::report::{self, By, Filter, Options, Targets};
 use luxbake::settings::{ProbeGrid, Settings};
 
 #[test]
@@ -26,7 +26,7 @@ fn office_report_beside_the_seed() {
         ..Settings::default()
     };
     let r = bake(&scene, &settings, &Silent).unwrap();
-    let input = ReportInput::from_bake(&scene, &r).unwrap();
+    let input = luxbake::baked::as_written(&scene, &r).unwrap();
     let options = Options {
         by: By::Both,
         targets: Some(Targets::read(&root.join("samples/office/targets.json")).unwrap()),
@@ -35,7 +35,7 @@ fn office_report_beside_the_seed() {
     eprintln!("{}", rep.render(report::Format::Markdown));
     eprintln!(
         "sources: {}",
-        serde_json::to_string_pretty(&r.summary["sources"]).unwrap()
+        serde_json::to_string_pretty(&r.summary.sources).unwrap()
     );
     let all = rep.by_node.as_ref().unwrap();
     let pick = |name: &str| {

@@ -4,9 +4,10 @@
 use glam::{DMat3, DVec3};
 use luxbake::bake::{bake, solve};
 use luxbake::fixtures::{self, SceneBuilder};
-use luxbake::probes::{FACES, Probe, ProbeOrigin, evaluate, sphere};
+use luxbake::probes::{FACES, Probe, ProbeOrigin};
 use luxbake::progress::Silent;
 use luxbake::settings::Settings;
+use luxbake::solution::{Planes, Receiver, sphere};
 use std::f64::consts::PI;
 
 fn rel(a: f64, b: f64) -> f64 {
@@ -120,10 +121,12 @@ fn office_probes_match_brute_force_sphere_integration() {
         DVec3::new(4.2, 1.7, 6.5), // near the right wall, towards the picture
         DVec3::new(0.6, 2.4, 0.8), // high, in a corner
     ];
-    let cuttle = s.cuttle_indirect();
+    let probes: Vec<Probe> = (points.iter().enumerate())
+        .map(|(i, p)| probe(&format!("p{i}"), *p))
+        .collect();
+    let measured = luxbake::bake::probes::measure(s, &probes, &Silent);
     let mut worst = 0.0f64;
-    for (i, p) in points.iter().enumerate() {
-        let r = evaluate::one(s, &probe(&format!("p{i}"), *p), cuttle);
+    for (i, (p, r)) in points.iter().zip(&measured).enumerate() {
         let brute = sphere::integrate(s, *p, DVec3::Y, &FACES, 256);
         for k in 0..6 {
             let err = rel(r.cubic.total[k], brute.planes[k]);
@@ -154,18 +157,26 @@ fn faces_measured_together_equal_each_face_alone() {
         DVec3::new(1.5, 0.5, 2.2),
         DVec3::new(0.6, 2.4, 0.8),
     ] {
-        let direct = s.direct_at_faces(p, &normals);
-        let indirect = s.indirect_at_faces(p, &normals);
-        let lit = direct.iter().filter(|d| d.x > 1.0).count();
+        let together = s.light_at(&Receiver {
+            point: p,
+            planes: Planes::of(&normals),
+        });
+        let lit = together.iter().filter(|l| l.direct.x > 1.0).count();
         assert!(lit >= 2, "{lit} faces at {p} get direct light");
         for (k, n) in normals.iter().enumerate() {
-            let (d, i) = (s.direct_at(p, *n), s.indirect_at(p, *n));
-            assert!(i.x > 1.0, "face {k} at {p} gets no inter-reflected light");
+            let alone = s.light_at(&Receiver {
+                point: p,
+                planes: Planes::one(*n),
+            })[0];
+            assert!(
+                alone.indirect.x > 1.0,
+                "face {k} at {p} gets no inter-reflected light"
+            );
             // Relative to the value, or to 1 lx where a face is dark.
             let diff = |a: f64, b: f64| (a - b).abs() / b.abs().max(1.0);
             worst = worst
-                .max(diff(direct[k].x, d.x))
-                .max(diff(indirect[k].x, i.x));
+                .max(diff(together[k].direct.x, alone.direct.x))
+                .max(diff(together[k].indirect.x, alone.indirect.x));
         }
     }
     assert!(worst < 1e-9, "worst difference {worst:e}");

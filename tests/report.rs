@@ -14,7 +14,7 @@ use luxbake::export::{self, ExportOptions};
 use luxbake::fixtures::SceneBuilder;
 use luxbake::probes::{FACE_NAMES, ProbeOrigin};
 use luxbake::progress::Silent;
-use luxbake::report::{self, By, Filter, Format, Options, ReportInput, Targets};
+use luxbake::report::{self, By, Filter, Format, Options, Targets};
 use luxbake::result::BakeResult;
 use luxbake::scene::{LocalTransform, Node, Scene};
 use luxbake::settings::{ProbeGrid, Quality, Settings};
@@ -108,7 +108,7 @@ fn floor_under_a_point_light_has_known_figures() {
     let flux = 2400.0;
     let scene = floor_under_light(flux);
     let r = bake(&scene, &draft(), &Silent).unwrap();
-    let input = ReportInput::from_bake(&scene, &r).unwrap();
+    let input = luxbake::baked::as_written(&scene, &r).unwrap();
     let rows = report::rows::by_node(&input, &Filter::All);
     assert_eq!(rows.len(), 1);
     let row = &rows[0];
@@ -143,7 +143,7 @@ fn floor_under_a_point_light_has_known_figures() {
 fn rows_by_node_and_material_split_direct_and_indirect() {
     let scene = room();
     let r = bake(&scene, &draft(), &Silent).unwrap();
-    let input = ReportInput::from_bake(&scene, &r).unwrap();
+    let input = luxbake::baked::as_written(&scene, &r).unwrap();
     let nodes = report::rows::by_node(&input, &Filter::All);
     let names: Vec<&str> = nodes.iter().map(|r| r.name.as_str()).collect();
     assert_eq!(names, ["room/floor", "room/wall_grey", "room/wall_white"]);
@@ -212,8 +212,8 @@ fn write_probe_nodes(path: &Path, r: &BakeResult) {
 
 /// Each format of the report made from the bake in memory equals the one read from its output.
 fn assert_same_reports(scene: &Scene, r: &BakeResult, path: &Path, options: &Options) {
-    let memory = report::build(&ReportInput::from_bake(scene, r).unwrap(), options).unwrap();
-    let file = report::build(&luxbake::import::load_baked(path).unwrap(), options).unwrap();
+    let memory = report::build(&luxbake::baked::as_written(scene, r).unwrap(), options).unwrap();
+    let file = report::build(&luxbake::baked::read(path).unwrap(), options).unwrap();
     for (format, name) in FORMATS {
         assert_eq!(memory.render(format), file.render(format), "{name}");
     }
@@ -242,7 +242,7 @@ fn office_report_from_the_file_equals_the_bake_time_report() {
     };
     assert_same_reports(&scene, &r, &path, &options);
 
-    let report = report::build(&luxbake::import::load_baked(&path).unwrap(), &options).unwrap();
+    let report = report::build(&luxbake::baked::read(&path).unwrap(), &options).unwrap();
     let plane = report.working_plane.as_ref().expect("a working plane");
     assert!(plane.points > 50, "{plane:?}");
     assert_eq!((plane.height, plane.spacing), (Some(0.8), Some(0.5)));
@@ -264,7 +264,7 @@ fn office_report_from_the_file_equals_the_bake_time_report() {
 fn every_format_is_well_formed() {
     let scene = room();
     let r = bake(&scene, &draft(), &Silent).unwrap();
-    let input = ReportInput::from_bake(&scene, &r).unwrap();
+    let input = luxbake::baked::as_written(&scene, &r).unwrap();
     let targets = Targets::parse(
         Path::new("t.json"),
         r#"{"room/floor": 100, "material:white": 50, "room/wall_grey[-x]": 80, "working_plane": 300}"#,
@@ -344,7 +344,7 @@ fn every_format_is_well_formed() {
 fn unknown_or_malformed_targets_are_errors() {
     let scene = room();
     let r = bake(&scene, &draft(), &Silent).unwrap();
-    let input = ReportInput::from_bake(&scene, &r).unwrap();
+    let input = luxbake::baked::as_written(&scene, &r).unwrap();
     let file = Path::new("targets.json");
     let build = |text: &str| {
         let targets = Targets::parse(file, text)?;

@@ -9,6 +9,7 @@ use luxbake::progress::Progress;
 use luxbake::result::BakeResult;
 use luxbake::scene::Scene;
 use luxbake::settings::{Quality, Settings};
+use luxbake::summary::EnergyBalance;
 use proptest::prelude::*;
 use std::sync::Mutex;
 
@@ -67,8 +68,8 @@ fn area_mean(r: &BakeResult) -> f64 {
     sum / total
 }
 
-fn energy(r: &BakeResult, key: &str) -> f64 {
-    r.summary["energy"][key].as_f64().unwrap()
+fn energy(r: &BakeResult) -> &EnergyBalance {
+    &r.summary.energy
 }
 
 #[test]
@@ -80,13 +81,13 @@ fn reflectance_0_999_converges_and_reports_its_residual() {
     );
     let s = 2.0 * (3.0 * 2.5 + 3.0 * 4.0 + 2.5 * 4.0);
     let want = std::f64::consts::PI * 2000.0 * 0.36 / (s * 0.001);
-    let solver = &r.summary["solver"];
+    let solver = &r.summary.solver;
     eprintln!(
-        "ρ 0.999: mean {:.1} vs {want:.1}, solver {solver}",
+        "ρ 0.999: mean {:.1} vs {want:.1}, solver {solver:?}",
         area_mean(&r)
     );
-    assert!(solver["converged"].as_bool().unwrap());
-    assert!(solver["relativeResidual"].as_f64().unwrap() < 1e-4);
+    assert!(solver.converged);
+    assert!(solver.relative_residual < 1e-4);
     assert!(
         rel(area_mean(&r), want) < 0.02,
         "{} vs {want}",
@@ -139,7 +140,7 @@ fn millimetre_metre_and_kilometre_scenes_agree() {
         uniform_patches: true,
         ..Default::default()
     };
-    let patches = |r: &BakeResult| r.summary["counts"]["patches"].as_f64().unwrap();
+    let patches = |r: &BakeResult| r.summary.counts.patches as f64;
     let adaptive = patches(&run(&build(1.0), Quality::Draft));
     for s in [1e-3, 1e3] {
         let n = patches(&run(&build(s), Quality::Draft));
@@ -211,7 +212,7 @@ fn degenerate_and_overlapping_geometry() {
     b.quad("duplicate wall", faces[2], walls);
     b.floor("overlap", 1.0, 0.0, walls);
     let r = run(&b.build(), Quality::Draft);
-    let balance = energy(&r, "balanceErrorRelative");
+    let balance = energy(&r).balance_error_relative;
     eprintln!("degenerate: balance {balance:.2e}");
     assert!(balance < 0.02, "{balance}");
 }
@@ -224,14 +225,14 @@ fn open_scene_balance_closes_with_escape() {
     b.floor("floor", 3.0, 0.0, floor);
     b.point_light("bulb", DVec3::new(0.0, 2.0, 0.0), 1000.0);
     let r = run(&b.build(), Quality::Default);
-    let (emitted, escaped) = (energy(&r, "emittedLm"), energy(&r, "escapedLm"));
+    let (emitted, escaped) = (energy(&r).emitted_lm, energy(&r).escaped_lm);
     eprintln!(
         "open: emitted {emitted:.1} escaped {escaped:.1} balance {:.2e}",
-        energy(&r, "balanceErrorRelative")
+        energy(&r).balance_error_relative
     );
     // Half the bulb's flux goes up; of the rest, the floor reflects half and all of that escapes.
     assert!(escaped > 0.5 * emitted && escaped < emitted);
-    assert!(energy(&r, "balanceErrorRelative") < 5e-3);
+    assert!(energy(&r).balance_error_relative < 5e-3);
 }
 
 /// A light shut inside a closed box within a room: the room stays dark, the box absorbs all.
@@ -249,7 +250,7 @@ fn light_inside_a_closed_box_stays_inside() {
         .fold(0.0f32, |m, e| m.max(*e));
     assert_eq!(room_max, 0.0, "light leaked out of the crate");
     // The crate's faces point outward, so the light hits their backs and is absorbed there.
-    assert!(rel(energy(&r, "absorbedLm"), energy(&r, "emittedLm")) < 2e-3);
+    assert!(rel(energy(&r).absorbed_lm, energy(&r).emitted_lm) < 2e-3);
 }
 
 #[test]

@@ -8,46 +8,44 @@
 //! Auto exposure: the area-weighted 95th percentile of illuminance over non-emitting receivers
 //! maps to 0.8.
 
-use super::Solution;
-use crate::scene::{Material, Scene, luma};
-use crate::settings::{Exposure, Settings};
+use crate::scene::{Material, luma};
+use crate::settings::Exposure;
+use crate::solution::Solution;
+use crate::summary::{ExposureMode, ExposureRecord};
 use glam::DVec3;
 
-/// k such that COLOR_0 = shoulder(k·E).
-pub fn exposure_scale(settings: &Settings, s: &Solution, scene: &Scene) -> f64 {
-    match settings.exposure {
-        Exposure::White { lux } => 1.0 / lux,
+/// k such that COLOR_0 = shoulder(k·E), and what the summary records of it.
+pub fn exposure(exposure: Exposure, s: &Solution) -> (f64, ExposureRecord) {
+    let (k, mode) = match exposure {
+        Exposure::White { lux } => (1.0 / lux, ExposureMode::Fixed),
         Exposure::Auto => {
-            let p95 = percentile_illuminance(s, scene, 0.95);
-            if p95 > 0.0 { 0.8 / p95 } else { 1.0 }
+            let p95 = percentile_illuminance(s, 0.95);
+            (if p95 > 0.0 { 0.8 / p95 } else { 1.0 }, ExposureMode::Auto)
         }
-    }
+    };
+    let record = ExposureRecord {
+        mode,
+        white_illuminance_lx: 1.0 / k,
+        rule: "COLOR_0 = shoulder(E_rgb / whiteIlluminanceLx); shoulder(x) = x for x <= 0.8, else 0.8 + 0.2*(1 - exp(-(x - 0.8)/0.2))".into(),
+    };
+    (k, record)
 }
 
-/// What the summary records about the exposure.
-pub fn exposure_note(settings: &Settings, s: &Solution, scene: &Scene) -> serde_json::Value {
-    let k = exposure_scale(settings, s, scene);
-    serde_json::json!({
-        "mode": match settings.exposure { Exposure::Auto => "auto", Exposure::White { .. } => "fixed" },
-        "whiteIlluminanceLx": 1.0 / k,
-        "rule": "COLOR_0 = shoulder(E_rgb / whiteIlluminanceLx); shoulder(x) = x for x <= 0.8, else 0.8 + 0.2*(1 - exp(-(x - 0.8)/0.2))",
-    })
-}
-
-fn percentile_illuminance(s: &Solution, scene: &Scene, q: f64) -> f64 {
+fn percentile_illuminance(s: &Solution, q: f64) -> f64 {
+    let mesh = s.mesh();
     let mut weighted: Vec<(f64, f64)> = Vec::new();
-    let mut weight = vec![0.0; s.mesh.receivers.len()];
-    for p in &s.mesh.patches {
+    let mut weight = vec![0.0; mesh.receivers.len()];
+    for p in &mesh.patches {
         for &v in &p.v {
             weight[v as usize] += p.area / 3.0;
         }
     }
-    for (i, r) in s.mesh.receivers.iter().enumerate() {
-        let g = &s.mesh.groups[r.group as usize];
-        if scene.materials[g.material].emission.is_some() || weight[i] <= 0.0 {
+    for (i, r) in mesh.receivers.iter().enumerate() {
+        let g = &mesh.groups[r.group as usize];
+        if s.scene().materials[g.material].emission.is_some() || weight[i] <= 0.0 {
             continue;
         }
-        weighted.push((luma(s.direct[i] + s.indirect[i]), weight[i]));
+        weighted.push((luma(s.vertex(i).total()), weight[i]));
     }
     if weighted.is_empty() {
         return 0.0;

@@ -1,7 +1,8 @@
 //! The meshing stage: uniform patches, or (by default) adaptive ones.
 //!
-//! Input: the scene, the settings' patch size `h` (m) and the occluder. Output: the
-//! [`PatchMesh`] every later stage uses, and what the summary says about it.
+//! Input: the scene, the settings' patch size `h` (m) and the occluder. Output: [`Meshed`]: the
+//! [`PatchMesh`] every later stage uses and what the summary says about it, what each patch
+//! emits, and the direct light of the scene's sources on that mesh.
 //!
 //! Adaptive meshing starts from patches of `COARSE × h`, estimates the light on them — direct
 //! light from the scene's lights, luminaires and profiled emitters (Lambertian emitting surfaces
@@ -17,6 +18,8 @@ use crate::direct::{bounds::ProfileBounds, emitters, sources::DirectSource};
 use crate::patches::{self, PatchMesh, adapt::Adapt};
 use crate::scene::Scene;
 use crate::settings::Settings;
+use crate::solution::DirectLight;
+use crate::summary::MeshingRecord;
 use crate::visibility::Occluder;
 use glam::DVec3;
 use rayon::prelude::*;
@@ -38,23 +41,61 @@ pub const CONTACT: f64 = 0.5;
 /// (808 k) evaluate all 600 luminaires; with 128 it evaluates 177 k.
 const SAMPLED: usize = 128;
 
+/// The patch mesh and what lives on it before any light is computed.
+pub struct Meshed<'a> {
+    pub mesh: PatchMesh,
+    /// `None` for uniform patches.
+    pub adaptive: Option<MeshingRecord>,
+    /// All exitance each patch emits (for the output's luminance), profiled emitters included.
+    pub emitted: Vec<DVec3>,
+    /// Its Lambertian part, which travels through the patch field (profiled emitters are direct
+    /// sources instead).
+    pub exitance: Vec<DVec3>,
+    pub lights: DirectLight<'a>,
+}
+
+/// Mesh the scene for patch size `h` and set its light sources on the mesh (`tau_direct`: the
+/// far-field ratio for emitting surfaces).
+pub fn stage<'a>(
+    scene: &'a Scene,
+    settings: &Settings,
+    h: f64,
+    occluder: &Occluder,
+    tau_direct: f64,
+) -> Meshed<'a> {
+    // Each profile's intensity bounds, built once for meshing and the direct stage.
+    let bounds = ProfileBounds::new(scene);
+    let (mesh, adaptive) = mesh(scene, settings, h, occluder, &bounds);
+    let emitted = emitters::patch_exitance(scene, &mesh);
+    let exitance = emitters::diffuse_part(scene, &mesh, &emitted);
+    let sources = DirectSource::all(scene, &mesh, &emitted, &bounds);
+    let lights = DirectLight::new(sources, &mesh, &exitance, tau_direct);
+    Meshed {
+        mesh,
+        adaptive,
+        emitted,
+        exitance,
+        lights,
+    }
+}
+
 /// Build the patch mesh for patch size `h`.
-pub fn mesh(
+fn mesh(
     scene: &Scene,
     settings: &Settings,
     h: f64,
     occluder: &Occluder,
     bounds: &ProfileBounds,
-) -> (PatchMesh, serde_json::Value) {
+) -> (PatchMesh, Option<MeshingRecord>) {
     if settings.uniform_patches {
-        return (patches::build(scene, h, None), serde_json::json!(null));
+        return (patches::build(scene, h, None), None);
     }
     let coarse = patches::build(scene, COARSE * h, None);
     let emitted = emitters::patch_exitance(scene, &coarse);
     let sources = DirectSource::all(scene, &coarse, &emitted, bounds);
     if sources.is_empty() {
         // Nothing to adapt to (emitting surfaces only): the uniform mesh.
-        return (patches::build(scene, h, None), serde_json::json!(null));
+        return (patches::build(scene, h, None), None);
     }
     // The estimate the edges are judged by: direct light, plus the room's mean indirect light
     // where nothing covers the point. The ceiling around a fitting mounted on it gets no direct
@@ -121,16 +162,16 @@ pub fn mesh(
         mean,
     };
     let mesh = patches::build(scene, COARSE * h, Some(&adapt));
-    let note = serde_json::json!({
-        "coarsePatchSize": COARSE * h,
-        "smallestPatchSize": h / 2.0,
-        "coarsePatches": coarse.patches.len(),
-        "relative": patches::adapt::RELATIVE,
-        "absolute": patches::adapt::ABSOLUTE,
-        "contactDistance": contact,
-        "indirectEstimateLx": indirect,
-    });
-    (mesh, note)
+    let record = MeshingRecord {
+        coarse_patch_size: COARSE * h,
+        smallest_patch_size: h / 2.0,
+        coarse_patches: coarse.patches.len(),
+        relative: patches::adapt::RELATIVE,
+        absolute: patches::adapt::ABSOLUTE,
+        contact_distance: contact,
+        indirect_estimate_lx: indirect,
+    };
+    (mesh, Some(record))
 }
 
 /// The scene's mean indirect illuminance by Sumpner's balance for a closed room, ρ̄Φ/(S(1 − ρ̄)),

@@ -10,6 +10,7 @@ use luxbake::export::{self, ExportOptions};
 use luxbake::import::{self, ImportOptions, UpAxis};
 use luxbake::progress::Progress;
 use luxbake::settings::{Exposure, Quality, Settings};
+use luxbake::summary::{RunRecord, RunSummary};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -114,10 +115,6 @@ fn settings(args: &BakeArgs) -> Result<Settings> {
         far_field: args.far_field,
         exposure,
         keep_lit_materials: args.keep_lit_materials,
-        obj_up: match args.obj_up {
-            UpArg::Y => UpAxis::Y,
-            UpArg::Z => UpAxis::Z,
-        },
         threads: args.threads,
         record_timings: args.timings_in_output,
         uniform_patches: args.uniform_patches,
@@ -138,12 +135,11 @@ pub fn run(args: &BakeArgs) -> Result<()> {
     let start = Instant::now();
     let settings = settings(args)?;
     let progress = CliProgress::new(!args.quiet && std::io::stderr().is_terminal());
-    let scene = import::load(
-        input,
-        &ImportOptions {
-            obj_up: settings.obj_up,
-        },
-    )?;
+    let obj_up = match args.obj_up {
+        UpArg::Y => UpAxis::Y,
+        UpArg::Z => UpAxis::Z,
+    };
+    let scene = import::load(input, &ImportOptions { obj_up })?;
     let wants_report = args.report.is_some()
         || args.report_out.is_some()
         || args.report_by.is_some()
@@ -175,35 +171,40 @@ pub fn run(args: &BakeArgs) -> Result<()> {
         .build()
         .context("cannot start worker threads")?;
     let result = pool.install(|| luxbake::bake::bake(&scene, &settings, &progress))?;
-    // The report is made before anything is written (a bad target fails the run cleanly).
-    let report_text = match &report_options {
-        Some(o) => {
-            let input = luxbake::report::ReportInput::from_bake(&scene, &result)?;
-            let format = args.report.unwrap_or(FormatArg::Table);
-            Some(super::report::render(&input, o, format)?)
-        }
-        None => None,
-    };
     let options = ExportOptions {
         unlit: !settings.keep_lit_materials,
         probe_glyphs: settings
             .probe_glyphs
             .then(|| export::glyph_scale(&settings)),
     };
-    pool.install(|| export::write(output, &scene, &result, &options))?;
+    let prepared = pool.install(|| export::Prepared::new(output, &scene, &result, &options))?;
+    // The report is made from the bytes about to be written, before anything is written (a bad
+    // target fails the run cleanly).
+    let report_text = match &report_options {
+        Some(o) => {
+            let baked = luxbake::baked::from_glb(output, &prepared.glb()?)?;
+            let format = args.report.unwrap_or(FormatArg::Table);
+            Some(super::report::render(&baked, o, format)?)
+        }
+        None => None,
+    };
+    pool.install(|| prepared.write(&scene))?;
     args.probes.write_out(&result.probes)?;
     progress.done();
     let total = start.elapsed().as_secs_f64();
     if let Some(path) = &args.summary_json {
-        let mut summary = result.summary.clone();
-        summary["input"] = serde_json::json!(input);
-        summary["output"] = serde_json::json!(output);
-        summary["threads"] = serde_json::json!(threads);
-        summary["timingsSeconds"] = luxbake::bake::timings_json(&result.timings);
-        summary["totalSeconds"] = serde_json::json!(total);
-        let mut bytes = serde_json::to_vec_pretty(&summary)?;
-        bytes.push(b'\n');
-        export::atomic::write_atomic(path, &bytes)?;
+        let summary = RunSummary {
+            timings_seconds: Some(result.timings),
+            ..result.summary.clone()
+        };
+        let record = RunRecord {
+            summary: &summary,
+            input,
+            output,
+            threads,
+            total_seconds: total,
+        };
+        export::summary::write(path, &record)?;
     }
     if !args.quiet {
         report(&result.summary, output, total);
@@ -219,22 +220,21 @@ pub fn run(args: &BakeArgs) -> Result<()> {
 }
 
 /// A few lines on stderr: what was baked and how well.
-fn report(s: &serde_json::Value, output: &Path, seconds: f64) {
-    let c = &s["counts"];
-    let e = &s["energy"];
+fn report(s: &RunSummary, output: &Path, seconds: f64) {
+    let (c, e) = (&s.counts, &s.energy);
     eprintln!(
         "baked {} patches, {} receivers in {seconds:.2} s → {}",
-        c["patches"],
-        c["receivers"],
+        c.patches,
+        c.receivers,
         output.display()
     );
     eprintln!(
         "  emitted {:.1} lm, absorbed {:.1} lm, escaped {:.1} lm, balance error {:.2e}; solver residual {:.1e} after {} iterations",
-        e["emittedLm"].as_f64().unwrap_or(0.0),
-        e["absorbedLm"].as_f64().unwrap_or(0.0),
-        e["escapedLm"].as_f64().unwrap_or(0.0),
-        e["balanceErrorRelative"].as_f64().unwrap_or(0.0),
-        s["solver"]["relativeResidual"].as_f64().unwrap_or(0.0),
-        s["solver"]["iterations"],
+        e.emitted_lm,
+        e.absorbed_lm,
+        e.escaped_lm,
+        e.balance_error_relative,
+        s.solver.relative_residual,
+        s.solver.iterations,
     );
 }

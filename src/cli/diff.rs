@@ -93,8 +93,7 @@ fn compare(args: &DiffArgs) -> Result<diff::Diff, String> {
     if let Some(f) = args.floor {
         check("floor", f, true)?;
     }
-    let load =
-        |p: &PathBuf| luxbake::import::load_baked_output(p).map_err(|e| format!("error: {e}"));
+    let load = |p: &PathBuf| luxbake::baked::read(p).map_err(|e| format!("error: {e}"));
     let (a, b) = (load(&args.a)?, load(&args.b)?);
     let mode = match args.mode {
         ModeArg::Vertices => Mode::Vertices,

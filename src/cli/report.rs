@@ -4,7 +4,8 @@
 
 use anyhow::Result;
 use clap::{Args, ValueEnum};
-use luxbake::report::{self, By, Format, Options, ReportInput, Targets};
+use luxbake::baked::BakedOutput;
+use luxbake::report::{self, By, Format, Options, Targets};
 use std::path::{Path, PathBuf};
 
 /// Print the lighting report of a luxbake output.
@@ -68,13 +69,13 @@ pub fn options(by: ByArg, targets: Option<&Path>) -> Result<Options> {
 }
 
 /// The report's text: the one code path of `bake report` and `bake … --report`.
-pub fn render(input: &ReportInput, options: &Options, format: FormatArg) -> Result<String> {
+pub fn render(input: &BakedOutput, options: &Options, format: FormatArg) -> Result<String> {
     Ok(report::build(input, options)?.render(format.into()))
 }
 
 pub fn run(args: &ReportArgs) -> Result<()> {
     let options = options(args.by, args.targets.as_deref())?;
-    let input = luxbake::import::load_baked(&args.file)?;
+    let input = luxbake::baked::read(&args.file)?;
     print!("{}", render(&input, &options, args.format)?);
     Ok(())
 }

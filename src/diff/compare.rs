@@ -7,15 +7,14 @@ use super::matching::{Matched, match_outputs};
 use super::stats::{Candidate, Check, Columns, Loc, Tolerance, Worst, percentile};
 use super::{BakedOutput, Diff, Mismatch, Mode, Options, Place, Quantity, QuantityDiff};
 use crate::probes::FACE_NAMES;
+use crate::report::Row;
 use crate::report::rows::{Filter, row};
-use crate::report::{ReportInput, Row};
 use glam::DVec3;
 
 /// The default floor: 1 % of the nearest-rank 99th percentile of |b| of B's vertex
 /// `_ILLUMINANCE` (1 lx when that is 0).
 pub fn default_floor(b: &BakedOutput) -> f64 {
     let mut all: Vec<f64> = b
-        .report
         .primitives
         .iter()
         .flat_map(|p| p.illuminance.iter().map(|&e| f64::from(e).abs()))
@@ -31,7 +30,7 @@ struct Means {
     centroid: DVec3,
 }
 
-fn means(input: &ReportInput, prims: &[usize]) -> Means {
+fn means(input: &BakedOutput, prims: &[usize]) -> Means {
     let members: Vec<_> = prims.iter().map(|&k| &input.primitives[k]).collect();
     let values = row(input, "", &members, &Filter::All)
         .map_or([0.0; 3], |r: Row| [r.e_avg, r.e_direct_avg, r.l_avg]);
@@ -54,13 +53,13 @@ struct GroupMeans {
     materials: Vec<Option<(Means, Means)>>,
 }
 
-fn group_means(a: &ReportInput, b: &ReportInput, m: &Matched) -> GroupMeans {
+fn group_means(a: &BakedOutput, b: &BakedOutput, m: &Matched) -> GroupMeans {
     let nodes = m
         .nodes
         .iter()
         .map(|p| (means(a, &p.prims_a), means(b, &p.prims_b)))
         .collect();
-    let members = |input: &ReportInput, group_of: &[usize], g: usize| -> Vec<usize> {
+    let members = |input: &BakedOutput, group_of: &[usize], g: usize| -> Vec<usize> {
         (0..input.primitives.len())
             .filter(|&k| group_of[input.primitives[k].material] == g)
             .collect()
@@ -87,7 +86,7 @@ pub fn compare(
 ) -> Result<Diff, Mismatch> {
     let m = match_outputs(a, b, options.mode)?;
     let floor = options.floor.unwrap_or_else(|| default_floor(b));
-    let (ra, rb) = (&a.report, &b.report);
+    let (ra, rb) = (&a, &b);
     let means = (options.mode == Mode::Means).then(|| group_means(ra, rb, &m));
     let node_names: Vec<String> = m.nodes.iter().map(|p| p.name.clone()).collect();
     let probe_names: Vec<String> = m.probes.iter().map(|p| p.name.clone()).collect();
@@ -228,7 +227,7 @@ fn place(
         pass,
         ..
     } = tolerance.check(c.a, c.b);
-    let rb = &b.report;
+    let rb = &b;
     let mut p = Place {
         quantity: q.key(),
         kind: "",

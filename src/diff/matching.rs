@@ -15,7 +15,6 @@
 //! Everything is linear in the size of the outputs (hash maps on paths, one pass over vertices).
 
 use super::{BakedOutput, Mismatch, Mode};
-use crate::report::ReportInput;
 use glam::DVec3;
 use std::collections::{HashMap, HashSet};
 
@@ -49,7 +48,7 @@ pub(super) struct Matched {
 }
 
 /// Every node path (`a/b/c`), each computed once.
-fn all_paths(input: &ReportInput) -> Vec<String> {
+fn all_paths(input: &BakedOutput) -> Vec<String> {
     let mut paths: Vec<Option<String>> = vec![None; input.nodes.len()];
     for start in 0..input.nodes.len() {
         // Walk up to the first node with a known path (or a root), then fill in downwards.
@@ -96,7 +95,7 @@ fn display_name((path, k): &(String, usize)) -> String {
 }
 
 /// Baked nodes in order of first primitive, and each node's primitives.
-fn baked_nodes(input: &ReportInput) -> (Vec<usize>, Vec<Vec<usize>>) {
+fn baked_nodes(input: &BakedOutput) -> (Vec<usize>, Vec<Vec<usize>>) {
     let mut prims = vec![Vec::new(); input.nodes.len()];
     let mut order = Vec::new();
     for (k, p) in input.primitives.iter().enumerate() {
@@ -116,7 +115,7 @@ pub(super) fn fmt_point(p: DVec3) -> String {
 fn scene_size(a: &BakedOutput, b: &BakedOutput) -> f64 {
     let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
     for o in [a, b] {
-        let vertices = o.report.primitives.iter().flat_map(|p| &p.positions);
+        let vertices = o.primitives.iter().flat_map(|p| &p.positions);
         for &p in vertices.chain(o.probes.iter().map(|p| &p.position)) {
             lo = lo.min(p);
             hi = hi.max(p);
@@ -148,7 +147,7 @@ pub(super) fn match_outputs(
     b: &BakedOutput,
     mode: Mode,
 ) -> Result<Matched, Mismatch> {
-    let (ra, rb) = (&a.report, &b.report);
+    let (ra, rb) = (&a, &b);
     let (paths_a, paths_b) = (all_paths(ra), all_paths(rb));
     let tolerance = 1e-6 * scene_size(a, b);
     let (material_of_b, materials) = material_groups(rb);
@@ -177,8 +176,8 @@ pub(super) fn match_outputs(
 
 /// Baked nodes by path; a node in one file only, or without primitives in one, is a mismatch.
 fn match_nodes(
-    ra: &ReportInput,
-    rb: &ReportInput,
+    ra: &BakedOutput,
+    rb: &BakedOutput,
     paths_a: &[String],
     paths_b: &[String],
 ) -> Result<Vec<NodePair>, Mismatch> {
@@ -225,8 +224,8 @@ fn match_nodes(
 
 /// Same primitive and vertex counts, vertices at the same places.
 fn match_vertices(
-    ra: &ReportInput,
-    rb: &ReportInput,
+    ra: &BakedOutput,
+    rb: &BakedOutput,
     pairs: &[NodePair],
     tolerance: f64,
 ) -> Result<(), Mismatch> {
@@ -267,7 +266,7 @@ fn match_vertices(
 }
 
 /// B's material names, deduplicated in B's material order: (group of each material, names).
-fn material_groups(rb: &ReportInput) -> (Vec<usize>, Vec<String>) {
+fn material_groups(rb: &BakedOutput) -> (Vec<usize>, Vec<String>) {
     let mut by_name: HashMap<String, usize> = HashMap::new();
     let mut names = Vec::new();
     let groups = (0..rb.materials.len())
@@ -284,8 +283,8 @@ fn material_groups(rb: &ReportInput) -> (Vec<usize>, Vec<String>) {
 
 /// Means mode: the material names on baked primitives must be the same set in both files.
 fn match_materials(
-    ra: &ReportInput,
-    rb: &ReportInput,
+    ra: &BakedOutput,
+    rb: &BakedOutput,
     names: &[String],
     of_b: &[usize],
 ) -> Result<Vec<usize>, Mismatch> {

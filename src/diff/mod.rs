@@ -1,6 +1,6 @@
 //! `bake diff`: comparing two luxbake outputs.
 //!
-//! Input: two [`BakedOutput`]s (read by [`crate::import::load_baked_output`]), A (the candidate)
+//! Input: two [`BakedOutput`]s (read by [`crate::baked::read`]), A (the candidate)
 //! and B (the reference), and [`Options`]. Output: a [`Diff`] (rendered as text by [`text`] or as
 //! JSON by [`Diff::json`]), or a [`Mismatch`] when the two cannot be compared in the chosen
 //! [`Mode`] (see [`matching`] for how nodes, primitives, vertices, materials and probes pair up).
@@ -34,28 +34,9 @@ pub mod text;
 
 pub use compare::{compare, default_floor};
 
-use crate::report::ReportInput;
-use glam::DVec3;
+pub use crate::baked::{BakedOutput, ProbeNode};
 use serde::Serialize;
 use std::f64::consts::PI;
-
-/// A luxbake output as `bake diff` reads it: the report's input and every probe node.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct BakedOutput {
-    pub report: ReportInput,
-    pub probes: Vec<ProbeNode>,
-}
-
-/// A node with probe results (`extras.luxbake.faces`).
-#[derive(Debug, Clone, PartialEq)]
-pub struct ProbeNode {
-    /// glTF node index.
-    pub node: usize,
-    /// World position (m).
-    pub position: DVec3,
-    /// Total illuminance on the faces `+x -x +y -y +z -z` (lx).
-    pub faces: [f64; 6],
-}
 
 /// What is compared (see the module documentation).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
@@ -177,7 +158,7 @@ impl Quantity {
     }
 
     /// A vertex attribute's values (empty for probe quantities).
-    fn values(self, p: &crate::report::input::Primitive) -> &[f32] {
+    fn values(self, p: &crate::baked::Primitive) -> &[f32] {
         match self {
             Quantity::Illuminance => &p.illuminance,
             Quantity::IlluminanceDirect => &p.illuminance_direct,

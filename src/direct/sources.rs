@@ -7,6 +7,7 @@ use super::groups::{Groups, Known};
 use super::{enclosed, luminaire, profiled, punctual};
 use crate::patches::PatchMesh;
 use crate::scene::{Light, LightKind, Scene};
+use crate::summary::{LuminaireRecord, SourceKind, SourceRecord};
 use crate::visibility::Occluder;
 use glam::DVec3;
 use rayon::prelude::*;
@@ -48,36 +49,61 @@ impl<'a> DirectSource<'a> {
     }
 
     /// What the summary says about this source, given the flux it put onto surfaces (lm).
-    pub fn report(&self, scene: &Scene, received: f64) -> serde_json::Value {
+    pub fn record(&self, scene: &Scene, received: f64) -> SourceRecord {
         let (kind, name, path) = match self {
             DirectSource::Punctual(l) => (
                 match l.kind {
-                    LightKind::Point => "point",
-                    LightKind::Spot { .. } => "spot",
-                    LightKind::Directional => "directional",
+                    LightKind::Point => SourceKind::Point,
+                    LightKind::Spot { .. } => SourceKind::Spot,
+                    LightKind::Directional => SourceKind::Directional,
                 },
                 l.name.clone(),
                 l.source_path.clone(),
             ),
-            DirectSource::Luminaire(s) => ("luminaire", s.name.clone(), s.source_path.clone()),
-            DirectSource::Profiled(s) => ("profiledSurface", s.name.clone(), s.source_path.clone()),
+            DirectSource::Luminaire(s) => {
+                (SourceKind::Luminaire, s.name.clone(), s.source_path.clone())
+            }
+            DirectSource::Profiled(s) => (
+                SourceKind::ProfiledSurface,
+                s.name.clone(),
+                s.source_path.clone(),
+            ),
         };
-        let mut out = serde_json::json!({
-            "kind": kind,
-            "name": name,
-            "source": path,
-            "emittedLm": self.emitted_flux().unwrap_or(received),
-            "reachedSurfacesLm": received,
-        });
-        if let DirectSource::Luminaire(s) = self {
-            let photometry = &scene.profiles[s.profile].photometry;
-            out["profile"] = serde_json::json!(scene.profiles[s.profile].name);
-            out["multiplier"] = serde_json::json!(s.scale);
-            // Lamp lumens (× the multiplier) and the light output ratio of the profile.
-            out["ratedLampLm"] = serde_json::json!(photometry.rated_lumens().map(|r| r * s.scale));
-            out["lightOutputRatio"] = serde_json::json!(photometry.light_output_ratio());
+        let luminaire = match self {
+            DirectSource::Luminaire(s) => {
+                let profile = &scene.profiles[s.profile];
+                // Lamp lumens (× the multiplier) and the light output ratio of the profile.
+                Some(LuminaireRecord {
+                    profile: profile.name.clone(),
+                    multiplier: s.scale,
+                    rated_lamp_lm: profile.photometry.rated_lumens().map(|r| r * s.scale),
+                    light_output_ratio: profile.photometry.light_output_ratio(),
+                })
+            }
+            _ => None,
+        };
+        SourceRecord {
+            kind,
+            name,
+            source: path,
+            emitted_lm: self.emitted_flux().unwrap_or(received),
+            reached_surfaces_lm: received,
+            luminaire,
         }
-        out
+    }
+
+    /// Point-like beams of this source reaching `p` (shadows included; see `Solution::beams`).
+    pub fn beams(&self, occ: &Occluder, p: DVec3) -> Vec<(DVec3, f64)> {
+        self.point_sources(p)
+            .into_iter()
+            .filter_map(|(q, dir_from_p, e_normal)| {
+                let visible = match q {
+                    Some(q) => occ.clear(p, DVec3::ZERO, q, DVec3::ZERO),
+                    None => occ.escapes(p, DVec3::ZERO, dir_from_p),
+                };
+                (visible && e_normal > 0.0).then_some((dir_from_p, e_normal))
+            })
+            .collect()
     }
 
     /// The point-like pieces of this source as seen from `p`: position (None for a directional

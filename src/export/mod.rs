@@ -24,6 +24,7 @@ mod material;
 mod mesh;
 mod nodes;
 mod probes;
+pub mod summary;
 mod target;
 
 pub use glyphs::scale as glyph_scale;
@@ -66,15 +67,45 @@ pub fn write(
     result: &BakeResult,
     options: &ExportOptions,
 ) -> Result<()> {
-    let target = Target::for_path(path)?;
-    let doc = document::build(scene, result, options)?;
-    write_doc(path, target, scene, &doc)
+    Prepared::new(path, scene, result, options)?.write(scene)
+}
+
+/// An output built and checked but not yet written: it can be read back first (the bake's
+/// report is made from the very bytes it writes).
+pub struct Prepared<'p> {
+    path: &'p Path,
+    target: Target,
+    doc: document::Document,
+}
+
+impl<'p> Prepared<'p> {
+    pub fn new(
+        path: &'p Path,
+        scene: &Scene,
+        result: &BakeResult,
+        options: &ExportOptions,
+    ) -> Result<Self> {
+        Ok(Prepared {
+            path,
+            target: Target::for_path(path)?,
+            doc: document::build(scene, result, options)?,
+        })
+    }
+
+    /// The output as one `.glb` file's bytes (the same document whatever the output's format).
+    pub fn glb(&self) -> Result<Vec<u8>> {
+        container::glb(&self.doc, self.path)
+    }
+
+    pub fn write(self, scene: &Scene) -> Result<()> {
+        write_doc(self.path, self.target, scene, &self.doc)
+    }
 }
 
 /// Write `scene` unbaked, as an input for a bake (e.g. a scene built in code): POSITION, NORMAL
 /// and TEXCOORD_n only (no COLOR_0, no `_ILLUMINANCE*`), the materials as given (PBR, with their
 /// `LUXBAKE_material`, not unlit), lights, profiles and luminaires, and the scene's extras without
-/// a run summary. [`crate::import::load`] reads it back as the same scene.
+/// a run summary. The importer reads it back as the same scene.
 pub fn write_scene(path: &Path, scene: &Scene) -> Result<()> {
     let target = Target::for_path(path)?;
     let result = BakeResult::unbaked(scene);

@@ -13,7 +13,9 @@
 //! in cd or lx is written unchanged). Scene extras gain `"luxbake": <summary>`.
 
 use super::extras::with_luxbake;
+use super::summary::to_json;
 use crate::scene::{LightKind, LocalTransform, Scene};
+use crate::summary::RunSummary;
 use glam::{DMat4, DQuat, DVec3};
 use serde_json::{Map, Value, json};
 use std::collections::BTreeMap;
@@ -97,7 +99,7 @@ fn transform(local: &LocalTransform, out: &mut Map<String, Value>) {
 
 /// The single scene: name, root nodes and extras with the run summary (`None`: the scene's
 /// extras as they are, for an unbaked scene).
-pub fn scene(scene: &Scene, summary: Option<&serde_json::Value>) -> Value {
+pub fn scene(scene: &Scene, summary: Option<&RunSummary>) -> Value {
     let mut out = Map::new();
     if let Some(name) = &scene.name {
         out.insert("name".into(), json!(name));
@@ -106,7 +108,7 @@ pub fn scene(scene: &Scene, summary: Option<&serde_json::Value>) -> Value {
         out.insert("nodes".into(), json!(scene.roots));
     }
     let extras = match summary {
-        Some(summary) => Some(with_luxbake(scene.extras.as_ref(), summary.clone())),
+        Some(summary) => Some(with_luxbake(scene.extras.as_ref(), to_json(summary))),
         None => scene.extras.clone(),
     };
     if let Some(extras) = extras {

@@ -13,8 +13,9 @@ use std::path::{Path, PathBuf};
 pub(crate) struct Ctx {
     /// The input file as the caller named it (used in messages).
     pub file: PathBuf,
-    /// Canonical folder of the input file; resources must resolve inside it.
-    pub dir: PathBuf,
+    /// Canonical folder of the input file; resources must resolve inside it. `None` for a
+    /// document read from memory, which may reference no file at all.
+    pub dir: Option<PathBuf>,
     pub input_files: Vec<PathBuf>,
     pub warnings: Vec<String>,
     warned: HashSet<String>,
@@ -35,13 +36,34 @@ impl Ctx {
             .map_err(|e| Error::input(path, "", format!("cannot resolve its folder: {e}")))?;
         let mut ctx = Ctx {
             file: path.to_path_buf(),
-            dir,
+            dir: Some(dir),
             input_files: Vec::new(),
             warnings: Vec::new(),
             warned: HashSet::new(),
         };
         ctx.record(canonical);
         Ok(ctx)
+    }
+
+    /// A document held in memory, named `name` in messages: it may reference no file.
+    pub fn in_memory(name: &Path) -> Self {
+        Ctx {
+            file: name.to_path_buf(),
+            dir: None,
+            input_files: Vec::new(),
+            warnings: Vec::new(),
+            warned: HashSet::new(),
+        }
+    }
+
+    /// The folder resources must resolve inside, or an error at `at` for a document in memory.
+    pub fn folder(&self, at: &str, what: &str) -> Result<&Path> {
+        self.dir.as_deref().ok_or_else(|| {
+            self.err(
+                at,
+                format!("{what}: a document read from memory cannot reference files"),
+            )
+        })
     }
 
     /// An input error at `at` (a JSON pointer or other locator) in the current file.

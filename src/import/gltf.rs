@@ -14,9 +14,9 @@
 //! the file's materials when needed. `baked` reads a luxbake *output* back for the report instead.
 
 mod accessor;
-mod baked;
 mod buffers;
 mod document;
+pub mod file;
 mod lights;
 mod luminaires;
 mod luxbake_ext;
@@ -31,8 +31,6 @@ use super::context::Ctx;
 use crate::Result;
 use crate::scene::{Material, Scene};
 use serde_json::Value;
-
-pub(crate) use baked::{load as load_baked, load_output as load_baked_output};
 
 pub(crate) fn load(ctx: &mut Ctx, bytes: &[u8]) -> Result<Scene> {
     let document::Parsed { doc, raw, bin } = document::parse(ctx, bytes)?;

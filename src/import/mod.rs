@@ -4,8 +4,8 @@
 //! Input: a path and [`ImportOptions`]. Output: a [`Scene`] meeting the invariants documented in
 //! `crate::scene`, or an [`crate::Error::Input`] naming the file and the element (a JSON pointer
 //! for glTF). Every file read is listed, canonicalised, in `Scene::input_files`; no file outside
-//! the input file's folder is ever read. [`load_baked`] reads a luxbake output back (same parser,
-//! same confinement) into the report's input.
+//! the input file's folder is ever read. [`GltfFile`] opens a glTF with the same parser and the
+//! same confinement without making a scene of it: `crate::baked` reads finished bakes through it.
 
 mod context;
 mod geometry;
@@ -16,6 +16,8 @@ mod material_values;
 mod obj;
 mod obj_mtl;
 mod resources;
+
+pub use gltf::file::{GltfFile, Primitive as GltfPrimitive};
 
 use crate::{Error, Result, scene::Scene};
 use std::path::Path;
@@ -59,33 +61,4 @@ pub fn load(path: &Path, options: &ImportOptions) -> Result<Scene> {
             "unsupported file type: luxbake reads .gltf, .glb and .obj files",
         )),
     }
-}
-
-/// Read a luxbake output (`.gltf`, `.glb`) back for the report: see `gltf/baked.rs`.
-pub fn load_baked(path: &Path) -> Result<crate::report::ReportInput> {
-    let mut ctx = baked_context(path)?;
-    let bytes = ctx.read_input()?;
-    gltf::load_baked(&mut ctx, &bytes)
-}
-
-/// Read a luxbake output back for `bake diff`: the report's input and every probe node.
-pub fn load_baked_output(path: &Path) -> Result<crate::diff::BakedOutput> {
-    let mut ctx = baked_context(path)?;
-    let bytes = ctx.read_input()?;
-    gltf::load_baked_output(&mut ctx, &bytes)
-}
-
-fn baked_context(path: &Path) -> Result<context::Ctx> {
-    let extension = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    if !matches!(extension.as_deref(), Some("gltf" | "glb")) {
-        return Err(Error::input(
-            path,
-            "",
-            "not a luxbake output: bake writes .gltf or .glb files",
-        ));
-    }
-    context::Ctx::new(path)
 }

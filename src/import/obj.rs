@@ -154,7 +154,9 @@ fn load_mtl(ctx: &Ctx, reference: &Path, loads: &mut MtlLoads) -> tobj::MTLLoadR
         return empty;
     }
     let at = format!("mtllib '{}'", reference.display());
-    if lexically_inside(&ctx.dir, reference) && !ctx.dir.join(reference).exists() {
+    if (ctx.dir.as_deref())
+        .is_some_and(|d| lexically_inside(d, reference) && !d.join(reference).exists())
+    {
         loads.warnings.push(format!(
             "{}: {at}: the MTL file is missing; its materials are replaced by the default \
              material",

@@ -147,7 +147,9 @@ fn load_texture(
 ) -> Result<Option<usize>> {
     let relative = source.folder.join(texture_file(reference));
     let where_ = format!("{}: {at}", source.path.display());
-    if lexically_inside(&ctx.dir, &relative) && !ctx.dir.join(&relative).exists() {
+    if (ctx.dir.as_deref())
+        .is_some_and(|d| lexically_inside(d, &relative) && !d.join(&relative).exists())
+    {
         ctx.warn(format!(
             "{where_}: map_Kd '{reference}' is missing; the material has no texture"
         ));

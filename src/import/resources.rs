@@ -76,7 +76,8 @@ pub(crate) fn lexically_inside(dir: &Path, reference: &Path) -> bool {
 /// Resolve `reference` against `Ctx::dir` to a canonical path inside it.
 pub(crate) fn confine(ctx: &Ctx, reference: &Path, at: &str, what: &str) -> Result<PathBuf> {
     let shown = reference.display();
-    let Some(lexical) = lexical_join(&ctx.dir, reference) else {
+    let dir = ctx.folder(at, what)?;
+    let Some(lexical) = lexical_join(dir, reference) else {
         return Err(ctx.err(
             at,
             format!(
@@ -85,34 +86,34 @@ pub(crate) fn confine(ctx: &Ctx, reference: &Path, at: &str, what: &str) -> Resu
             ),
         ));
     };
-    if !lexical.starts_with(&ctx.dir) {
+    if !lexical.starts_with(dir) {
         return Err(ctx.err(
             at,
             format!(
                 "{what} '{shown}' lies outside the folder of the input file; resources must be \
                  inside {}",
-                ctx.dir.display()
+                dir.display()
             ),
         ));
     }
-    if lexical == ctx.dir {
+    if lexical == dir {
         return Err(ctx.err(at, format!("{what} '{shown}' does not name a file")));
     }
-    let joined = ctx.dir.join(reference);
+    let joined = dir.join(reference);
     let canonical = joined.canonicalize().map_err(|e| {
         ctx.err(
             at,
             format!("{what} file {} cannot be opened: {e}", joined.display()),
         )
     })?;
-    if !canonical.starts_with(&ctx.dir) {
+    if !canonical.starts_with(dir) {
         return Err(ctx.err(
             at,
             format!(
                 "{what} '{shown}' resolves to {}, outside the folder of the input file (through \
                  a symbolic link); resources must be inside {}",
                 canonical.display(),
-                ctx.dir.display()
+                dir.display()
             ),
         ));
     }

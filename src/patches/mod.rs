@@ -10,21 +10,30 @@
 //!   points of its patches (a patch's irradiance is the mean of its three receivers').
 //!
 //! Invariants: patches have area > 0; every patch's vertices are receivers of the same group;
-//! receiver normals have unit length and face the side's front; `Receiver::point` lies on the
+//! receiver normals have unit length and face the side's front; `Vertex::point` lies on the
 //! surface, nudged a hair (10⁻⁴ of the longest edge around it) into the adjacent patches so that a receiver at a room corner
 //! sees the neighbouring wall as the limit from inside the face, not edge-on.
 
 pub mod adapt;
 pub mod refine;
 
-use crate::result::Side;
 use crate::scene::Scene;
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
+/// Which face of a surface a baked mesh carries.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "camelCase")]
+pub enum Side {
+    Front,
+    /// The back face of a double-sided material, written as an extra primitive with reversed
+    /// winding so viewers show each face its own light.
+    Back,
+}
+
 #[derive(Debug, Clone)]
 pub struct Patch {
-    /// Receiver indices (global), counter-clockwise seen from the front.
+    /// Indices of its vertices in `PatchMesh::receivers`, counter-clockwise seen from the front.
     pub v: [u32; 3],
     pub group: u32,
     pub area: f64,
@@ -35,13 +44,15 @@ pub struct Patch {
 }
 
 impl Patch {
-    pub fn corners(&self, receivers: &[Receiver]) -> [DVec3; 3] {
+    pub fn corners(&self, receivers: &[Vertex]) -> [DVec3; 3] {
         self.v.map(|i| receivers[i as usize].position)
     }
 }
 
 #[derive(Debug, Clone, Copy)]
-pub struct Receiver {
+/// A vertex of the patch mesh on one side of its surface: a receiver, where the values users see
+/// are computed.
+pub struct Vertex {
     /// The vertex position (m, world).
     pub position: DVec3,
     /// Unit normal of the receiving side.
@@ -70,7 +81,7 @@ pub struct Group {
 pub struct PatchMesh {
     pub groups: Vec<Group>,
     pub patches: Vec<Patch>,
-    pub receivers: Vec<Receiver>,
+    pub receivers: Vec<Vertex>,
     /// The patch size used (m).
     pub patch_size: f64,
 }
@@ -326,7 +337,7 @@ fn add_group(mesh: &mut PatchMesh, g: GroupInput) {
         };
         let tangent_in = (inward[i] - normal * inward[i].dot(normal)).normalize_or_zero();
         offset.push(tangent_in * nudge);
-        mesh.receivers.push(Receiver {
+        mesh.receivers.push(Vertex {
             position: g.positions[i],
             normal,
             point: g.positions[i],

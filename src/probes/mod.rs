@@ -14,16 +14,16 @@
 //!
 //! Face order everywhere: `[+x, −x, +y, −y, +z, −z]` (probe axes).
 //!
-//! Input and output: [`csv`] reads probes from a `--probes` file; [`output`] makes the JSON object
-//! written to the glTF's `extras.luxbake` and to `--probes-out FILE.json`; [`table`] the
-//! `--probes-out FILE.csv` table.
+//! Where: [`place`] puts the probes of a bake (nodes marked `probe`, grids, explicit points,
+//! the working plane). Input and output: [`csv`] reads probes from a `--probes` file; [`output`]
+//! makes the JSON object written to the glTF's `extras.luxbake` and to `--probes-out FILE.json`;
+//! [`table`] the `--probes-out FILE.csv` table. Measuring them is a stage of the bake
+//! (`bake::probes`): probes are receivers like any other.
 
 pub mod csv;
-pub mod evaluate;
-pub mod gather;
 pub mod metrics;
 pub mod output;
-pub mod sphere;
+pub mod place;
 pub mod table;
 
 use glam::{DMat3, DVec3};
@@ -40,6 +40,15 @@ pub const FACES: [DVec3; 6] = [
 
 /// The face names, in order, as written in outputs.
 pub const FACE_NAMES: [&str; 6] = ["+x", "-x", "+y", "-y", "+z", "-z"];
+
+/// A horizontal grid of probes: points every `spacing` m over the floor, `height` m above it
+/// (+Y up).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "camelCase")]
+pub struct ProbeGrid {
+    pub spacing: f64,
+    pub height: f64,
+}
 
 /// A measuring point.
 #[derive(Debug, Clone, PartialEq)]

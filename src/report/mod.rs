@@ -1,9 +1,9 @@
 //! The lighting report: per-surface figures like the seed paper's Table 2, the working plane, and
 //! design targets beside what the bake achieved.
 //!
-//! Input: a [`ReportInput`] — the data a luxbake output glTF holds, built either from a bake in
-//! memory ([`ReportInput::from_bake`]) or from an output file ([`crate::import::load_baked`]);
-//! both give the same values, so `bake report OUT` prints exactly what `bake … --report` printed.
+//! Input: a [`BakedOutput`] — what a luxbake output holds, read from an output file or from the
+//! bytes the exporter is about to write (`crate::baked`); both give the same values, so
+//! `bake report OUT` prints exactly what `bake … --report` printed.
 //! Output: a [`Report`] with up to four sections:
 //! - surfaces **by material** and **by node** ([`rows`]): area, area-weighted reflectance,
 //!   average / minimum / maximum illuminance, average direct and indirect, uniformity
@@ -16,16 +16,15 @@
 //! It renders as an aligned plain-text table, Markdown, CSV or JSON ([`Format`]).
 
 mod csv;
-pub mod input;
 pub mod rows;
 pub mod targets;
 mod text;
 
-pub use input::ReportInput;
 pub use rows::{Filter, PlaneRow, Row};
 pub use targets::{TargetRow, Targets};
 
 use crate::Result;
+use crate::baked::BakedOutput;
 
 /// Which surface sections to include.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -70,7 +69,7 @@ pub struct Report {
 }
 
 /// Compute the report (errors only for targets naming nothing in the bake).
-pub fn build(input: &ReportInput, options: &Options) -> Result<Report> {
+pub fn build(input: &BakedOutput, options: &Options) -> Result<Report> {
     let want = |b: By| options.by == b || options.by == By::Both;
     let working_plane = input.working_plane.as_ref().map(rows::plane);
     let targets = match &options.targets {

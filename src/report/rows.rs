@@ -6,7 +6,7 @@
 //! of the triangles taken. Sums run in a fixed order (primitives in output order, probe values
 //! sorted), so equal inputs give equal bits.
 
-use super::input::{PlaneInput, Primitive, ReportInput};
+use crate::baked::{BakedOutput, PlaneInput, PlanePoint, Primitive};
 use glam::DVec3;
 
 /// One surface group's figures.
@@ -57,7 +57,7 @@ pub struct PlaneRow {
 }
 
 /// One row per node with baked primitives, named by its path (`desk_dark/top`), in node order.
-pub fn by_node(input: &ReportInput, filter: &Filter) -> Vec<Row> {
+pub fn by_node(input: &BakedOutput, filter: &Filter) -> Vec<Row> {
     groups(
         input.nodes.len(),
         |p| p.node,
@@ -68,7 +68,7 @@ pub fn by_node(input: &ReportInput, filter: &Filter) -> Vec<Row> {
 }
 
 /// One row per material with baked primitives, in material order.
-pub fn by_material(input: &ReportInput, filter: &Filter) -> Vec<Row> {
+pub fn by_material(input: &BakedOutput, filter: &Filter) -> Vec<Row> {
     groups(
         input.materials.len(),
         |p| p.material,
@@ -81,7 +81,7 @@ pub fn by_material(input: &ReportInput, filter: &Filter) -> Vec<Row> {
 fn groups(
     n: usize,
     key: impl Fn(&Primitive) -> usize,
-    input: &ReportInput,
+    input: &BakedOutput,
     filter: &Filter,
     name: impl Fn(usize) -> String,
 ) -> Vec<Row> {
@@ -99,7 +99,7 @@ fn groups(
 }
 
 /// The figures over `prims` (None when no triangle with area passes the filter).
-pub fn row(input: &ReportInput, name: &str, prims: &[&Primitive], filter: &Filter) -> Option<Row> {
+pub fn row(input: &BakedOutput, name: &str, prims: &[&Primitive], filter: &Filter) -> Option<Row> {
     let (mut area, mut rho, mut e, mut ed, mut l) = (0.0, 0.0, 0.0, 0.0, 0.0);
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
     for p in prims {
@@ -149,7 +149,7 @@ pub fn row(input: &ReportInput, name: &str, prims: &[&Primitive], filter: &Filte
 /// The working plane's figures: plain means over its points (a regular grid).
 pub fn plane(input: &PlaneInput) -> PlaneRow {
     let points = &input.points;
-    let mean = |get: fn(&super::input::PlanePoint) -> f32| {
+    let mean = |get: fn(&PlanePoint) -> f32| {
         let mut v: Vec<f32> = points.iter().map(get).collect();
         v.sort_by(f32::total_cmp);
         v.iter().map(|&x| x as f64).sum::<f64>() / v.len().max(1) as f64

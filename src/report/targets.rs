@@ -12,8 +12,8 @@
 //!
 //! A key that names nothing in the bake, or whose faces have no area, is an error naming it.
 
-use super::input::ReportInput;
 use super::rows::{Filter, row};
+use crate::baked::BakedOutput;
 use crate::probes::{FACE_NAMES, FACES};
 use crate::{Error, Result};
 use std::path::{Path, PathBuf};
@@ -79,7 +79,7 @@ impl Targets {
     }
 
     /// Each target beside the bake's figure.
-    pub fn rows(&self, input: &ReportInput, plane_avg: Option<f64>) -> Result<Vec<TargetRow>> {
+    pub fn rows(&self, input: &BakedOutput, plane_avg: Option<f64>) -> Result<Vec<TargetRow>> {
         self.entries
             .iter()
             .map(|(key, target)| {
@@ -100,7 +100,7 @@ impl Targets {
     }
 
     /// The average illuminance over the surfaces `key` names.
-    fn surface_average(&self, input: &ReportInput, key: &str) -> Result<f64> {
+    fn surface_average(&self, input: &BakedOutput, key: &str) -> Result<f64> {
         let err = |m: String| Error::input(&self.file, "", format!("target '{key}': {m}"));
         let (name, filter) = split_face(key).map_err(&err)?;
         let prims: Vec<_> = match name.strip_prefix("material:") {

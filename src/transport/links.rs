@@ -17,7 +17,7 @@ use super::field::{ClusterSlots, NodeField};
 use super::gather::{Gatherer, SharedRays};
 use super::link::{Leaf, Link};
 use crate::geom::samples;
-use crate::patches::Receiver;
+use crate::patches::Vertex;
 use glam::DVec3;
 use rayon::prelude::*;
 
@@ -60,7 +60,7 @@ pub struct RowRef<'a> {
 const CHUNK: usize = 64;
 
 impl ReceiverLinks {
-    pub fn build(gatherer: &Gatherer, receivers: &[Receiver]) -> Self {
+    pub fn build(gatherer: &Gatherer, receivers: &[Vertex]) -> Self {
         type Built = (RowChunk, Vec<(f32, f32, bool, f32)>);
         let built: Vec<Built> = receivers
             .par_chunks(CHUNK)

@@ -17,6 +17,7 @@ use luxbake::scene::{
     DisplayMaterial, Image, Light, LightKind, LocalTransform, Material, Node, ReflectanceSource,
     Sampler, Scene, Surface, Texture, TextureRef, normalise_color,
 };
+use luxbake::summary::{Counts, RunSummary};
 use serde_json::json;
 
 /// A local unit quad in the XY plane facing +Z: positions, uvs, triangles (CCW from +Z).
@@ -216,8 +217,14 @@ pub fn scene() -> (Scene, BakeResult) {
             baked(1, &surfaces[1], Side::Front, 50.0, 0.5),
             baked(1, &surfaces[1], Side::Back, 20.0, 0.5),
         ],
-        summary: json!({"patches": 12, "iterations": 3, "meanIlluminance": 250.5}),
-        timings: Vec::new(),
+        summary: RunSummary {
+            counts: Counts {
+                patches: 12,
+                ..Default::default()
+            },
+            ..Default::default()
+        },
+        timings: Default::default(),
         probes: Vec::new(),
     };
     let scene = Scene {

@@ -8,7 +8,7 @@
 //! angle (stratified in cos θ and φ about the vertical), each taking the luminance of the surface
 //! it meets; point-like sources (lights, luminaire sub-sources) are added exactly as beams.
 
-use crate::bake::Solution;
+use super::solved::Solution;
 use glam::DVec3;
 use std::f64::consts::PI;
 

@@ -2,8 +2,9 @@
 //! property `probe` on an Empty), a grid over the floor (`--probe-grid`), probes given explicitly
 //! (`--probes FILE.csv`), and the report's working plane (`--working-plane`).
 //!
-//! Input: the scene, the settings, and the solved scene's occluder (to find the floor and to skip
-//! grid points inside objects). Output: the list of [`Probe`]s, in that order, and warnings.
+//! Input: the scene, what to measure ([`Wanted`]), and the scene's occluder (to find the floor
+//! and to skip grid points inside objects). Output: the list of [`Probe`]s, in that order, and
+//! warnings.
 //!
 //! A node probe takes the node's world position and its world rotation (scale removed) unless its
 //! `extras.probe` is an object with `"aligned": true`, which keeps the cube aligned with the world
@@ -15,24 +16,27 @@
 //! direction), are skipped and counted in a warning. Explicit probes are kept wherever they are,
 //! with a warning for each one inside an object.
 
-use super::{Probe, ProbeOrigin};
-use crate::bake::Solution;
+use super::{Probe, ProbeGrid, ProbeOrigin};
 use crate::progress::Progress;
 use crate::scene::Scene;
-use crate::settings::{ProbeGrid, Settings};
 use crate::visibility::Occluder;
 use glam::{DMat3, DVec3};
 
+/// What a bake measures besides the scene's own probe nodes.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Wanted<'a> {
+    /// `--probe-grid`.
+    pub grid: Option<ProbeGrid>,
+    /// Probes given explicitly (`--probes FILE.csv`).
+    pub explicit: &'a [Probe],
+    /// The report's working plane.
+    pub working_plane: Option<ProbeGrid>,
+}
+
 /// All probes of a bake, in order: nodes, grid, explicit, working plane.
-pub fn all(
-    scene: &Scene,
-    settings: &Settings,
-    solution: &Solution,
-    progress: &dyn Progress,
-) -> Vec<Probe> {
+pub fn all(scene: &Scene, wanted: Wanted, occ: &Occluder, progress: &dyn Progress) -> Vec<Probe> {
     let mut out = node_probes(scene);
-    let occ = &solution.occluder;
-    if let Some(g) = settings.probe_grid {
+    if let Some(g) = wanted.grid {
         out.extend(grid(
             scene,
             occ,
@@ -44,7 +48,7 @@ pub fn all(
             progress,
         ));
     }
-    for p in &settings.extra_probes {
+    for p in wanted.explicit {
         if is_inside(occ, p.position) {
             progress.warn(&format!(
                 "probe '{}' ({}) is inside an object or behind a one-sided surface: its faces may read 0 lx",
@@ -56,8 +60,8 @@ pub fn all(
             ));
         }
     }
-    out.extend(settings.extra_probes.iter().cloned());
-    if let Some(g) = settings.working_plane {
+    out.extend(wanted.explicit.iter().cloned());
+    if let Some(g) = wanted.working_plane {
         out.extend(grid(
             scene,
             occ,

@@ -1,0 +1,111 @@
+//! The direct stage: light from the scene's sources, exact at every vertex, and as flux into every
+//! patch (what the radiosity solution then reflects).
+//!
+//! Input: the meshed scene, its [`DirectLight`] and the occluder. Output: direct illuminance at
+//! each vertex (lx, RGB), and [`PatchFlux`]. Both are sums over fixed chunks in order:
+//! deterministic whatever the thread count.
+
+use crate::direct::enclosed::Solids;
+use crate::patches::PatchMesh;
+use crate::progress::Progress;
+use crate::scene::Scene;
+use crate::solution::{DirectLight, receivers};
+use crate::visibility::Occluder;
+use glam::DVec3;
+use rayon::prelude::*;
+
+/// Direct illuminance (lx, RGB) at every vertex of `mesh`: the vertices are receivers like any
+/// other, read before the solve.
+pub fn at_vertices(
+    lights: &DirectLight,
+    mesh: &PatchMesh,
+    occ: &Occluder,
+    progress: &dyn Progress,
+) -> Vec<DVec3> {
+    let vertices = receivers::Vertices(&mesh.receivers);
+    receivers::map(&vertices, progress, |_, r| lights.at(mesh, occ, r)[0])
+}
+
+/// Direct flux of the lights and luminaires: into each patch's front (RGB), onto back faces
+/// (RGB), and per source (lm, photometric, front and back).
+pub struct PatchFlux {
+    pub per_patch: Vec<DVec3>,
+    pub back: DVec3,
+    pub per_source: Vec<f64>,
+}
+
+pub fn into_patches(
+    scene: &Scene,
+    lights: &DirectLight,
+    mesh: &PatchMesh,
+    occ: &Occluder,
+) -> PatchFlux {
+    let (sources, groups) = (&lights.sources, &lights.groups);
+    let solids = Solids::new(scene);
+    // Fixed chunks of patches, each summed into its own totals, the chunks' totals added in
+    // order: deterministic whatever the thread count. (A row of every source for every patch,
+    // kept until the end, was patches × sources × 16 bytes: 10 GB on the 10⁶-triangle floor,
+    // the bake's peak memory.)
+    let parts: Vec<PatchFlux> = mesh
+        .patches
+        .par_chunks(FLUX_CHUNK)
+        .map(|chunk| {
+            let mut part = PatchFlux {
+                per_patch: Vec::with_capacity(chunk.len()),
+                back: DVec3::ZERO,
+                per_source: vec![0.0; sources.len()],
+            };
+            let mut row = vec![(0.0, 0.0); sources.len()];
+            for p in chunk {
+                let corners = p.corners(&mesh.receivers);
+                // A group's rays leave from the centroid, pulled off the side that faces it (the
+                // back of a single-sided patch absorbs what reaches it).
+                let c = (corners[0] + corners[1] + corners[2]) / 3.0;
+                let clear = |q: DVec3, n: DVec3| occ.clear(c, n, q, DVec3::ZERO);
+                row.fill((0.0, 0.0));
+                // Sources that can light only this patch's back, when that back is lit by its
+                // twin instead (double-sided) or faces the inside of a closed solid they lie
+                // outside of, send it nothing: no rays for them.
+                let dark_back = match p.double_sided {
+                    true => Some(None),
+                    false => solids.of(mesh.groups[p.group as usize].surface).map(Some),
+                };
+                groups.visit(c, &[p.normal, -p.normal], clear, |k, known| {
+                    if dark_back
+                        .is_some_and(|solid| sources[k].behind_and_outside(c, p.normal, solid))
+                    {
+                        return;
+                    }
+                    let (front, back) = sources[k].patch_flux(occ, &corners, p.normal, known);
+                    // A double-sided patch's back is its twin, which takes that light as front.
+                    row[k] = (front, if p.double_sided { 0.0 } else { back });
+                });
+                let mut front = DVec3::ZERO;
+                for (k, &(f, b)) in row.iter().enumerate() {
+                    let color = sources[k].color();
+                    front += color * f;
+                    part.back += color * b;
+                    part.per_source[k] += f + b;
+                }
+                part.per_patch.push(front);
+            }
+            part
+        })
+        .collect();
+    let mut out = PatchFlux {
+        per_patch: Vec::with_capacity(mesh.patches.len()),
+        back: DVec3::ZERO,
+        per_source: vec![0.0; sources.len()],
+    };
+    for part in parts {
+        out.per_patch.extend(part.per_patch);
+        out.back += part.back;
+        for (total, x) in out.per_source.iter_mut().zip(part.per_source) {
+            *total += x;
+        }
+    }
+    out
+}
+
+/// Patches per chunk of [`into_patches`].
+const FLUX_CHUNK: usize = 256;

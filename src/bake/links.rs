@@ -1,0 +1,66 @@
+//! The links stage: every vertex's view of the patch hierarchy, gathered once and kept as the
+//! rows the solver applies (see `transport::links`).
+//!
+//! Input: the meshed scene and the occluder. Output: [`Rows`]: the tree of all patches, each
+//! patch's reflectance, the black nodes nobody gathers from, and the vertices' rows.
+
+use super::meshing::Meshed;
+use crate::patches::PatchMesh;
+use crate::scene::Scene;
+use crate::settings::Settings;
+use crate::transport::{gather::Gatherer, links::ReceiverLinks, tree::PatchTree};
+use crate::visibility::Occluder;
+use glam::DVec3;
+
+pub struct Rows {
+    pub tree: PatchTree,
+    /// Linear RGB reflectance of each patch.
+    pub rho: Vec<DVec3>,
+    /// Per tree node, when some are: all its patches are [`black`].
+    pub dark: Option<Vec<bool>>,
+    pub links: ReceiverLinks,
+}
+
+/// Patch `p` reflects nothing and emits nothing into the patch field: its exitance stays zero,
+/// so nobody gathers from nodes of such patches alone (only what they cover counts).
+pub fn black(rho: &[DVec3], exitance: &[DVec3], p: usize) -> bool {
+    rho[p] == DVec3::ZERO && exitance[p] == DVec3::ZERO
+}
+
+pub fn stage(
+    scene: &Scene,
+    settings: &Settings,
+    tau: f64,
+    meshed: &Meshed,
+    occluder: &Occluder,
+) -> Rows {
+    let mesh: &PatchMesh = &meshed.mesh;
+    let tree = PatchTree::build(mesh, (0..mesh.patches.len() as u32).collect());
+    let rho: Vec<DVec3> = mesh
+        .patches
+        .iter()
+        .map(|p| scene.materials[mesh.groups[p.group as usize].material].reflectance)
+        .collect();
+    let dark = match settings.gather_black {
+        true => None,
+        false => tree.nodes_where(|p| black(&rho, &meshed.exitance, p)),
+    };
+    let gatherer = Gatherer {
+        mesh,
+        tree: &tree,
+        occluder,
+        tau,
+        dark: dark.as_deref(),
+    };
+    let links = match dark.as_ref().is_some_and(|d| d[0]) {
+        // Black throughout: nothing is reflected, so there is nothing to gather.
+        true => ReceiverLinks::none(mesh.receivers.len(), tree.nodes.len()),
+        false => ReceiverLinks::build(&gatherer, &mesh.receivers),
+    };
+    Rows {
+        tree,
+        rho,
+        dark,
+        links,
+    }
+}

@@ -1,0 +1,62 @@
+//! The output stage: the solution shaped for the exporter, one [`BakedSurface`] per patch group
+//! (a side of a surface): world-space vertices, triangles, and at every vertex the illuminance
+//! (total and direct), the luminance leaving it and its display colour.
+
+use super::display;
+use crate::result::BakedSurface;
+use crate::scene::luma;
+use crate::solution::Solution;
+use glam::DVec3;
+
+/// Shape the solution for the exporter: one baked surface per patch group.
+pub fn surfaces(s: &Solution, scale: f64) -> Vec<BakedSurface> {
+    let (scene, mesh) = (s.scene(), s.mesh());
+    mesh.groups
+        .iter()
+        .map(|g| {
+            let material = &scene.materials[g.material];
+            // Every patch of a group emits alike.
+            let emitted = match g.patches.is_empty() {
+                true => DVec3::ZERO,
+                false => s.emitted(g.patches.start),
+            };
+            let range = g.receivers.clone();
+            let r0 = range.start as u32;
+            let mut illuminance = Vec::with_capacity(range.len());
+            let mut illuminance_direct = Vec::with_capacity(range.len());
+            let mut luminance = Vec::with_capacity(range.len());
+            let mut color = Vec::with_capacity(range.len());
+            for r in range.clone() {
+                let light = s.vertex(r);
+                let e = light.total();
+                let exitance = emitted + material.reflectance * e;
+                illuminance.push(luma(e) as f32);
+                illuminance_direct.push(luma(light.direct) as f32);
+                luminance.push((luma(exitance) / std::f64::consts::PI) as f32);
+                color.push(display::color(e, exitance, material, scale));
+            }
+            BakedSurface {
+                surface: g.surface,
+                side: g.side,
+                positions: mesh.receivers[range.clone()]
+                    .iter()
+                    .map(|r| r.position)
+                    .collect(),
+                normals: mesh.receivers[range.clone()]
+                    .iter()
+                    .map(|r| r.normal)
+                    .collect(),
+                uv0: g.uv0.clone(),
+                uv1: g.uv1.clone(),
+                triangles: mesh.patches[g.patches.clone()]
+                    .iter()
+                    .map(|p| p.v.map(|v| v - r0))
+                    .collect(),
+                illuminance,
+                illuminance_direct,
+                luminance,
+                color,
+            }
+        })
+        .collect()
+}

@@ -1,0 +1,120 @@
+//! The solve stage: the patch-to-patch operator from the vertices' rows, balanced so a closed
+//! room loses nothing per bounce, and GMRES on (I − ρG)B = ρE_direct.
+//!
+//! Input: the meshed scene, the [`Rows`] (consumed: the largest thing a bake holds, dropped here
+//! once the solve is done), the direct flux into each patch from lights and luminaires, and the
+//! solver's tolerance. Output: [`Radiosity`]: the reflected exitance of every patch and what
+//! the vertices and the energy report need of the operator.
+
+use super::links::{self, Rows};
+use super::meshing::Meshed;
+use crate::scene::luma;
+use crate::solve::{self, SolveStats};
+use crate::summary::BalanceStats;
+use crate::transport::{operator::PatchOperator, tree::PatchTree};
+use glam::DVec3;
+use rayon::prelude::*;
+
+pub struct Radiosity {
+    pub tree: PatchTree,
+    pub rho: Vec<DVec3>,
+    /// Per tree node, when some are: all its patches are black.
+    pub dark: Option<Vec<bool>>,
+    /// Reflected exitance per patch (lm/m², RGB).
+    pub reflected: Vec<DVec3>,
+    /// Direct irradiance of each patch's front (lx, RGB).
+    pub direct_patch: Vec<DVec3>,
+    /// Inter-reflected illuminance averaged over each patch and at each vertex (lx, RGB).
+    pub indirect_patch: Vec<DVec3>,
+    pub indirect_vertex: Vec<DVec3>,
+    pub stats: SolveStats,
+    pub balance: BalanceStats,
+    /// Per vertex: the fraction of its hemisphere covered by back faces, and whether its row was
+    /// normalised because it is enclosed (what the energy report needs of the rows).
+    pub back: Vec<f32>,
+    pub closed: Vec<bool>,
+    pub counts: LinkCounts,
+}
+
+/// How many links the rows had.
+pub struct LinkCounts {
+    pub links: usize,
+    pub cluster_links: usize,
+    pub closed_receivers: usize,
+}
+
+impl Radiosity {
+    /// Cuttle's first reflected flux (lm, photometric): Σ ρ × direct flux onto each patch.
+    pub fn first_reflected_flux(&self, meshed: &Meshed) -> f64 {
+        meshed
+            .mesh
+            .patches
+            .iter()
+            .enumerate()
+            .map(|(i, p)| luma(self.rho[i] * self.direct_patch[i]) * p.area)
+            .sum()
+    }
+}
+
+/// `light_flux`: the direct flux of lights and luminaires into each patch's front (lm, RGB).
+pub fn stage(meshed: &Meshed, rows: Rows, light_flux: Vec<DVec3>, tolerance: f64) -> Radiosity {
+    let Rows {
+        tree,
+        rho,
+        dark,
+        mut links,
+    } = rows;
+    let mesh = &meshed.mesh;
+    let areas: Vec<f64> = mesh.patches.iter().map(|p| p.area).collect();
+    let mut operator = PatchOperator::new(mesh, &tree, &links);
+    let black = |p: usize| dark.is_some() && links::black(&rho, &meshed.exitance, p);
+    let balance = operator.balance(40, 1e-6, &black);
+    // Direct irradiance of each patch: punctual lights exactly (solid angle), emitting surfaces
+    // through the balanced operator (so a closed room receives exactly what they emit).
+    let from_emitters = match meshed.lights.has_emitting_surfaces() {
+        true => operator.apply(&meshed.exitance),
+        false => vec![DVec3::ZERO; mesh.patches.len()],
+    };
+    let direct_patch: Vec<DVec3> = (0..mesh.patches.len())
+        .map(|i| light_flux[i] / areas[i] + from_emitters[i])
+        .collect();
+    // Not needed past here: two patch-sized vectors fewer while the solver runs.
+    drop(from_emitters);
+    drop(light_flux);
+    let b: Vec<DVec3> = (0..mesh.patches.len())
+        .map(|i| rho[i] * direct_patch[i])
+        .collect();
+    let apply = |x: &[DVec3], out: &mut [DVec3]| {
+        operator.apply_into(x, out);
+        out.par_iter_mut()
+            .enumerate()
+            .for_each(|(i, o)| *o = x[i] - rho[i] * *o);
+    };
+    let (reflected, stats) = solve::gmres(apply, &b, &areas, tolerance, 2_000, 40);
+    let indirect_patch = operator.apply(&reflected);
+    let indirect_vertex = operator.gather_receivers(&reflected);
+    drop(operator);
+    // The rows are done with: keep what the energy report needs.
+    let counts = LinkCounts {
+        links: links.link_count(),
+        cluster_links: links.far_links().filter(|l| l.is_cluster()).count(),
+        closed_receivers: links.closed.iter().filter(|c| **c).count(),
+    };
+    let back = std::mem::take(&mut links.back);
+    let closed = std::mem::take(&mut links.closed);
+    drop(links);
+    Radiosity {
+        tree,
+        rho,
+        dark,
+        reflected,
+        direct_patch,
+        indirect_patch,
+        indirect_vertex,
+        stats,
+        balance,
+        back,
+        closed,
+        counts,
+    }
+}

@@ -1,0 +1,164 @@
+//! What a finished luxbake output holds, in world space: its nodes and materials, the baked
+//! primitives with their per-vertex values, the probes, the working plane and the run summary.
+//! Whichever way it arrives (read from a file, or as the exporter would write a bake in
+//! memory), a consumer sees the same values.
+
+use crate::summary::RunSummary;
+use crate::{Error, Result};
+use glam::DVec3;
+use serde_json::Value;
+use std::path::PathBuf;
+
+/// A luxbake output.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct BakedOutput {
+    /// Every node of the output, by glTF index.
+    pub nodes: Vec<NodeInfo>,
+    /// Every material of the output, by glTF index.
+    pub materials: Vec<MaterialInfo>,
+    /// The baked primitives (those with `_ILLUMINANCE`), in output order: nodes by index, each
+    /// node's surfaces in order, front side then back side.
+    pub primitives: Vec<Primitive>,
+    /// Every probe node (a node with `extras.luxbake.faces`), in node order.
+    pub probes: Vec<ProbeNode>,
+    /// The working-plane probes, when the bake measured at least one.
+    pub working_plane: Option<PlaneInput>,
+    /// The run summary as stored (the scene's `extras.luxbake`), read typed by
+    /// [`BakedOutput::run_summary`] only where it is needed: comparing two bakes needs none, so
+    /// bakes of other versions still compare.
+    pub summary: Option<Value>,
+    /// The file it was read from (or the name of the output not yet written).
+    pub file: PathBuf,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct NodeInfo {
+    pub name: Option<String>,
+    pub parent: Option<usize>,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+pub struct MaterialInfo {
+    pub name: Option<String>,
+    /// Photometric reflectance: Y of the linear RGB reflectance the bake used.
+    pub reflectance: f64,
+}
+
+/// One baked primitive in world space (m, +Y up); values per vertex.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Primitive {
+    pub node: usize,
+    pub material: usize,
+    pub positions: Vec<DVec3>,
+    /// Counter-clockwise seen from the baked side, in world space.
+    pub triangles: Vec<[u32; 3]>,
+    /// lx.
+    pub illuminance: Vec<f32>,
+    /// lx.
+    pub illuminance_direct: Vec<f32>,
+    /// cd/m².
+    pub luminance: Vec<f32>,
+}
+
+/// A node with probe results (`extras.luxbake.faces`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ProbeNode {
+    /// glTF node index.
+    pub node: usize,
+    /// World position (m).
+    pub position: DVec3,
+    /// Total illuminance on the faces `+x -x +y -y +z -z` (lx).
+    pub faces: [f64; 6],
+}
+
+/// The working plane: its grid (from the run summary's settings) and its points' upward face.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PlaneInput {
+    /// Height above the floor (m).
+    pub height: Option<f64>,
+    /// Grid spacing (m).
+    pub spacing: Option<f64>,
+    pub points: Vec<PlanePoint>,
+}
+
+/// The `+y` face of one working-plane probe (lx), rounded to `f32`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PlanePoint {
+    pub total: f32,
+    pub direct: f32,
+    pub indirect: f32,
+}
+
+impl PlanePoint {
+    pub fn new(total: f64, direct: f64, indirect: f64) -> Self {
+        PlanePoint {
+            total: total as f32,
+            direct: direct as f32,
+            indirect: indirect as f32,
+        }
+    }
+}
+
+/// Where the run summary is stored.
+pub const SUMMARY_AT: &str = "/scenes/0/extras/luxbake";
+
+impl BakedOutput {
+    /// The run summary, typed; `None` when the file has none. A field it lacks (an output of
+    /// another version) or holds in another form is an error naming the field.
+    pub fn run_summary(&self) -> Result<Option<RunSummary>> {
+        let Some(value) = &self.summary else {
+            return Ok(None);
+        };
+        serde_path_to_error::deserialize(value)
+            .map(Some)
+            .map_err(|e| {
+                let path = e.path().to_string();
+                let at = match path.as_str() {
+                    "." => SUMMARY_AT.to_string(),
+                    p => format!("{SUMMARY_AT}/{}", p.replace('.', "/")),
+                };
+                Error::input(&self.file, at, format!("run summary: {}", e.inner()))
+            })
+    }
+
+    /// The node's name, or `node N`.
+    pub fn node_name(&self, i: usize) -> String {
+        self.nodes[i]
+            .name
+            .clone()
+            .unwrap_or_else(|| format!("node {i}"))
+    }
+
+    /// The node's names joined by `/` from its root (`desk_dark/top`).
+    pub fn node_path(&self, mut i: usize) -> String {
+        let mut names = vec![self.node_name(i)];
+        while let Some(p) = self.nodes[i].parent {
+            names.push(self.node_name(p));
+            i = p;
+        }
+        names.reverse();
+        names.join("/")
+    }
+
+    /// The material's name, or `material N`.
+    pub fn material_name(&self, i: usize) -> String {
+        self.materials[i]
+            .name
+            .clone()
+            .unwrap_or_else(|| format!("material {i}"))
+    }
+}
+
+/// Each node's parent, from the nodes' children lists.
+pub fn parents(
+    children: impl Iterator<Item = impl AsRef<[usize]>>,
+    n: usize,
+) -> Vec<Option<usize>> {
+    let mut parent = vec![None; n];
+    for (i, c) in children.enumerate() {
+        for &c in c.as_ref() {
+            parent[c] = Some(i);
+        }
+    }
+    parent
+}

@@ -1,0 +1,258 @@
+//! Reading a luxbake output back (`bake report`, `bake diff`), from a file or from the bytes the
+//! exporter is about to write.
+//!
+//! Input: a [`GltfFile`] (the importer's parsing, validation, bounds-checked accessors and
+//! folder-confined buffers). Output: a [`BakedOutput`]:
+//! - every node's name and parent; every material's name and the photometric reflectance the bake
+//!   used (Y of `extras.luxbake.reflectance`, required of materials that baked primitives use);
+//! - every primitive carrying `_ILLUMINANCE` (others, such as probe glyphs, are skipped) of the
+//!   nodes of the scene, in node order: world positions (the node's composed transform applied
+//!   to the stored `f32` positions), triangles wound counter-clockwise in world space,
+//!   `_ILLUMINANCE`, `_ILLUMINANCE_DIRECT`, `_LUMINANCE`;
+//! - every probe node of the scene (a node whose `extras.luxbake.faces` is an object): its
+//!   position (`extras.luxbake.probe.position`, else the node's world origin) and its six
+//!   `faces` (lx, as stored);
+//! - the working plane: the children of the scene root node `probes` → child `working_plane`,
+//!   each probe node carrying `extras.luxbake.faces["+y"]`, `facesDirect["+y"]` and
+//!   `facesIndirect["+y"]` (lx); height and spacing from the run summary's settings (read typed:
+//!   an error naming the field when the summary lacks it);
+//! - the run summary as stored.
+//!
+//! A file with no `_ILLUMINANCE` anywhere is not a luxbake output: an error saying so.
+
+use super::model::{
+    BakedOutput, MaterialInfo, NodeInfo, PlaneInput, PlanePoint, Primitive, ProbeNode, parents,
+};
+use crate::export::{ExportOptions, Prepared};
+use crate::import::{GltfFile, GltfPrimitive};
+use crate::probes::FACE_NAMES;
+use crate::result::BakeResult;
+use crate::scene::{Node, Scene, luma};
+use crate::{Error, Result};
+use glam::{DMat4, DVec3};
+use serde_json::Value;
+use std::path::Path;
+
+/// Read the luxbake output at `path` (`.gltf` or `.glb`).
+pub fn read(path: &Path) -> Result<BakedOutput> {
+    let extension = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    if !matches!(extension.as_deref(), Some("gltf" | "glb")) {
+        return Err(Error::input(
+            path,
+            "",
+            "not a luxbake output: bake writes .gltf or .glb files",
+        ));
+    }
+    from_file(&GltfFile::open(path)?)
+}
+
+/// Read an output held in memory as GLB bytes, named `name` in messages.
+pub fn from_glb(name: &Path, bytes: &[u8]) -> Result<BakedOutput> {
+    from_file(&GltfFile::from_bytes(name, bytes)?)
+}
+
+/// `result` as its output would hold it, without writing anything (the exporter's bytes read
+/// back in memory).
+pub fn as_written(scene: &Scene, result: &BakeResult) -> Result<BakedOutput> {
+    let name = Path::new("bake.glb");
+    let prepared = Prepared::new(name, scene, result, &ExportOptions::default())?;
+    from_glb(name, &prepared.glb()?)
+}
+
+fn from_file(file: &GltfFile) -> Result<BakedOutput> {
+    let nodes = file.nodes();
+    let parent = parents(nodes.iter().map(|n| &n.children), nodes.len());
+    let node_infos = nodes
+        .iter()
+        .zip(&parent)
+        .map(|(n, &parent)| NodeInfo {
+            name: n.name.clone(),
+            parent,
+        })
+        .collect();
+    let json = file.json();
+    let names = file.material_names();
+    let reflectances: Vec<Option<f64>> = (0..names.len())
+        .map(|i| reflectance(&json["materials"][i]["extras"]["luxbake"]["reflectance"]))
+        .collect();
+    let probes = probe_nodes(file)?;
+    let mut primitives = Vec::new();
+    for i in file.scene_nodes() {
+        let world = nodes[i].world_from_local;
+        for p in file.primitives(i) {
+            if let Some(prim) = primitive(file, &p, i, world)? {
+                if reflectances.get(prim.material).copied().flatten().is_none() {
+                    return Err(file.err(
+                        format!("/materials/{}", prim.material),
+                        "the material has no extras.luxbake.reflectance (not written by luxbake?)",
+                    ));
+                }
+                primitives.push(prim);
+            }
+        }
+    }
+    if primitives.is_empty() {
+        return Err(file.err(
+            "",
+            "not a luxbake output: no primitive has an _ILLUMINANCE attribute (bake the scene \
+             first: bake IN -o OUT)",
+        ));
+    }
+    let materials = names
+        .into_iter()
+        .zip(&reflectances)
+        .map(|(name, r)| MaterialInfo {
+            name,
+            reflectance: r.unwrap_or(0.0),
+        })
+        .collect();
+    let mut out = BakedOutput {
+        nodes: node_infos,
+        materials,
+        primitives,
+        probes,
+        working_plane: None,
+        summary: file
+            .scene_extras()
+            .map(|e| e["luxbake"].clone())
+            .filter(|s| !s.is_null()),
+        file: file.path().to_path_buf(),
+    };
+    let points = working_plane(file)?;
+    if !points.is_empty() {
+        let grid = out.run_summary()?.and_then(|s| s.settings.working_plane);
+        out.working_plane = Some(PlaneInput {
+            height: grid.map(|g| g.height),
+            spacing: grid.map(|g| g.spacing),
+            points,
+        });
+    }
+    Ok(out)
+}
+
+/// Every node of the scene whose `extras.luxbake.faces` is an object, in node order.
+fn probe_nodes(file: &GltfFile) -> Result<Vec<ProbeNode>> {
+    let nodes = file.nodes();
+    let mut probes = Vec::new();
+    for i in file.scene_nodes() {
+        let Some(luxbake) = nodes[i].extras.as_ref().map(|e| &e["luxbake"]) else {
+            continue;
+        };
+        let Some(faces) = luxbake["faces"].as_object() else {
+            continue;
+        };
+        let mut values = [0.0; 6];
+        for (v, name) in values.iter_mut().zip(FACE_NAMES) {
+            *v = faces.get(name).and_then(Value::as_f64).ok_or_else(|| {
+                file.err(
+                    format!("/nodes/{i}/extras/luxbake/faces"),
+                    format!("a probe without its \"{name}\" value (lx)"),
+                )
+            })?;
+        }
+        let stored = luxbake["probe"]["position"].as_array().and_then(|a| {
+            let c: Vec<f64> = a.iter().filter_map(Value::as_f64).collect();
+            (a.len() == 3 && c.len() == 3).then(|| DVec3::new(c[0], c[1], c[2]))
+        });
+        let position =
+            stored.unwrap_or_else(|| nodes[i].world_from_local.transform_point3(DVec3::ZERO));
+        probes.push(ProbeNode {
+            node: i,
+            position,
+            faces: values,
+        });
+    }
+    Ok(probes)
+}
+
+/// Y of a reflectance written as `[r, g, b]` (or a single number).
+fn reflectance(v: &Value) -> Option<f64> {
+    if let Some(x) = v.as_f64() {
+        return Some(x);
+    }
+    let a = v.as_array().filter(|a| a.len() == 3)?;
+    let c: Vec<f64> = a.iter().filter_map(Value::as_f64).collect();
+    (c.len() == 3).then(|| luma(DVec3::new(c[0], c[1], c[2])))
+}
+
+/// A baked primitive, or `None` when it has no `_ILLUMINANCE` or is not made of triangles.
+fn primitive(
+    file: &GltfFile,
+    p: &GltfPrimitive,
+    node: usize,
+    world: DMat4,
+) -> Result<Option<Primitive>> {
+    if !p.has("_ILLUMINANCE") || !p.is_triangles() {
+        return Ok(None);
+    }
+    p.vertex_count()?;
+    let scalar = |name: &str| -> Result<Vec<f32>> {
+        if !p.has(name) {
+            let at = format!("{}/attributes/{name}", p.at);
+            return Err(file.err(at, "missing beside _ILLUMINANCE"));
+        }
+        Ok(p.read(name, 1)?.into_iter().map(|x| x as f32).collect())
+    };
+    let illuminance = scalar("_ILLUMINANCE")?;
+    let illuminance_direct = scalar("_ILLUMINANCE_DIRECT")?;
+    let luminance = scalar("_LUMINANCE")?;
+    let positions: Vec<DVec3> = p
+        .positions()?
+        .into_iter()
+        .map(|q| world.transform_point3(q))
+        .collect();
+    let mut triangles = p.triangles()?;
+    if world.determinant() < 0.0 {
+        for t in &mut triangles {
+            t.swap(1, 2);
+        }
+    }
+    let material = p
+        .material()
+        .ok_or_else(|| file.err(&p.at, "a baked primitive without a material"))?;
+    Ok(Some(Primitive {
+        node,
+        material,
+        positions,
+        triangles,
+        illuminance,
+        illuminance_direct,
+        luminance,
+    }))
+}
+
+/// The `+y` faces of the probes under the root `probes` → `working_plane`.
+fn working_plane(file: &GltfFile) -> Result<Vec<PlanePoint>> {
+    let nodes: &[Node] = file.nodes();
+    let named = |list: &[usize], name: &str| {
+        list.iter()
+            .copied()
+            .find(|&i| nodes[i].name.as_deref() == Some(name))
+    };
+    let Some(group) =
+        named(file.roots(), "probes").and_then(|p| named(&nodes[p].children, "working_plane"))
+    else {
+        return Ok(Vec::new());
+    };
+    let mut points = Vec::new();
+    for &i in &nodes[group].children {
+        let extras = nodes[i].extras.as_ref().map(|e| &e["luxbake"]);
+        let face = |key: &str| {
+            extras.and_then(|e| e[key]["+y"].as_f64()).ok_or_else(|| {
+                file.err(
+                    format!("/nodes/{i}/extras/luxbake/{key}"),
+                    "a working-plane probe without its \"+y\" value (lx)",
+                )
+            })
+        };
+        points.push(PlanePoint::new(
+            face("faces")?,
+            face("facesDirect")?,
+            face("facesIndirect")?,
+        ));
+    }
+    Ok(points)
+}

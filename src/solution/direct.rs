@@ -1,0 +1,93 @@
+//! Direct light at any receiver, computed at the receiver itself (never interpolated from
+//! patches): lights and luminaires by the inverse-square cosine law with shadow rays (luminaires
+//! split into sub-sources near their openings, far groups of them settled by two rays),
+//! Lambertian emitting surfaces through the [`Gatherer`] on the tree of emitting patches.
+//!
+//! Input: the direct sources, the emitting patches and their exitance. Output: a [`DirectLight`]
+//! that the bake reads at the mesh vertices before the solve and the [`super::Solution`] keeps
+//! for every receiver after it.
+
+use super::receivers::Receiver;
+use crate::direct::{groups::Groups, sources::DirectSource};
+use crate::patches::PatchMesh;
+use crate::transport::{field::NodeField, gather::Gatherer, tree::PatchTree};
+use crate::visibility::Occluder;
+use glam::DVec3;
+
+/// Every source of direct light of a bake.
+pub struct DirectLight<'a> {
+    /// Lights, luminaires and profiled emitting surfaces.
+    pub sources: Vec<DirectSource<'a>>,
+    /// The luminaires among `sources`, grouped for shared visibility.
+    pub groups: Groups,
+    /// The Lambertian emitting patches, and their exitance summarised on it.
+    emitter_tree: PatchTree,
+    emitters: NodeField,
+    /// Far-field acceptance ratio for emitting surfaces.
+    tau: f64,
+}
+
+impl<'a> DirectLight<'a> {
+    /// `exitance`: the Lambertian exitance of every patch of `mesh` (lm/m², RGB; zero for patches
+    /// that emit none).
+    pub fn new(
+        sources: Vec<DirectSource<'a>>,
+        mesh: &PatchMesh,
+        exitance: &[DVec3],
+        tau: f64,
+    ) -> Self {
+        let emitting: Vec<u32> = (0..mesh.patches.len() as u32)
+            .filter(|&p| exitance[p as usize] != DVec3::ZERO)
+            .collect();
+        let emitter_tree = PatchTree::build(mesh, emitting);
+        let emitters = NodeField::new(&emitter_tree, mesh, exitance);
+        DirectLight {
+            groups: DirectSource::groups(&sources),
+            sources,
+            emitter_tree,
+            emitters,
+            tau,
+        }
+    }
+
+    /// No source and no emitting surface.
+    pub fn is_dark(&self) -> bool {
+        self.sources.is_empty() && self.emitter_tree.is_empty()
+    }
+
+    /// Some surface emits Lambertian light into the patch field.
+    pub fn has_emitting_surfaces(&self) -> bool {
+        !self.emitter_tree.is_empty()
+    }
+
+    /// Direct illuminance (lx, RGB) on each plane of `r`, sharing what the sources can share
+    /// between the planes (sub-sources, intensities, shadow rays).
+    pub fn at(&self, mesh: &PatchMesh, occ: &Occluder, r: &Receiver) -> Vec<DVec3> {
+        let (p, normals) = (r.point, r.planes.as_slice());
+        let mut e = vec![DVec3::ZERO; normals.len()];
+        let mut each = vec![0.0; normals.len()];
+        let clear = |q: DVec3, n: DVec3| occ.clear(p, n, q, DVec3::ZERO);
+        self.groups.visit(p, normals, clear, |k, known| {
+            let source = &self.sources[k];
+            each.fill(0.0);
+            source.illuminance_faces(occ, p, normals, &mut each, known);
+            for (e, x) in e.iter_mut().zip(&each) {
+                *e += source.color() * *x;
+            }
+        });
+        let gatherer = Gatherer {
+            mesh,
+            tree: &self.emitter_tree,
+            occluder: occ,
+            tau: self.tau,
+            dark: None,
+        };
+        let mut links = Vec::new();
+        for (e, n) in e.iter_mut().zip(normals) {
+            links.clear();
+            gatherer.links(p, *n, &mut links);
+            *e += self.emitters.gather(&links);
+        }
+        e
+    }
+}
