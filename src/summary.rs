@@ -8,7 +8,8 @@
 //! out ([`required`]).
 
 use crate::settings::{Exposure, ProbeGrid, Quality, QualityParams, Settings};
-use crate::solve::SolveStats;
+pub use crate::solve::SolveStats;
+pub use crate::transport::operator::BalanceStats;
 use serde::{Deserialize, Deserializer, Serialize};
 
 /// The run summary of one bake.
@@ -133,23 +134,6 @@ pub struct MeshingRecord {
     pub absolute: f64,
     pub contact_distance: f64,
     pub indirect_estimate_lx: f64,
-}
-
-/// What Sinkhorn balancing of the patch operator did (see `transport::operator`).
-#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
-#[serde(rename_all = "camelCase")]
-pub struct BalanceStats {
-    pub iterations: usize,
-    /// Area-weighted mean |row sum − target| and |column sum − target| over closed patches
-    /// before balancing, and the largest column deviation.
-    pub row_error_before: f64,
-    pub column_error_before: f64,
-    pub worst_column_before: f64,
-    /// The same after.
-    pub row_error_after: f64,
-    pub column_error_after: f64,
-    pub worst_column_after: f64,
-    pub closed_patches: usize,
 }
 
 /// The energy report: photometric fluxes in lm, each measured on its own (see `bake::energy`).

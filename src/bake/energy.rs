@@ -1,4 +1,8 @@
-//! The energy bookkeeping of a bake: emitted = absorbed + escaped, checked, not assumed.
+//! The energy stage: emitted = absorbed + escaped, checked, not assumed; and what the summary
+//! says about each source.
+//!
+//! Input: the meshed scene, the occluder, the direct flux into the patches and the solved
+//! [`Radiosity`]. Output: [`EnergyBalance`] (lm), and a [`SourceRecord`] per source.
 //!
 //! Each term is measured on its own: emitted flux from the lights' definitions and the emitting
 //! areas; absorbed flux from the solution, (1 − ρ)·E·A summed over patches, plus what lands on the
@@ -12,9 +16,10 @@
 use super::direct::PatchFlux;
 use super::meshing::Meshed;
 use super::solve::Radiosity;
+use crate::direct::sources::DirectSource;
 use crate::geom::samples;
-use crate::scene::luma;
-use crate::summary::EnergyBalance;
+use crate::scene::{LightKind, Scene, luma};
+use crate::summary::{EnergyBalance, LuminaireRecord, SourceKind, SourceRecord};
 use crate::visibility::Occluder;
 use glam::DVec3;
 use rayon::prelude::*;
@@ -113,4 +118,48 @@ fn open_fractions(meshed: &Meshed, occ: &Occluder, solved: &Radiosity) -> Vec<f6
             open as f64 / 256.0
         })
         .collect()
+}
+
+/// What the summary says about a source, given the flux it put onto surfaces (lm).
+pub fn source_record(source: &DirectSource, scene: &Scene, received: f64) -> SourceRecord {
+    let (kind, name, path) = match source {
+        DirectSource::Punctual(l) => (
+            match l.kind {
+                LightKind::Point => SourceKind::Point,
+                LightKind::Spot { .. } => SourceKind::Spot,
+                LightKind::Directional => SourceKind::Directional,
+            },
+            l.name.clone(),
+            l.source_path.clone(),
+        ),
+        DirectSource::Luminaire(s) => {
+            (SourceKind::Luminaire, s.name.clone(), s.source_path.clone())
+        }
+        DirectSource::Profiled(s) => (
+            SourceKind::ProfiledSurface,
+            s.name.clone(),
+            s.source_path.clone(),
+        ),
+    };
+    let luminaire = match source {
+        DirectSource::Luminaire(s) => {
+            let profile = &scene.profiles[s.profile];
+            // Lamp lumens (× the multiplier) and the light output ratio of the profile.
+            Some(LuminaireRecord {
+                profile: profile.name.clone(),
+                multiplier: s.scale,
+                rated_lamp_lm: profile.photometry.rated_lumens().map(|r| r * s.scale),
+                light_output_ratio: profile.photometry.light_output_ratio(),
+            })
+        }
+        _ => None,
+    };
+    SourceRecord {
+        kind,
+        name,
+        source: path,
+        emitted_lm: source.emitted_flux().unwrap_or(received),
+        reached_surfaces_lm: received,
+        luminaire,
+    }
 }

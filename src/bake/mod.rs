@@ -154,7 +154,7 @@ pub fn solve<'a>(
         energy,
         sources: (meshed.lights.sources.iter())
             .zip(&flux.per_source)
-            .map(|(s, received)| s.record(scene, *received))
+            .map(|(s, received)| energy::source_record(s, scene, *received))
             .collect(),
         exposure: Default::default(),
         units: Units::default(),

@@ -10,7 +10,7 @@ use super::links::{self, Rows};
 use super::meshing::Meshed;
 use crate::scene::luma;
 use crate::solve::{self, SolveStats};
-use crate::summary::BalanceStats;
+use crate::transport::operator::BalanceStats;
 use crate::transport::{operator::PatchOperator, tree::PatchTree};
 use glam::DVec3;
 use rayon::prelude::*;

@@ -7,7 +7,6 @@ use super::groups::{Groups, Known};
 use super::{enclosed, luminaire, profiled, punctual};
 use crate::patches::PatchMesh;
 use crate::scene::{Light, LightKind, Scene};
-use crate::summary::{LuminaireRecord, SourceKind, SourceRecord};
 use crate::visibility::Occluder;
 use glam::DVec3;
 use rayon::prelude::*;
@@ -46,50 +45,6 @@ impl<'a> DirectSource<'a> {
             DirectSource::Luminaire(l) => Some((l.position, l.half[0].hypot(l.half[1]))),
             _ => None,
         }))
-    }
-
-    /// What the summary says about this source, given the flux it put onto surfaces (lm).
-    pub fn record(&self, scene: &Scene, received: f64) -> SourceRecord {
-        let (kind, name, path) = match self {
-            DirectSource::Punctual(l) => (
-                match l.kind {
-                    LightKind::Point => SourceKind::Point,
-                    LightKind::Spot { .. } => SourceKind::Spot,
-                    LightKind::Directional => SourceKind::Directional,
-                },
-                l.name.clone(),
-                l.source_path.clone(),
-            ),
-            DirectSource::Luminaire(s) => {
-                (SourceKind::Luminaire, s.name.clone(), s.source_path.clone())
-            }
-            DirectSource::Profiled(s) => (
-                SourceKind::ProfiledSurface,
-                s.name.clone(),
-                s.source_path.clone(),
-            ),
-        };
-        let luminaire = match self {
-            DirectSource::Luminaire(s) => {
-                let profile = &scene.profiles[s.profile];
-                // Lamp lumens (× the multiplier) and the light output ratio of the profile.
-                Some(LuminaireRecord {
-                    profile: profile.name.clone(),
-                    multiplier: s.scale,
-                    rated_lamp_lm: profile.photometry.rated_lumens().map(|r| r * s.scale),
-                    light_output_ratio: profile.photometry.light_output_ratio(),
-                })
-            }
-            _ => None,
-        };
-        SourceRecord {
-            kind,
-            name,
-            source: path,
-            emitted_lm: self.emitted_flux().unwrap_or(received),
-            reached_surfaces_lm: received,
-            luminaire,
-        }
     }
 
     /// Point-like beams of this source reaching `p` (shadows included; see `Solution::beams`).

@@ -20,7 +20,6 @@ use super::links::ReceiverLinks;
 use super::tree::{LEAF_SLOT, PatchTree};
 use crate::geom::sh::DIST;
 use crate::patches::PatchMesh;
-use crate::summary::BalanceStats;
 use glam::DVec3;
 use rayon::prelude::*;
 
@@ -42,6 +41,23 @@ pub struct PatchOperator<'a> {
 }
 
 /// How well the balancing went.
+/// What the balancing did (recorded in the run summary).
+#[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "camelCase")]
+pub struct BalanceStats {
+    pub iterations: usize,
+    /// Area-weighted mean |row sum − target| and |column sum − target| over closed patches
+    /// before balancing, and the largest column deviation.
+    pub row_error_before: f64,
+    pub column_error_before: f64,
+    pub worst_column_before: f64,
+    /// The same after.
+    pub row_error_after: f64,
+    pub column_error_after: f64,
+    pub worst_column_after: f64,
+    pub closed_patches: usize,
+}
+
 impl<'a> PatchOperator<'a> {
     pub fn new(mesh: &'a PatchMesh, tree: &'a PatchTree, links: &'a ReceiverLinks) -> Self {
         let n = mesh.patches.len();
