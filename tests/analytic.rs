@@ -72,7 +72,7 @@ fn closed_box_mean_illuminance_is_sumpner_at_any_reflectance() {
 fn closed_box_with_curved_clutter_is_sumpner() {
     // Sumpner holds for any closed enclosure of uniform reflectance, objects inside included:
     // the area-mean illuminance is Φ/(S(1−ρ)) with S every surface's area. Twelve tessellated
-    // balls on the floor are seen from across the room as two-sided clusters.
+    // balls 5 cm above the floor are seen from across the room as two-sided clusters.
     let size = DVec3::new(4.0, 3.0, 5.0);
     let phi = PI * 2000.0 * 0.36;
     for rho in [0.5, 0.9] {
