@@ -58,6 +58,12 @@ fn sphere_with_black_cap_matches_the_closed_form_with_and_without_links_to_black
             "gather_black {gather_black}: {} links, E_ind mean {mean:.4} lx, closed form {want:.4} lx, worst vertex {worst:.2e}",
             counts(&r).links
         );
+        let links_to_black = if gather_black { "with" } else { "without" };
+        eprintln!(
+            "oracle: black-cap/{links_to_black}/mean measured {:.3e}",
+            (mean - want).abs() / want
+        );
+        eprintln!("oracle: black-cap/{links_to_black}/worst measured {worst:.3e}");
         assert!((mean - want).abs() < 0.005 * want, "mean {mean} vs {want}");
         assert!(worst < 0.03, "worst vertex off by {worst}");
         let energy = &r.summary.energy;

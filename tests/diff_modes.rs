@@ -1,13 +1,10 @@
-//! `bake diff` across topologies and at scale: bakes with other patch sizes compared with
+//! `bake diff` across topologies: bakes with other patch sizes compared with
 //! `--mode means` and `--mode probes`; what cannot be compared (exit 2, naming the node, material
-//! or probe and the files); unreadable inputs; `big_bake_timing` (ignored: run with
-//! `--ignored --nocapture`) times the diff of two 10⁶-vertex outputs.
+//! or probe and the files); unreadable inputs. (The time of a diff of two 10⁶-vertex outputs is
+//! measured by `bench/diff_timing.py`.)
 
 mod support;
 
-use glam::DVec3;
-use luxbake::export::{self, ExportOptions};
-use luxbake::fixtures::SceneBuilder;
 use luxbake::settings::{ProbeGrid, Quality};
 use support::bakes::*;
 use support::scratch;
@@ -174,83 +171,4 @@ fn different_topologies_cannot_be_compared() {
         assert_eq!(run.stderr.lines().count(), 1, "{}", run.stderr);
         assert!(run.stderr.starts_with("error: "), "{}", run.stderr);
     }
-}
-
-/// Two 10⁶-vertex outputs (a 1000 × 1000 vertex floor, values varying; B 1 % higher on one
-/// vertex in 1000): how long `bake diff` takes (release build).
-#[test]
-#[ignore]
-fn big_bake_timing() {
-    use luxbake::result::{BakeResult, BakedSurface, Side};
-    let dir = scratch("diff-big");
-    let n = 1000usize;
-    let mut b = SceneBuilder::new();
-    let grey = b.material("grey", 0.5);
-    b.floor("floor", 10.0, 0.0, grey);
-    let scene = b.build();
-    let mut positions = Vec::with_capacity(n * n);
-    for i in 0..n {
-        for j in 0..n {
-            let s = 20.0 / (n - 1) as f64;
-            positions.push(DVec3::new(-10.0 + s * j as f64, 0.0, -10.0 + s * i as f64));
-        }
-    }
-    let mut triangles = Vec::with_capacity(2 * (n - 1) * (n - 1));
-    for i in 0..n - 1 {
-        for j in 0..n - 1 {
-            let v = |i: usize, j: usize| (i * n + j) as u32;
-            triangles.push([v(i, j), v(i + 1, j), v(i + 1, j + 1)]);
-            triangles.push([v(i, j), v(i + 1, j + 1), v(i, j + 1)]);
-        }
-    }
-    let write_one = |name: &str, bump: f32| {
-        let e: Vec<f32> = positions
-            .iter()
-            .enumerate()
-            .map(|(k, p)| {
-                let base = (300.0 / (1.0 + p.length_squared() / 20.0)) as f32;
-                if k % 1000 == 0 { base * bump } else { base }
-            })
-            .collect();
-        let surface = BakedSurface {
-            surface: 0,
-            side: Side::Front,
-            positions: positions.clone(),
-            normals: vec![DVec3::Y; positions.len()],
-            uv0: None,
-            uv1: None,
-            triangles: triangles.clone(),
-            luminance: e.iter().map(|x| x * 0.5 / std::f32::consts::PI).collect(),
-            illuminance_direct: e.iter().map(|x| x * 0.7).collect(),
-            color: vec![[0.5; 3]; positions.len()],
-            illuminance: e,
-        };
-        let result = BakeResult {
-            surfaces: vec![surface],
-            probes: Vec::new(),
-            summary: Default::default(),
-            timings: Default::default(),
-        };
-        let path = dir.join(format!("{name}.glb"));
-        export::write(&path, &scene, &result, &ExportOptions::default()).unwrap();
-        path
-    };
-    let a = write_one("a", 1.0);
-    let b = write_one("b", 1.01);
-    let start = std::time::Instant::now();
-    let run = diff(&a, &b, &[]);
-    let seconds = start.elapsed().as_secs_f64();
-    assert_eq!(run.code, Some(1), "{}", run.stderr);
-    println!("{}", run.stdout);
-    let start = std::time::Instant::now();
-    let (_, d) = diff_json(&a, &b, &[]);
-    let json_seconds = start.elapsed().as_secs_f64();
-    assert_eq!(
-        number(&quantity(&d, "illuminance")["overall"]["values"]),
-        (n * n) as f64
-    );
-    println!(
-        "bake diff of two {}-vertex outputs: {seconds:.2} s (text), {json_seconds:.2} s (--json)",
-        n * n
-    );
 }

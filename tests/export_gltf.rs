@@ -15,6 +15,24 @@ fn write(path: &Path, options: &ExportOptions) {
     export::write(path, &scene, &result, options).unwrap();
 }
 
+/// Which values of `CI` make a missing external tool fail its tests instead of skipping them.
+#[test]
+fn ci_is_any_value_but_empty_false_or_0() {
+    for v in ["true", "TRUE", "1", "yes", "gitlab"] {
+        assert!(tools::ci_value_means_ci(Some(v)), "CI={v}");
+    }
+    for v in [
+        None,
+        Some(""),
+        Some(" "),
+        Some("false"),
+        Some("False"),
+        Some("0"),
+    ] {
+        assert!(!tools::ci_value_means_ci(v), "CI={v:?}");
+    }
+}
+
 #[test]
 fn validator_finds_no_errors_or_warnings() {
     if !tools::have_validator() {

@@ -8,7 +8,7 @@
 //!   `EXT_lights_ies` and the small preset's 18 luminaires (12 linear, 4 downlights, 2 spots);
 //! - every luminaire hangs just under the ceiling, inside the floor plate, aiming down;
 //! - the Khronos glTF-Validator finds no error or warning (skipped when absent, except under
-//!   `CI=true`);
+//!   CI: see `support/tools.rs`);
 //! - a draft bake of the small preset runs, emits what the profiles and panels say, loses nothing
 //!   out of the closed room and closes its energy balance within 1 %.
 

@@ -76,6 +76,7 @@ fn cie_171_test_5_2_cosine_point_source() {
         "CIE 5.2 worst {worst:.2e} over {} vertices",
         r.surfaces[0].positions.len()
     );
+    eprintln!("oracle: cie5.2 measured {worst:.3e}");
     assert!(worst < 1e-3, "worst {worst}");
     // The profile's flux is π·I₀.
     let emitted = r.summary.sources[0].emitted_lm;
@@ -148,7 +149,8 @@ fn near_field_of_a_linear_luminaire_matches_brute_force() {
             worst = worst.max(rel(got, want));
         }
     }
-    assert!(worst < 0.01, "worst near-field error {worst}");
+    eprintln!("oracle: near-field measured {worst:.3e}");
+    assert!(worst < 0.005, "worst near-field error {worst}");
 }
 
 fn mean_and_balance(r: &BakeResult) -> (f64, f64) {
@@ -203,6 +205,8 @@ fn energy_balances_with_an_ies_luminaire() {
         "IES room: Φ {phi:.1} lm, mean {mean:.3} vs {want:.3} ({:.2e}), balance {balance:.2e}",
         rel(mean, want)
     );
+    eprintln!("oracle: ies-room/mean measured {:.3e}", rel(mean, want));
+    eprintln!("oracle: ies-room/balance measured {balance:.3e}");
     assert!(balance < 5e-3, "balance error {balance}");
     assert!(rel(mean, want) < 5e-3);
     let reached = r.summary.sources[0].reached_surfaces_lm;
@@ -238,6 +242,7 @@ fn office_from_ies_and_from_ldt_agree() {
         }
     }
     eprintln!("office IES vs LDT worst {worst:.2e}");
+    eprintln!("oracle: ies-ldt/illuminance measured {worst:.3e}");
     assert!(worst < 1e-3, "{worst}");
 }
 
@@ -276,6 +281,7 @@ fn profiled_emitting_surface_with_a_cosine_profile_is_lambertian() {
         worst = worst.max(rel(floor.illuminance[v] as f64, want));
     }
     eprintln!("profiled panel worst {worst:.2e}");
+    eprintln!("oracle: profiled-panel measured {worst:.3e}");
     assert!(worst < 5e-3, "{worst}");
     let emitted = r.summary.energy.emitted_lm;
     assert!(rel(emitted, PI * 1000.0 * 0.5) < 1e-3, "{emitted}");

@@ -745,6 +745,7 @@ mod tests {
             let c = gatherer.links(p, n, &mut links);
             worst = worst.max((c.total - 1.0).abs());
         }
+        eprintln!("oracle: hall-coverage measured {worst:.3e}");
         assert!(worst < 1e-3, "coverage off by {worst}");
     }
 

@@ -3,8 +3,8 @@
 //! (a Python with PyPI `bpy` 5.0.1: `$LUXBAKE_BPY_PYTHON`, else `<repo>/.venv-bpy/bin/python`).
 //!
 //! Call `have_validator()` / `have_blender()` first: when the tool is absent they print
-//! `skipping: ...` to stderr and return false, except under `CI=true`, where they panic with what
-//! to install. `.ci/run` installs both.
+//! `skipping: ...` to stderr and return false, except under CI (`CI` set to anything but empty,
+//! `false` or `0`), where they panic with what to install. `.ci/run` installs both.
 
 use serde_json::Value;
 use std::path::{Path, PathBuf};
@@ -20,10 +20,23 @@ fn tools_dir() -> PathBuf {
     repo().join("tests").join("tools")
 }
 
+/// Whether a value of the `CI` environment variable means the tests run under CI: any but
+/// unset, empty, `false` (any case) or `0`. GitHub Actions and GitLab CI set `true`, other
+/// services `1` or their name; `false` and `0` are how one says "not CI" explicitly.
+pub fn ci_value_means_ci(value: Option<&str>) -> bool {
+    value
+        .map(str::trim)
+        .is_some_and(|v| !v.is_empty() && !v.eq_ignore_ascii_case("false") && v != "0")
+}
+
 /// Absent tool: fail under CI, otherwise say the test is skipped.
 fn missing(what: &str, install: &str) -> bool {
-    if std::env::var("CI").is_ok_and(|v| v == "true") {
-        panic!("{what} is required under CI=true but was not found: {install}");
+    let ci = std::env::var_os("CI").map(|v| v.to_string_lossy().into_owned());
+    if ci_value_means_ci(ci.as_deref()) {
+        panic!(
+            "{what} is required under CI (CI={}) but was not found: {install}",
+            ci.unwrap_or_default()
+        );
     }
     eprintln!("skipping: {what} not found ({SETUP}; {install})");
     false

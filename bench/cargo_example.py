@@ -1,0 +1,45 @@
+"""Shared by the scripts that time a Cargo example or `bake` outside the harness
+(diff_timing.py, intensity_timing.py): building, and the header of their results file naming
+the date, machine (run.machine) and commit. Python standard library only."""
+
+import datetime
+import os
+import subprocess
+import sys
+
+BENCH = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(BENCH)
+sys.path.insert(0, BENCH)
+
+import run  # noqa: E402
+
+
+def build(example):
+    """cargo build --release of `bake` and the example (honours CARGO_TARGET_DIR); returns the
+    paths of both binaries."""
+    print(f"cargo build --release --bin bake --example {example}", flush=True)
+    subprocess.run(["cargo", "build", "--release", "--quiet", "--bin", "bake", "--example",
+                    example], cwd=ROOT, check=True)
+    target = os.environ.get("CARGO_TARGET_DIR") or os.path.join(ROOT, "target")
+    if not os.path.isabs(target):
+        target = os.path.join(ROOT, target)
+    release = os.path.join(target, "release")
+    return os.path.join(release, "bake"), os.path.join(release, "examples", example)
+
+
+def header(title, command, bake):
+    """The opening lines of a results file: what wrote it, when, on which machine and commit."""
+    m = run.machine(bake, None)
+    load = " / ".join(f"{x:.2f}" for x in os.getloadavg())
+    return [f"# {title}", "",
+            f"Written by `{command}` on {datetime.date.today().isoformat()} at commit "
+            f"{m['gitCommit']} (`bake --version`: {m['luxbake']}).", "",
+            f"Machine: {m['cpu']}, {m['cores']} cores, {m['ramGiB']} GiB, {m['os']} "
+            f"({m['virtualisation']}); {m['rustc']}. Load average before the runs (1 / 5 / 15 min): "
+            f"{load}.", ""]
+
+
+def spread(values):
+    """min / median / max."""
+    v = sorted(values)
+    return v[0], v[len(v) // 2], v[-1]
