@@ -31,8 +31,9 @@ use crate::result::BakeResult;
 use crate::scene::Scene;
 use crate::settings::Settings;
 use crate::solution::{PlaneLight, Solution, solved};
-use crate::summary::{Counts, RunSummary, SettingsRecord, Units};
+use crate::summary::{Counts, EnergyBalance, RunSummary, SettingsRecord, Units};
 use crate::visibility::{Occluder, OccluderOptions};
+use glam::DVec3;
 use run::{RayStage, Run, Stage};
 
 /// A solved scene, and the run summary of the stages so far.
@@ -91,7 +92,7 @@ pub fn solve<'a>(
         always_trace: settings.always_trace,
     };
     let occluder = run.time(Stage::Mesh, || Occluder::build(scene, options));
-    let mut meshed = run.time(Stage::Mesh, || {
+    let meshed = run.time(Stage::Mesh, || {
         meshing::stage(scene, settings, h, &occluder, params.tau_direct)
     });
     if meshed.lights.is_dark() {
@@ -132,10 +133,42 @@ pub fn solve<'a>(
     });
     run.rays(RayStage::Energy, &occluder);
 
-    let summary = RunSummary {
+    let summary = summary_of(
+        scene, settings, h, &meshed, &occluder, &flux, &radiosity, energy, &run,
+    );
+    let solution = solution_of(
+        scene,
+        meshed,
+        occluder,
+        vertex_direct,
+        radiosity,
+        params.tau,
+    );
+    Ok(Solved {
+        solution,
+        summary,
+        run,
+    })
+}
+
+/// The run summary of the stages up to the energy report (the exposure and the timings are
+/// added when the output is shaped).
+#[allow(clippy::too_many_arguments)]
+fn summary_of(
+    scene: &Scene,
+    settings: &Settings,
+    h: f64,
+    meshed: &meshing::Meshed,
+    occluder: &Occluder,
+    flux: &direct::PatchFlux,
+    radiosity: &solve::Radiosity,
+    energy: EnergyBalance,
+    run: &Run,
+) -> RunSummary {
+    RunSummary {
         tool: format!("luxbake {}", env!("CARGO_PKG_VERSION")),
         settings: SettingsRecord::from(settings),
-        quality: params,
+        quality: settings.params(),
         patch_size: h,
         counts: Counts {
             surfaces: scene.surfaces.len(),
@@ -148,7 +181,7 @@ pub fn solve<'a>(
             rays_by_stage: run.rays,
             convex_empty_scene: occluder.convex_empty,
         },
-        adaptive_meshing: meshed.adaptive.take(),
+        adaptive_meshing: meshed.adaptive.clone(),
         solver: radiosity.stats,
         balancing: radiosity.balance,
         energy,
@@ -159,13 +192,24 @@ pub fn solve<'a>(
         exposure: Default::default(),
         units: Units::default(),
         timings_seconds: None,
-    };
+    }
+}
+
+/// The solved scene, from what the stages made.
+fn solution_of<'a>(
+    scene: &'a Scene,
+    meshed: meshing::Meshed<'a>,
+    occluder: Occluder,
+    vertex_direct: Vec<DVec3>,
+    radiosity: solve::Radiosity,
+    tau: f64,
+) -> Solution<'a> {
     let first_reflected_flux = radiosity.first_reflected_flux(&meshed);
     let vertices = (vertex_direct.into_iter())
         .zip(radiosity.indirect_vertex)
         .map(|(direct, indirect)| PlaneLight { direct, indirect })
         .collect();
-    let solution = Solution::new(solved::Parts {
+    Solution::new(solved::Parts {
         scene,
         mesh: meshed.mesh,
         occluder,
@@ -174,16 +218,11 @@ pub fn solve<'a>(
             tree: radiosity.tree,
             exitance: radiosity.reflected,
             dark: radiosity.dark,
-            tau: params.tau,
+            tau,
         },
         emitted: meshed.emitted,
         vertices,
         first_reflected_flux,
-    });
-    Ok(Solved {
-        solution,
-        summary,
-        run,
     })
 }
 
