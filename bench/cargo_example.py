@@ -43,3 +43,10 @@ def spread(values):
     """min / median / max."""
     v = sorted(values)
     return v[0], v[len(v) // 2], v[-1]
+
+
+def write(path, lines):
+    """Write the result table to `path` (creating its folder) and print it."""
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    open(path, "w").write("\n".join(lines))
+    print("\n".join(lines))

@@ -62,9 +62,7 @@ def main():
         lines.append(f"| `{shown}` | 1 | {' / '.join(f'{x:.2f}' for x in wall)} | "
                      f"{' / '.join(f'{x:.2f}' for x in cpu)} | {peak:.0f} |")
     lines.append("")
-    os.makedirs(os.path.dirname(a.out), exist_ok=True)
-    open(a.out, "w").write("\n".join(lines))
-    print("\n".join(lines))
+    cargo_example.write(a.out, lines)
 
 
 if __name__ == "__main__":

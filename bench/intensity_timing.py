@@ -41,9 +41,7 @@ def main():
         fastest, median, _ = cargo_example.spread(per)
         lines.append(f"| `{name}` | {fastest:.0f} | {median:.0f} |")
     lines.append("")
-    os.makedirs(os.path.dirname(a.out), exist_ok=True)
-    open(a.out, "w").write("\n".join(lines))
-    print("\n".join(lines))
+    cargo_example.write(a.out, lines)
 
 
 if __name__ == "__main__":

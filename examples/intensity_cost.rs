@@ -4,29 +4,10 @@
 //!
 //!     cargo run --release --example intensity_cost -- PROFILE.ies|PROFILE.ldt [repeats]
 
-use glam::DVec3;
+use luxbake::geom::samples::scattered_directions;
 use luxbake::photometry::{Format, Photometry};
 use std::hint::black_box;
 use std::time::Instant;
-
-/// Deterministic directions spread over the sphere.
-fn directions(n: usize) -> Vec<DVec3> {
-    let mut state: u64 = 0x9E37_79B9_7F4A_7C15;
-    let mut next = || {
-        state = state
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    };
-    (0..n)
-        .map(|_| {
-            let z = 2.0 * next() - 1.0;
-            let phi = std::f64::consts::TAU * next();
-            let r = (1.0 - z * z).sqrt();
-            DVec3::new(r * phi.cos(), r * phi.sin(), z)
-        })
-        .collect()
-}
 
 fn main() {
     let mut args = std::env::args().skip(1);
@@ -38,7 +19,7 @@ fn main() {
     let format = Format::from_mime_or_extension(ext).expect("an .ies or .ldt file");
     let bytes = std::fs::read(&path).expect("cannot read the profile");
     let ph = Photometry::parse(&bytes, format).expect("profile parses");
-    let dirs = directions(4096);
+    let dirs = scattered_directions(4096);
     let rounds = 250;
     for _ in 0..repeats {
         let start = Instant::now();

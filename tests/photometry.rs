@@ -5,6 +5,7 @@
 use std::path::PathBuf;
 
 use glam::DVec3;
+use luxbake::geom::samples::scattered_directions;
 use luxbake::photometry::{Format, PhotometricType, Photometry};
 use serde::Deserialize;
 
@@ -83,25 +84,6 @@ fn load(file: &str) -> Photometry {
     Photometry::parse(&bytes, format_of(file)).unwrap_or_else(|e| panic!("{file}: {e}"))
 }
 
-/// Deterministic directions spread over the sphere.
-fn directions(n: usize) -> Vec<DVec3> {
-    let mut state: u64 = 0x9E37_79B9_7F4A_7C15;
-    let mut next = || {
-        state = state
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    };
-    (0..n)
-        .map(|_| {
-            let z = 2.0 * next() - 1.0;
-            let phi = std::f64::consts::TAU * next();
-            let r = (1.0 - z * z).sqrt();
-            DVec3::new(r * phi.cos(), r * phi.sin(), z)
-        })
-        .collect()
-}
-
 #[test]
 fn flux_is_within_half_a_percent_of_the_declared_flux() {
     let profiles = manifest().profiles;
@@ -163,7 +145,7 @@ fn interpolation_is_exact_at_the_tabulated_angles() {
 
 #[test]
 fn interpolation_follows_the_analytic_distribution_everywhere() {
-    let dirs = directions(20_000);
+    let dirs = scattered_directions(20_000);
     for p in manifest().profiles {
         let ph = load(&p.file);
         let worst = dirs
@@ -177,7 +159,7 @@ fn interpolation_follows_the_analytic_distribution_everywhere() {
 
 #[test]
 fn ies_and_eulumdat_versions_agree_in_every_direction() {
-    let dirs = directions(20_000);
+    let dirs = scattered_directions(20_000);
     let mut worst = 0.0f64;
     for (ies, ldt) in manifest().pairs {
         let (a, b) = (load(&ies), load(&ldt));

@@ -1,5 +1,6 @@
-//! Deterministic sample patterns: points on a triangle (for visibility) and stratified
-//! directions over a hemisphere (for escape tests). Fixed patterns keep bakes noise-free in the
+//! Deterministic sample patterns: points on a triangle (for visibility), stratified
+//! directions over a hemisphere (for escape tests), and scattered directions over the sphere (for
+//! checks and benchmarks). Fixed patterns keep bakes noise-free in the
 //! sense that matters to CI: the same input gives the same numbers.
 
 use glam::DVec3;
@@ -40,6 +41,26 @@ pub fn cosine_directions(n: DVec3, k: usize) -> impl Iterator<Item = DVec3> {
         let phi = 2.0 * std::f64::consts::PI * v;
         t * (r * phi.cos()) + b * (r * phi.sin()) + n * (1.0 - u).sqrt()
     })
+}
+
+/// `n` unit directions scattered over the whole sphere, uniform in area: a pseudo-random sequence
+/// (a 64-bit linear congruential generator) with a fixed seed, so always the same directions.
+pub fn scattered_directions(n: usize) -> Vec<DVec3> {
+    let mut state: u64 = 0x9E37_79B9_7F4A_7C15;
+    let mut next = || {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (state >> 11) as f64 / (1u64 << 53) as f64
+    };
+    (0..n)
+        .map(|_| {
+            let z = 2.0 * next() - 1.0;
+            let phi = std::f64::consts::TAU * next();
+            let r = (1.0 - z * z).sqrt();
+            DVec3::new(r * phi.cos(), r * phi.sin(), z)
+        })
+        .collect()
 }
 
 #[cfg(test)]
