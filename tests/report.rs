@@ -1,10 +1,7 @@
 //! The lighting report (`src/report/`): rows with known answers on tiny scenes, every format
 //! well-formed, the report read back from an output equal to the one made at bake time (byte for
-//! byte, every format; the office with a working plane), and the errors of `bake report`.
-//!
-//! Until the probe outputs land, working-plane probe nodes are written into outputs here, in the
-//! agreed layout: root node `probes` → child `working_plane` → one node per probe with
-//! `extras.luxbake.faces`, `facesDirect`, `facesIndirect` (objects keyed `+x` … `-z`, lx).
+//! byte, every format; the office with a working plane), the run summary read back typed (an
+//! output lacking a field is an error naming it), and the errors of `bake report`.
 
 mod support;
 
@@ -12,13 +9,12 @@ use glam::DVec3;
 use luxbake::bake::bake;
 use luxbake::export::{self, ExportOptions};
 use luxbake::fixtures::SceneBuilder;
-use luxbake::probes::{FACE_NAMES, ProbeOrigin};
 use luxbake::progress::Silent;
 use luxbake::report::{self, By, Filter, Format, Options, Targets};
 use luxbake::result::BakeResult;
 use luxbake::scene::{LocalTransform, Node, Scene};
 use luxbake::settings::{ProbeGrid, Quality, Settings};
-use serde_json::{Value, json};
+use serde_json::Value;
 use std::f64::consts::PI;
 use std::path::Path;
 use support::cli::{Mini, bake as run_bake, repo_file};
@@ -176,40 +172,6 @@ fn rows_by_node_and_material_split_direct_and_indirect() {
     assert_eq!(up[0].e_avg, f.e_avg);
 }
 
-/// Add the working-plane probes of `r` to the `.gltf` at `path` in the agreed layout.
-fn write_probe_nodes(path: &Path, r: &BakeResult) {
-    let mut doc: Value = serde_json::from_slice(&std::fs::read(path).unwrap()).unwrap();
-    let faces = |v: &[f64; 6]| {
-        let named = FACE_NAMES
-            .iter()
-            .zip(v)
-            .map(|(k, x)| (k.to_string(), json!(x)));
-        Value::Object(named.collect())
-    };
-    let probes: Vec<Value> = r
-        .probes
-        .iter()
-        .filter(|p| p.probe.origin == ProbeOrigin::WorkingPlane)
-        .map(|p| {
-            let c = &p.cubic;
-            json!({"name": p.probe.name, "translation": p.probe.position.to_array(),
-                   "extras": {"luxbake": {"faces": faces(&c.total),
-                   "facesDirect": faces(&c.direct), "facesIndirect": faces(&c.indirect)}}})
-        })
-        .collect();
-    let nodes = doc["nodes"].as_array_mut().unwrap();
-    let root = nodes.len();
-    let children: Vec<usize> = (root + 2..root + 2 + probes.len()).collect();
-    nodes.push(json!({"name": "probes", "children": [root + 1]}));
-    nodes.push(json!({"name": "working_plane", "children": children}));
-    nodes.extend(probes);
-    doc["scenes"][0]["nodes"]
-        .as_array_mut()
-        .unwrap()
-        .push(json!(root));
-    std::fs::write(path, serde_json::to_vec_pretty(&doc).unwrap()).unwrap();
-}
-
 /// Each format of the report made from the bake in memory equals the one read from its output.
 fn assert_same_reports(scene: &Scene, r: &BakeResult, path: &Path, options: &Options) {
     let memory = report::build(&luxbake::baked::as_written(scene, r).unwrap(), options).unwrap();
@@ -234,7 +196,6 @@ fn office_report_from_the_file_equals_the_bake_time_report() {
     let dir = scratch("report-office");
     let path = dir.join("lit.gltf");
     export::write(&path, &scene, &r, &ExportOptions::default()).unwrap();
-    write_probe_nodes(&path, &r);
     let targets = Targets::read(&repo_file("samples/office/targets.json")).unwrap();
     let options = Options {
         by: By::Both,
@@ -479,4 +440,65 @@ fn cli_report_errors_are_one_line() {
     assert_eq!(run.code, Some(1), "{run:?}");
     assert!(run.stderr.contains("target 'nowhere'"), "{}", run.stderr);
     assert!(!lit.exists(), "nothing is written when the report fails");
+}
+
+/// The run summary written into an output reads back typed, equal to the bake's; an output
+/// lacking a summary field (as one written by another version would) makes `bake report` fail
+/// with one line naming the field, never print a default, while `bake diff` (which reads no
+/// summary) still compares it.
+#[test]
+fn run_summary_reads_back_typed_and_a_missing_field_is_named() {
+    let scene = floor_under_light(2400.0);
+    let settings = Settings {
+        working_plane: Some(ProbeGrid {
+            spacing: 0.5,
+            height: 0.3,
+        }),
+        ..draft()
+    };
+    let r = bake(&scene, &settings, &Silent).unwrap();
+    let dir = scratch("report-summary");
+    let path = dir.join("lit.gltf");
+    export::write(&path, &scene, &r, &ExportOptions::default()).unwrap();
+    let read = luxbake::baked::read(&path).unwrap();
+    assert_eq!(read.run_summary().unwrap().as_ref(), Some(&r.summary));
+    let report = report::build(&read, &Options::default()).unwrap();
+    let plane = report.working_plane.expect("a working plane");
+    assert_eq!((plane.height, plane.spacing), (Some(0.3), Some(0.5)));
+
+    for (field, pointer) in [
+        ("workingPlane", "/scenes/0/extras/luxbake/settings"),
+        ("raysByStage", "/scenes/0/extras/luxbake/counts"),
+        ("energy", "/scenes/0/extras/luxbake"),
+    ] {
+        let mut doc: Value = serde_json::from_slice(&std::fs::read(&path).unwrap()).unwrap();
+        let summary = &mut doc["scenes"][0]["extras"]["luxbake"];
+        let parent = match pointer.rsplit('/').next().unwrap() {
+            "luxbake" => summary,
+            key => &mut summary[key],
+        };
+        assert!(parent.as_object_mut().unwrap().remove(field).is_some());
+        let old = dir.join(format!("old-{field}.gltf"));
+        std::fs::write(&old, serde_json::to_vec(&doc).unwrap()).unwrap();
+        std::fs::copy(dir.join("lit.bin"), dir.join(format!("old-{field}.bin"))).unwrap();
+        std::fs::write(
+            &old,
+            String::from_utf8(std::fs::read(&old).unwrap())
+                .unwrap()
+                .replace("\"lit.bin\"", &format!("\"old-{field}.bin\"")),
+        )
+        .unwrap();
+        let run = run_bake([Path::new("report"), old.as_path()]);
+        assert_eq!(run.code, Some(1), "{field}: {}", run.stdout);
+        assert_eq!(run.stderr.lines().count(), 1, "{}", run.stderr);
+        assert!(
+            run.stderr.contains(pointer)
+                && run.stderr.contains(&format!("missing field `{field}`"))
+                && run.stderr.contains(&format!("old-{field}.gltf")),
+            "{}",
+            run.stderr
+        );
+        let diff = run_bake([Path::new("diff"), old.as_path(), path.as_path()]);
+        assert_eq!(diff.code, Some(0), "{field}: {}", diff.stderr);
+    }
 }

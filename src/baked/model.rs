@@ -71,13 +71,10 @@ pub struct ProbeNode {
     pub faces: [f64; 6],
 }
 
-/// The working plane: its grid (from the run summary's settings) and its points' upward face.
+/// The working plane: its points' upward face. Its grid (height, spacing) is in the run
+/// summary's settings.
 #[derive(Debug, Clone, PartialEq)]
 pub struct PlaneInput {
-    /// Height above the floor (m).
-    pub height: Option<f64>,
-    /// Grid spacing (m).
-    pub spacing: Option<f64>,
     pub points: Vec<PlanePoint>,
 }
 

@@ -14,9 +14,8 @@
 //!   `faces` (lx, as stored);
 //! - the working plane: the children of the scene root node `probes` → child `working_plane`,
 //!   each probe node carrying `extras.luxbake.faces["+y"]`, `facesDirect["+y"]` and
-//!   `facesIndirect["+y"]` (lx); height and spacing from the run summary's settings (read typed:
-//!   an error naming the field when the summary lacks it);
-//! - the run summary as stored.
+//!   `facesIndirect["+y"]` (lx);
+//! - the run summary as stored (read typed by whoever needs it: `BakedOutput::run_summary`).
 //!
 //! A file with no `_ILLUMINANCE` anywhere is not a luxbake output: an error saying so.
 
@@ -79,6 +78,7 @@ fn from_file(file: &GltfFile) -> Result<BakedOutput> {
         .map(|i| reflectance(&json["materials"][i]["extras"]["luxbake"]["reflectance"]))
         .collect();
     let probes = probe_nodes(file)?;
+    let points = working_plane(file)?;
     let mut primitives = Vec::new();
     for i in file.scene_nodes() {
         let world = nodes[i].world_from_local;
@@ -109,28 +109,18 @@ fn from_file(file: &GltfFile) -> Result<BakedOutput> {
             reflectance: r.unwrap_or(0.0),
         })
         .collect();
-    let mut out = BakedOutput {
+    Ok(BakedOutput {
         nodes: node_infos,
         materials,
         primitives,
         probes,
-        working_plane: None,
+        working_plane: (!points.is_empty()).then_some(PlaneInput { points }),
         summary: file
             .scene_extras()
             .map(|e| e["luxbake"].clone())
             .filter(|s| !s.is_null()),
         file: file.path().to_path_buf(),
-    };
-    let points = working_plane(file)?;
-    if !points.is_empty() {
-        let grid = out.run_summary()?.and_then(|s| s.settings.working_plane);
-        out.working_plane = Some(PlaneInput {
-            height: grid.map(|g| g.height),
-            spacing: grid.map(|g| g.spacing),
-            points,
-        });
-    }
-    Ok(out)
+    })
 }
 
 /// Every node of the scene whose `extras.luxbake.faces` is an object, in node order.

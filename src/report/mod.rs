@@ -71,7 +71,14 @@ pub struct Report {
 /// Compute the report (errors only for targets naming nothing in the bake).
 pub fn build(input: &BakedOutput, options: &Options) -> Result<Report> {
     let want = |b: By| options.by == b || options.by == By::Both;
-    let working_plane = input.working_plane.as_ref().map(rows::plane);
+    let working_plane = match &input.working_plane {
+        // The grid is in the run summary: read typed, so an output lacking it is an error.
+        Some(plane) => {
+            let grid = input.run_summary()?.and_then(|s| s.settings.working_plane);
+            Some(rows::plane(plane, grid))
+        }
+        None => None,
+    };
     let targets = match &options.targets {
         Some(t) => Some(t.rows(input, working_plane.as_ref().map(|p| p.e_avg))?),
         None => None,

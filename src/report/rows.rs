@@ -7,6 +7,7 @@
 //! sorted), so equal inputs give equal bits.
 
 use crate::baked::{BakedOutput, PlaneInput, PlanePoint, Primitive};
+use crate::probes::ProbeGrid;
 use glam::DVec3;
 
 /// One surface group's figures.
@@ -146,8 +147,9 @@ pub fn row(input: &BakedOutput, name: &str, prims: &[&Primitive], filter: &Filte
     })
 }
 
-/// The working plane's figures: plain means over its points (a regular grid).
-pub fn plane(input: &PlaneInput) -> PlaneRow {
+/// The working plane's figures: plain means over its points (a regular grid); `grid`: its height
+/// and spacing, when known.
+pub fn plane(input: &PlaneInput, grid: Option<ProbeGrid>) -> PlaneRow {
     let points = &input.points;
     let mean = |get: fn(&PlanePoint) -> f32| {
         let mut v: Vec<f32> = points.iter().map(get).collect();
@@ -159,8 +161,8 @@ pub fn plane(input: &PlaneInput) -> PlaneRow {
     let e_max = total.fold(f64::NEG_INFINITY, f64::max);
     let e_avg = mean(|p| p.total);
     PlaneRow {
-        height: input.height,
-        spacing: input.spacing,
+        height: grid.map(|g| g.height),
+        spacing: grid.map(|g| g.spacing),
         points: points.len(),
         e_avg,
         e_min,
