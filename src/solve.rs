@@ -50,8 +50,8 @@ pub fn gmres(
     if b_norm == 0.0 || n == 0 {
         return (vec![DVec3::ZERO; n], stats);
     }
-    // Memory: x, the basis and one vector being filled (10⁶ triangles: 25 MB each); the
-    // residual becomes the first basis vector in place.
+    // Memory: x, the basis and one vector being filled, each patch-sized; the residual
+    // becomes the first basis vector in place.
     loop {
         let mut r = vec![DVec3::ZERO; n];
         apply(&x, &mut r);

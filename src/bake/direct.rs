@@ -43,9 +43,8 @@ pub fn into_patches(
     let (sources, groups) = (&lights.sources, &lights.groups);
     let solids = Solids::new(scene);
     // Fixed chunks of patches, each summed into its own totals, the chunks' totals added in
-    // order: deterministic whatever the thread count. (A row of every source for every patch,
-    // kept until the end, was patches × sources × 16 bytes: 10 GB on the 10⁶-triangle floor,
-    // the bake's peak memory.)
+    // order: deterministic whatever the thread count. (Not a row of every source for every
+    // patch kept until the end: patches × sources × 16 bytes, too much on large scenes.)
     let parts: Vec<PatchFlux> = mesh
         .patches
         .par_chunks(FLUX_CHUNK)

@@ -29,16 +29,13 @@ pub const COARSE: f64 = 2.0;
 
 /// A point with geometry nearer than this × h in front of it (along its normal) is covered:
 /// under a fitting on the ceiling, behind a cabinet against a wall. Inter-reflected light does
-/// not reach it. Measured on the office against its converged reference: 0.5 and 1 give the
-/// same meshes at draft and default quality; at high quality 1 also refined around things
-/// hung a few centimetres off a surface and the working plane came out 0.29 % high (0.12 %
-/// with 0.5; 0.05 % without contact lines, where default is 0.45 % low).
+/// not reach it. Half a patch rather than a whole one: at fine patch sizes a whole one also
+/// counts as covered what hangs a few centimetres off a surface, and refines around it.
 pub const CONTACT: f64 = 0.5;
 
 /// Receivers per coarse group (at most) whose direct light sets the estimate's scale: the
-/// scene's mean direct illuminance and Sumpner's indirect light. On the 10⁶-triangle floor,
-/// whose chairs' frames have a thousand vertices each, this pass had every coarse receiver
-/// (808 k) evaluate all 600 luminaires; with 128 it evaluates 177 k.
+/// scene's mean direct illuminance and Sumpner's indirect light. A scale needs a sample, not
+/// every vertex of every chair frame against every luminaire.
 const SAMPLED: usize = 128;
 
 /// The patch mesh and what lives on it before any light is computed.
@@ -100,8 +97,7 @@ fn mesh(
     // The estimate the edges are judged by: direct light, plus the room's mean indirect light
     // where nothing covers the point. The ceiling around a fitting mounted on it gets no direct
     // light from downlights, yet its inter-reflected light drops to zero under the fitting: a
-    // coarse patch with a covered corner then took a third of the light it receives away
-    // (the office's working plane was 1.5 % low in its indirect part).
+    // coarse patch with a covered corner would take a third of the light it receives away.
     let groups = DirectSource::groups(&sources);
     let direct = |p: DVec3, n: DVec3| -> f64 {
         let mut e = [0.0];

@@ -6,11 +6,9 @@
 //! volume) — else nothing.
 //!
 //! Use: light from a source outside a closed solid never reaches the backs of its faces (every
-//! path from a back leads into the solid and meets its surface before leaving). The patch-flux
-//! stage traced shadow rays from the backs of chair facets into the chair for every luminaire
-//! behind them — 29 % of that stage's rays on the 10⁵-triangle floor — and found them all
-//! blocked. A source wholly outside the solid's box and wholly behind a patch's plane now costs
-//! that patch nothing.
+//! path from a back leads into the solid and meets its surface before leaving). So a source
+//! wholly outside the solid's box and wholly behind a patch's plane costs that patch nothing:
+//! no shadow rays from the backs of a chair's facets into the chair, which would all be blocked.
 
 use crate::scene::{Scene, Surface};
 use glam::DVec3;

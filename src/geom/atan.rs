@@ -1,12 +1,11 @@
 //! A faster `atan2` for the hot paths: the luminaires' (C, γ) lookups and the edge angles of
-//! Lambert's formula call it millions of times per bake (12 % of the office's CPU with libm's).
+//! Lambert's formula call it millions of times per bake.
 //!
 //! Input: finite `y`, `x` (infinities fall back to the standard library). Output: the angle of
 //! (x, y) in (−π, π], within 10⁻¹⁵ rad of `f64::atan2` (tested), signed zeros and the axes as
-//! the standard library has them, without libm's branches for correct rounding (the office bake
-//! took 7 % less CPU with it): the ratio min/max is reduced to |t| ≤ 2 − √3 by
-//! atan(a) = π/6 + atan((a√3 − 1)/(a + √3)), where the alternating series to t²³ is within
-//! 2·10⁻¹⁶.
+//! the standard library has them, without libm's branches for correct rounding: the ratio
+//! min/max is reduced to |t| ≤ 2 − √3 by atan(a) = π/6 + atan((a√3 − 1)/(a + √3)), where the
+//! alternating series to t²³ is within 2·10⁻¹⁶.
 
 use std::f64::consts::{FRAC_PI_2, FRAC_PI_6, PI};
 

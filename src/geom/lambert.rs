@@ -42,8 +42,7 @@ pub fn form_factor_rising(p: DVec3, n: DVec3, verts: &[DVec3]) -> f64 {
 /// receiver — seen edge-on. The second case is the patch a vertex receiver sits in on a curved,
 /// smooth-shaded surface: its shading normal differs from the facet's (by 10⁻⁶ rad for f32
 /// normals), the facet pokes above the receiver's plane by a hair, and the contour sum from a
-/// point inside the facet then saw the whole hemisphere (two vertices of a column 0.8 cm apart
-/// read 17 % more and 33 % less inter-reflected light than they do now).
+/// point inside the facet would see the whole hemisphere.
 pub fn rises_above(p: DVec3, n: DVec3, verts: &[DVec3]) -> bool {
     let (mut height, mut reach) = (0.0f64, 0.0f64);
     for v in verts {

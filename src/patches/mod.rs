@@ -345,12 +345,11 @@ fn add_group(mesh: &mut PatchMesh, g: GroupInput) {
         });
     }
     // On a concave curved surface (a dome or a round room seen from inside) a step along the
-    // tangent plane leaves the surface behind the facets around the vertex, which then showed
-    // the receiver their backs over up to half its hemisphere (inside a tessellated sphere the
-    // coverage came to 2 and the inter-reflected light to a sixth of Sumpner's). Lift the step
-    // along the normal until no facet around the vertex has the point behind its plane; the
-    // most tilted one then passes through the point (seen edge-on, it covers nothing). On flat
-    // and convex surfaces the step is already on or in front of every facet around it.
+    // tangent plane leaves the surface behind the facets around the vertex, which would then
+    // show the receiver their backs over up to half its hemisphere. Lift the step along the
+    // normal until no facet around the vertex has the point behind its plane; the most tilted
+    // one then passes through the point (seen edge-on, it covers nothing). On flat and convex
+    // surfaces the step is already on or in front of every facet around it.
     let mut lift = vec![0.0f64; n];
     for p in &mesh.patches[p0..] {
         for &v in &p.v {

@@ -40,7 +40,7 @@ pub struct Solution<'a> {
     lights: DirectLight<'a>,
     reflected: Reflected,
     /// The reflected exitance summarised on the tree, built on first use: a bake without probes
-    /// never reads it (on large floors its normal distributions are hundreds of MB).
+    /// never reads it (its normal distributions, one per inner node, are large on large scenes).
     node_reflected: OnceLock<NodeField>,
     /// All emitted exitance per patch, profiled emitters included (for luminance).
     emitted: Vec<DVec3>,

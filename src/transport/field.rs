@@ -13,9 +13,9 @@ use glam::DVec3;
 
 /// The nodes a node field keeps normal distributions for, numbered: a map from node to its
 /// index among them ([`LEAF_SLOT`] for the others). Only cluster links read a node's
-/// distribution, and on the open-plan floors they name about 5 % of the inner nodes (10⁵
-/// triangles: 5 709 of 120 161), so the solver's fields keep those alone ([`ClusterSlots::named`])
-/// while a field read from new points (probes) keeps every inner node's ([`ClusterSlots::all`]).
+/// distribution, and they name few of the inner nodes, so the solver's fields keep those alone
+/// ([`ClusterSlots::named`]) while a field read from new points (probes) keeps every inner
+/// node's ([`ClusterSlots::all`]).
 #[derive(Clone)]
 pub struct ClusterSlots {
     map: std::sync::Arc<[u32]>,

@@ -93,9 +93,8 @@ pub struct Gatherer<'a> {
     /// Per tree node, when some are: all its patches are black — they reflect nothing and emit
     /// nothing into the patch field, so their exitance is zero whatever the solve finds. Such a
     /// node gets no link, but what it covers is still measured as precisely as any other's,
-    /// because an enclosed receiver's row is normalised by its total coverage: tracing one ray
-    /// per black leaf instead of up to sixteen moved vertices beside a black floor by up to half
-    /// their value.
+    /// because an enclosed receiver's row is normalised by its total coverage: a coarser sample
+    /// of what black nodes cover would scale the light of every other link in the row.
     pub dark: Option<&'a [bool]>,
 }
 
@@ -309,16 +308,15 @@ impl Gatherer<'_> {
     /// patches are gathered without rays of their own, as a far source whose two rays get
     /// through is accepted whole; of a node seen from both sides only the patches facing `p`
     /// (its representatives faced it: they say nothing of the backs behind its front, which
-    /// counted as seen absorbers made a closed box with balls lose 1 % of its mean
-    /// illuminance). Not for curved clutter: its rays ignore its own patches, which may hide
-    /// each other. A node whose form factor is below [`SMALL_NODE`] however its patches turn
-    /// gets one ray, to its median patch (or another representative above the plane; when none
-    /// is, a point on one of its patches above it, [`Gatherer::patch_above`]: a node the plane
-    /// cuts near its top otherwise had nothing to aim at and was refined). Otherwise — fewer
-    /// than [`HIDDEN_MIN_PATCHES`] patches, no targets, or the rays disagree —
-    /// [`Sight::Unknown`]: it is refined and its patches traced. In an open-plan office most
-    /// such nodes are furniture behind other furniture: without this their patches were traced
-    /// one by one (and nine in ten found hidden).
+    /// counted as seen absorbers would lose light). Not for curved clutter: its rays ignore its
+    /// own patches, which may hide each other. A node whose form factor is below [`SMALL_NODE`]
+    /// however its patches turn gets one ray, to its median patch (or another representative
+    /// above the plane; when none is, a point on one of its patches above it,
+    /// [`Gatherer::patch_above`]: a node the plane cuts near its top otherwise has nothing to
+    /// aim at and would be refined). Otherwise — fewer than [`HIDDEN_MIN_PATCHES`] patches, no
+    /// targets, or the rays disagree — [`Sight::Unknown`]: it is refined and its patches
+    /// traced. In an open-plan office most such nodes are furniture behind other furniture,
+    /// whose patches would otherwise be traced one by one and mostly found hidden.
     fn sight(
         &self,
         p: DVec3,
@@ -561,26 +559,19 @@ impl Gatherer<'_> {
 
 /// Form factor below which a far node's visibility is one ray's answer (two rays, and
 /// refinement where they disagree, above it). Such a node covers under 0.1 % of the receiver's
-/// cosine-weighted hemisphere, so what a shadow edge through it could change is at most that; on
-/// the office it removed a fifth of the bake's rays with the working plane and probes unchanged
-/// against the converged reference (bench/).
+/// cosine-weighted hemisphere, so what a shadow edge through it could change is at most that.
 const SMALL_NODE: f64 = 1e-3;
 
 /// A far node crossing the receiver's plane whose part above it can have a form factor no larger
 /// than this ([`NodeBounds::horizon_bound`]) is skipped: refining it would trace its patches
 /// along the horizon one by one, and a receiver's tilted plane (a chair's) cuts a whole floor of
-/// furniture. Measured: on the 10⁶-triangle open plan it removed 28 % of the links stage's tree
-/// visits and a quarter of its rays per receiver; on the 10⁵ floor 6 % of the bake's rays, every
-/// vertex within 10⁻⁴ of the bake without it (mean 4·10⁻⁷); in an empty 60 m hall, where
-/// nothing on the horizon is hidden, tilted receivers lose at most 1.5·10⁻⁵ of their coverage.
-/// 10⁻⁴ removed 40 % of the visits, but a 6 m wall 20 m away, cut by the plane, lost 2.7 % of
-/// its form factor (3·10⁻⁵ of the hemisphere).
+/// furniture. Kept small so that a large wall far away, cut by the plane, keeps nearly all its
+/// light.
 const HORIZON: f64 = 1e-5;
 
 /// Patches a far node must hold before its rays may settle it ([`Gatherer::sight`]): two rays
-/// on a smaller node cost about what tracing its leaves would. Measured: on the 10⁴
-/// open plan 2 and 8 both cut the bake's rays by a fifth, and 4 was 7 % faster than 8; on the
-/// office (little hidden) 2 added 3 % rays, 4 made the bake 1.5 % slower, 8 costs nothing.
+/// on a smaller node cost about what tracing its leaves would, and where little is hidden (a
+/// small office) they are mostly spent for nothing.
 const HIDDEN_MIN_PATCHES: u32 = 8;
 
 /// Push a node's children so the first (stored right after it in depth-first order) is visited
@@ -721,9 +712,8 @@ mod tests {
 
     /// Tilted receivers in an empty 60 × 45 × 3 m hall (a closed box: coverage exactly 1 from
     /// anywhere inside, and nothing hidden, the worst case for [`HORIZON`]). Their planes cut
-    /// the far walls, floor and ceiling along the horizon, where the rule skips nodes (a
-    /// twentieth to two fifths of the links); measured: coverage 1 − 4.6·10⁻⁴ at worst, of which
-    /// the rule costs 1.5·10⁻⁵ (the far-field expansion the rest).
+    /// the far walls, floor and ceiling along the horizon, where the rule skips nodes; their
+    /// coverage must stay within 10⁻³ of 1 (the rule and the far-field expansion together).
     #[test]
     fn tilted_receivers_in_a_long_hall_see_all_of_it() {
         let mut b = SceneBuilder::new();
@@ -757,8 +747,8 @@ mod tests {
         assert!(wall);
         assert!(sight.contains(&Sight::Seen) && !sight.contains(&Sight::Hidden));
         assert!((coverage / want - 1.0).abs() < 0.02, "{coverage} vs {want}");
-        // Seen by both its representatives, the wall's patches need no rays of their own:
-        // tracing each patch along the receiver's plane, which cuts it, took 263.
+        // Seen by both its representatives, the wall's patches need no rays of their own, not
+        // one per patch along the receiver's plane, which cuts it.
         let (_, rays_screen, _, _) = gather(beside, Far::Nothing);
         assert!(
             rays <= rays_screen + 40,
@@ -820,8 +810,8 @@ mod tests {
     #[test]
     fn small_node_across_the_plane_is_settled_by_one_ray_above_it() {
         // Nodes with every representative below the plane: one ray to a patch of theirs above
-        // it settles them, as it settles a small node whose median patch is above it (they
-        // used to be refined and their patches traced one by one).
+        // it settles them, as it settles a small node whose median patch is above it (rather
+        // than refining them and tracing their patches one by one).
         let (open, rays) = small_crossing_sights(false);
         assert!(open.len() >= 4, "{} such nodes", open.len());
         assert!(open.iter().all(|s| *s == Sight::Seen), "{open:?}");
@@ -858,9 +848,8 @@ mod tests {
         // shading normal differs from those facets' normals by rounding only. The form factors
         // of all it sees sum to its coverage, which no point can have above 1 (the
         // cosine-weighted hemisphere); in a closed room it is 1 but for sampled visibility.
-        // Before facets through the receiver counted as edge-on, a vertex in the facet above it
-        // saw the whole hemisphere in it: coverage 1.5, a third of its light from its own
-        // column.
+        // Unless facets through the receiver count as edge-on, a vertex in the facet above it
+        // sees the whole hemisphere in it and takes much of its light from its own column.
         let mut b = SceneBuilder::new();
         let white = b.material("white", 0.5);
         b.axis_box("room", DVec3::ZERO, DVec3::new(4.0, 3.0, 4.0), true, white);

@@ -50,8 +50,8 @@ impl Link {
 }
 
 /// A link without a gradient — every link to one patch (a leaf of the tree, whose exitance is
-/// uniform) — in 8 bytes instead of a [`Link`]'s 20. Most links are leaves: on the open-plan
-/// floors they were most of a bake's memory.
+/// uniform) — in 8 bytes instead of a [`Link`]'s 20. Most links are leaves, so their size
+/// sets much of a bake's memory.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Leaf {
     pub node: u32,

@@ -26,9 +26,8 @@ use rayon::prelude::*;
 const OVERRELAX: f64 = 1.5;
 
 /// The transpose's scatter runs in this many parts (in parallel), summed in order. Each part
-/// holds 8 bytes per tree node and 144 per inner node while the transpose runs; four parts of
-/// 152 bytes per node, with the push-down's own arrays, were 1.8 GB on the 10⁶-triangle floor's
-/// two million nodes.
+/// holds 8 bytes per tree node and 144 per inner node while the transpose runs, so the part
+/// count multiplies the transpose's memory on large scenes: few parts.
 const TRANSPOSE_PARTS: usize = 2;
 
 pub struct PatchOperator<'a> {
@@ -129,8 +128,7 @@ impl<'a> PatchOperator<'a> {
         // A fixed number of parts (never the thread count), each accumulated over its receivers
         // in order into its own arrays, the parts summed in order: deterministic. The count is
         // fixed rather than the part size because every part costs a pass over all nodes: parts
-        // of a few thousand receivers made that pass quadratic in the scene (10⁶ triangles:
-        // 200 parts × 2·10⁶ nodes × 152 bytes zeroed and summed per transpose).
+        // of a fixed number of receivers would make that pass quadratic in the scene.
         let n = mesh.receivers.len();
         let per_part = n.div_ceil(TRANSPOSE_PARTS).max(1);
         type Part = (Vec<f64>, Vec<DVec3>, Vec<[f64; DIST]>);

@@ -13,12 +13,10 @@
 //! centroid lies at the middle, at the median (by normal unless the normals agree). Ties are
 //! broken by patch index. Leaves hold one patch.
 //!
-//! Why planes and clutter apart, and clutter split at its middle: on the open-plan floors, where
-//! chairs are most of the patches, median splits followed the chairs' tessellation and mixed the
-//! room's planes into nodes of clutter, which a receiver's far-field test then refined from
-//! anywhere in the room. Measured on the 10⁴-triangle floor: bake 16.0 → 8.3 s, rays 49.8 →
-//! 33.3 M, links 9.0 → 5.1 M; against a high-quality bake of the same mesh, vertex illuminance
-//! 0.81 → 1.07 % mean error (p95 2.9 → 3.9 %), node means 1.71 → 1.31 % at most.
+//! Why planes and clutter apart, and clutter split at its middle: so a far-field test from
+//! across the room accepts a chair as one node instead of refining a node that mixes chairs with
+//! the room's planes. Where chairs are most of the patches (the open-plan floors), median splits
+//! follow the chairs' tessellation rather than space and make such mixed nodes.
 //! Invariants: `nodes[0]` is the root; children have larger indices than their parent (so a
 //! reverse sweep visits children first); a node's patches are `order[range]`.
 
@@ -179,8 +177,7 @@ pub struct PatchTree {
     pub area_prefix: Vec<f64>,
     /// Per node: its patches at the area quantiles [`REP_QUANTILES`] (in leaf order), whose
     /// centroids and normals ([`PatchTree::rep`]) are the shadow-ray targets that stand for the
-    /// node. Patch indices rather than points: 12 bytes a node instead of 144 (10⁶ triangles:
-    /// 270 MB).
+    /// node. Patch indices rather than points: 12 bytes a node instead of 144.
     pub reps: Vec<[u32; 3]>,
     /// Per inner node ([`PatchTree::slot`]): its normal distribution (`geom::sh::Dist`: axis
     /// bins, the rest to order 2), for far receivers that see its patches from both sides (a
