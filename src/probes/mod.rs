@@ -8,7 +8,7 @@
 //! - [`CubicIlluminance`]: the six face illuminances E(+x), E(−x), E(+y), E(−y), E(+z), E(−z) in
 //!   the probe's axes, each split into direct (exact, shadowed, from the real luminaire
 //!   distributions) and indirect (gathered from the radiosity solution with visibility).
-//! - [`Metrics`]: everything derived from the six numbers, plus the exact scalar and cylindrical
+//! - [`metrics::Metrics`]: everything derived from the six numbers, plus the exact scalar and cylindrical
 //!   illuminance from an integration over the sphere (where the six-face estimate is known to
 //!   err), and Cuttle's constant estimate of the indirect part for comparison.
 //!
