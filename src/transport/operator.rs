@@ -10,8 +10,8 @@
 //! they are normalised to 1 — but columns (where one patch's light goes, Σ_i A_i·G_ij / A_j) then
 //! scatter by tens of percent near corners. Any correlation between that scatter and exitance
 //! loses or creates light every bounce, and at ρ = 0.99 a 0.1 % loss per bounce costs 10 %. For
-//! a closed space the exact operator has unit rows and unit area-weighted columns, so [`PatchOperator::balance`]
-//! finds diagonal scalings that restore both (Sinkhorn–Knopp iteration) on the closed patches,
+//! a closed space the exact operator has unit rows and unit area-weighted columns, so
+//! [`PatchOperator::balance`] finds diagonal scalings that restore both (Sinkhorn–Knopp iteration) on the closed patches,
 //! leaving open ones as computed. The values users see are gathered at receivers without these
 //! scalings; only the solver's energy bookkeeping uses them.
 
