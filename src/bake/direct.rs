@@ -57,10 +57,15 @@ pub fn into_patches(
             let mut row = vec![(0.0, 0.0); sources.len()];
             for p in chunk {
                 let corners = p.corners(&mesh.receivers);
-                // A group's rays leave from the centroid, pulled off the side that faces it (the
-                // back of a single-sided patch absorbs what reaches it).
+                // A group's query starts from the corners the patch-flux integration traces
+                // from (pulled a hair inside the patch, `direct::flux`), pulled off the side
+                // that faces it (the back of a single-sided patch absorbs what reaches it); its
+                // hull holds the centroid and every point the integration refines to.
                 let c = (corners[0] + corners[1] + corners[2]) / 3.0;
-                let clear = |q: DVec3, n: DVec3| occ.clear(c, n, q, DVec3::ZERO);
+                let inset = corners.map(|v| v + (c - v) * 1e-4);
+                let settle = |lo: DVec3, hi: DVec3, n: DVec3| {
+                    occ.settle(&inset.map(|v| v + n * occ.epsilon), lo, hi)
+                };
                 row.fill((0.0, 0.0));
                 // Sources that can light only this patch's back, when that back is lit by its
                 // twin instead (double-sided) or faces the inside of a closed solid they lie
@@ -69,7 +74,7 @@ pub fn into_patches(
                     true => Some(None),
                     false => solids.of(mesh.groups[p.group as usize].surface).map(Some),
                 };
-                groups.visit(c, &[p.normal, -p.normal], clear, |k, known| {
+                groups.visit(c, &[p.normal, -p.normal], settle, |k, known| {
                     if dark_back
                         .is_some_and(|solid| sources[k].behind_and_outside(c, p.normal, solid))
                     {

@@ -101,8 +101,9 @@ fn mesh(
     let groups = DirectSource::groups(&sources);
     let direct = |p: DVec3, n: DVec3| -> f64 {
         let mut e = [0.0];
-        let clear = |q: DVec3, n: DVec3| occluder.clear(p, n, q, DVec3::ZERO);
-        groups.visit(p, &[n], clear, |k, known| {
+        let starts = [p + n * occluder.epsilon];
+        let settle = |lo: DVec3, hi: DVec3, _n: DVec3| occluder.settle(&starts, lo, hi);
+        groups.visit(p, &[n], settle, |k, known| {
             sources[k].illuminance_faces(occluder, p, &[n], &mut e, known);
         });
         e[0]

@@ -185,7 +185,7 @@ impl<'a> Source<'a> {
     /// Illuminance (lx, photometric) at `p` on planes with the unit `normals` (a probe's faces),
     /// added to `out`: the sub-sources, their intensities and each one's shadow ray are shared
     /// (the ray leaves `p` off the first plane that faces the sub-source). `known`: what a
-    /// group's rays already said of its visibility ([`super::groups`]).
+    /// group's query already proved of its visibility ([`super::groups`]).
     pub fn illuminance_faces(
         &self,
         occ: &Occluder,
@@ -277,8 +277,8 @@ struct SubSource<'s, 'a> {
     source: &'s Source<'a>,
     position: DVec3,
     share: f64,
-    /// Its visibility from the whole patch, when already known (a group's rays saw the
-    /// luminaire, or the patch is tiny and its centroid's ray decided).
+    /// Its visibility from the whole patch, when already known (a group's query proved the
+    /// luminaire seen, or the patch is tiny and its centroid's ray decided).
     seen: Option<bool>,
 }
 

@@ -42,7 +42,12 @@ impl<'a> DirectSource<'a> {
     /// always traced).
     pub fn groups(sources: &[DirectSource]) -> Groups {
         Groups::from_places(sources.iter().map(|s| match s {
-            DirectSource::Luminaire(l) => Some((l.position, l.half[0].hypot(l.half[1]))),
+            DirectSource::Luminaire(l) => {
+                let c = l.opening_corners();
+                let lo = c.iter().fold(c[0], |a, b| a.min(*b));
+                let hi = c.iter().fold(c[0], |a, b| a.max(*b));
+                Some((l.position, lo, hi))
+            }
             _ => None,
         }))
     }
@@ -111,7 +116,7 @@ impl<'a> DirectSource<'a> {
 
     /// Illuminance (lx, photometric) at `p` on planes with the unit `normals`, added to `out`
     /// (luminaires share their sub-sources' intensities and shadow rays between the planes).
-    /// `known`: what a group's rays said of a luminaire's visibility ([`super::groups`]).
+    /// `known`: what a group's query proved of a luminaire's visibility ([`super::groups`]).
     pub fn illuminance_faces(
         &self,
         occ: &Occluder,

@@ -66,8 +66,11 @@ impl<'a> DirectLight<'a> {
         let (p, normals) = (r.point, r.planes.as_slice());
         let mut e = vec![DVec3::ZERO; normals.len()];
         let mut each = vec![0.0; normals.len()];
-        let clear = |q: DVec3, n: DVec3| occ.clear(p, n, q, DVec3::ZERO);
-        self.groups.visit(p, normals, clear, |k, known| {
+        // A sub-source's ray leaves `p` pulled off the first plane that faces it: a group's query
+        // starts from every such point.
+        let starts: Vec<DVec3> = normals.iter().map(|n| p + *n * occ.epsilon).collect();
+        let settle = |lo: DVec3, hi: DVec3, _n: DVec3| occ.settle(&starts, lo, hi);
+        self.groups.visit(p, normals, settle, |k, known| {
             let source = &self.sources[k];
             each.fill(0.0);
             source.illuminance_faces(occ, p, normals, &mut each, known);

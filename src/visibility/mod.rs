@@ -2,8 +2,9 @@
 //! are built once and shared by every stage.
 //!
 //! Input: every surface triangle of the scene (world space, m). Output: an [`Occluder`] answering
-//! "is the segment between two points clear?", "does a ray escape the scene?" and "what does a
-//! ray hit first?".
+//! "is the segment between two points clear?", "does a ray escape the scene?", "what does a
+//! ray hit first?" and, for a group of luminaires, "are all segments from these points to this
+//! box provably clear, or provably blocked?" ([`Occluder::settle`]).
 //!
 //! Skipping what a scene does not need: the planes that have the whole scene (every vertex,
 //! light and luminaire opening) on their front side bound a convex hull — the room's shell. A
@@ -32,6 +33,9 @@ use obvhs::{
 };
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Duration;
+
+mod hull;
+mod settle;
 
 /// The BVH works on the scene mapped to this diagonal. obvhs's wide-BVH traversal skips boxes
 /// nearer than a fixed 10⁻⁴ along the ray; at this scale that is 10⁻⁸ of the scene, below f32
@@ -353,7 +357,6 @@ impl Occluder {
         ))
     }
 }
-
 /// A triangle whose bounding box is grown by `pad` on every side.
 struct Padded {
     tri: Triangle,
@@ -471,7 +474,7 @@ mod tests {
     use super::*;
     use crate::scene::{Material, Surface};
 
-    fn quad_surface(corners: [DVec3; 4]) -> Surface {
+    pub(super) fn quad_surface(corners: [DVec3; 4]) -> Surface {
         let n = (corners[1] - corners[0])
             .cross(corners[2] - corners[0])
             .normalize();
@@ -488,7 +491,7 @@ mod tests {
         }
     }
 
-    fn scene_with(surfaces: Vec<Surface>) -> Scene {
+    pub(super) fn scene_with(surfaces: Vec<Surface>) -> Scene {
         Scene {
             surfaces,
             materials: vec![Material::default_material()],
