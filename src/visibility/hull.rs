@@ -1,11 +1,22 @@
 //! The convex geometry behind [`super::settle`]: the hull of a few points and a box, tested
 //! against BVH boxes and triangles by separating axes, and the plane polygons a cross-section
-//! is checked with. All in the BVH's coordinates, with the settle proofs' margin.
+//! is checked with. All in the BVH's coordinates, with the proofs' [`MARGIN`].
 
 use super::BVH_DIAGONAL;
-use super::settle::{MARGIN, tri_bounds, tri64};
 use glam::{DVec2, DVec3};
 use obvhs::{aabb::Aabb, triangle::Triangle};
+
+/// Separation (BVH units, 5·10⁻⁷ of the scene's diagonal) a proof keeps against the rounding of
+/// the f32 triangles and ray origins (≤ 10⁻⁷ of the scene) and the ray–triangle test's slack.
+pub(super) const MARGIN: f64 = 5e-7 * BVH_DIAGONAL;
+
+fn tri_bounds(t: &[DVec3; 3]) -> (DVec3, DVec3) {
+    (t[0].min(t[1]).min(t[2]), t[0].max(t[1]).max(t[2]))
+}
+
+pub(super) fn tri64(t: &Triangle) -> [DVec3; 3] {
+    [t.v0, t.v1, t.v2].map(|a| DVec3::new(a.x as f64, a.y as f64, a.z as f64))
+}
 
 /// The convex hull of points in the plane, counter-clockwise (monotone chain).
 pub(super) fn convex_hull_2d(mut points: Vec<DVec2>) -> Vec<DVec2> {

@@ -7,7 +7,7 @@
 //! (a margin above f32 rounding and the ray–triangle slack), so grouping cannot change what a
 //! luminaire's own rays find; the answer does not depend on the BVH's layout.
 
-use super::hull::{Hull, convex_hull_2d, inside_2d, segment_meets_polygon};
+use super::hull::{Hull, MARGIN, convex_hull_2d, inside_2d, segment_meets_polygon, tri64};
 use super::{BVH_DIAGONAL, Occluder, Tracer, intersect};
 use glam::{DVec2, DVec3, UVec2, Vec3A};
 use obvhs::{
@@ -15,7 +15,6 @@ use obvhs::{
     cwbvh::node::{CwBvhNode, extract_byte64},
     ray::Ray,
     traverse,
-    triangle::Triangle,
 };
 
 impl Tracer {
@@ -269,10 +268,6 @@ impl Occluder {
     }
 }
 
-/// Separation (BVH units, 5·10⁻⁷ of the scene's diagonal) a proof keeps against the rounding of
-/// the f32 triangles and ray origins (≤ 10⁻⁷ of the scene) and the ray–triangle test's slack.
-pub(super) const MARGIN: f64 = 5e-7 * BVH_DIAGONAL;
-
 /// Distance (BVH units) within which a triangle's corners count as lying on a plane.
 const COPLANAR: f64 = 1e-7 * BVH_DIAGONAL;
 
@@ -283,7 +278,7 @@ const HIDDEN_PLANES: usize = 4;
 const MAX_COVER: usize = 256;
 
 /// The corners of the box `[lo, hi]` (bit k of the index picks `hi` along axis k).
-pub(super) fn box_corners(lo: DVec3, hi: DVec3) -> [DVec3; 8] {
+fn box_corners(lo: DVec3, hi: DVec3) -> [DVec3; 8] {
     std::array::from_fn(|i| {
         DVec3::new(
             if i & 1 == 0 { lo.x } else { hi.x },
@@ -291,14 +286,6 @@ pub(super) fn box_corners(lo: DVec3, hi: DVec3) -> [DVec3; 8] {
             if i & 4 == 0 { lo.z } else { hi.z },
         )
     })
-}
-
-pub(super) fn tri_bounds(t: &[DVec3; 3]) -> (DVec3, DVec3) {
-    (t[0].min(t[1]).min(t[2]), t[0].max(t[1]).max(t[2]))
-}
-
-pub(super) fn tri64(t: &Triangle) -> [DVec3; 3] {
-    [t.v0, t.v1, t.v2].map(|a| DVec3::new(a.x as f64, a.y as f64, a.z as f64))
 }
 
 fn as_vec3a(p: DVec3) -> Vec3A {
