@@ -287,6 +287,34 @@ fn profiled_emitting_surface_with_a_cosine_profile_is_lambertian() {
     assert!(rel(emitted, PI * 1000.0 * 0.5) < 1e-3, "{emitted}");
 }
 
+/// 576 luminaire positions on a 2.5 m grid at height `h` (glTF +Y up), x and z from −28.75 to
+/// 28.75 m.
+fn lamp_grid(h: f64) -> Vec<DVec3> {
+    (0..576)
+        .map(|k| {
+            let (i, j) = ((k / 24) as f64, (k % 24) as f64);
+            DVec3::new(2.5 * i - 28.75, h, 2.5 * j - 28.75)
+        })
+        .collect()
+}
+
+/// A cosine luminaire (`cosine_source`) aimed down at each of `lamps`.
+fn place_cosine_luminaires(b: &mut SceneBuilder, lamps: &[DVec3]) {
+    let ies = cosine_source();
+    let profile = b.profile("cosine", ies.as_bytes(), Format::Ies);
+    for (k, q) in lamps.iter().enumerate() {
+        b.place_luminaire(
+            &format!("l{k}"),
+            profile,
+            *q,
+            -DVec3::Y,
+            DVec3::X,
+            1.0,
+            None,
+        );
+    }
+}
+
 /// 576 cosine luminaires on a 2.5 m grid 3 m above a black floor (glTF +Y up), a 60 × 60 m
 /// ceiling of them: far ones are grouped and their visibility settled by one query a group
 /// ([`luxbake::direct::groups`]), their intensities still evaluated one by one. Without a
@@ -298,12 +326,7 @@ fn profiled_emitting_surface_with_a_cosine_profile_is_lambertian() {
 #[test]
 fn grouped_luminaires_give_the_inverse_square_sum() {
     let h = 3.0;
-    let lamps: Vec<DVec3> = (0..576)
-        .map(|k| {
-            let (i, j) = ((k / 24) as f64, (k % 24) as f64);
-            DVec3::new(2.5 * i - 28.75, h, 2.5 * j - 28.75)
-        })
-        .collect();
+    let lamps = lamp_grid(h);
     let screen_y = 2.5;
     let behind_screen = |p: DVec3, q: DVec3| {
         let c = p + (q - p) * ((screen_y - p.y) / (q.y - p.y));
@@ -322,19 +345,7 @@ fn grouped_luminaires_give_the_inverse_square_sum() {
             ];
             b.quad("screen", corners, black);
         }
-        let ies = cosine_source();
-        let profile = b.profile("cosine", ies.as_bytes(), Format::Ies);
-        for (k, q) in lamps.iter().enumerate() {
-            b.place_luminaire(
-                &format!("l{k}"),
-                profile,
-                *q,
-                -DVec3::Y,
-                DVec3::X,
-                1.0,
-                None,
-            );
-        }
+        place_cosine_luminaires(&mut b, &lamps);
         let r = bake(&b.build(), &Settings::default(), &Silent).unwrap();
         let floor = &r.surfaces[0];
         let mut worst = 0.0f64;
@@ -365,12 +376,7 @@ fn grouped_luminaires_give_the_inverse_square_sum() {
 #[test]
 fn grouped_luminaires_across_a_slanted_table_edge() {
     let h = 3.0;
-    let lamps: Vec<DVec3> = (0..576)
-        .map(|k| {
-            let (i, j) = ((k / 24) as f64, (k % 24) as f64);
-            DVec3::new(2.5 * i - 28.75, h, 2.5 * j - 28.75)
-        })
-        .collect();
+    let lamps = lamp_grid(h);
     let top_y = 0.75;
     let edge = |z: f64| 0.3 + 0.5 * z;
     let under_top = |p: DVec3, q: DVec3| {
@@ -387,19 +393,7 @@ fn grouped_luminaires_across_a_slanted_table_edge() {
         DVec3::new(edge(40.0), top_y, 40.0),
     ];
     b.quad("table top", corners, black);
-    let ies = cosine_source();
-    let profile = b.profile("cosine", ies.as_bytes(), Format::Ies);
-    for (k, q) in lamps.iter().enumerate() {
-        b.place_luminaire(
-            &format!("l{k}"),
-            profile,
-            *q,
-            -DVec3::Y,
-            DVec3::X,
-            1.0,
-            None,
-        );
-    }
+    place_cosine_luminaires(&mut b, &lamps);
     let scene = b.build();
     let settings = Settings {
         patch_size: Some(0.25),

@@ -215,9 +215,16 @@ impl Occluder {
         let query = Aabb::new(as_vec3a(lo - grow), as_vec3a(hi + grow));
         let mut on: Vec<[DVec3; 3]> = Vec::new();
         let mut too_many = false;
+        // Only boxes that reach the plane can hold a triangle lying on it (a floor finely
+        // tessellated next to a wall would otherwise be visited triangle by triangle).
+        let reaches_plane = |b: &Aabb| {
+            let (bl, bh) = (as_dvec3(b.min), as_dvec3(b.max));
+            let (c, h) = ((bl + bh) * 0.5, (bh - bl) * 0.5);
+            (side(c)).abs() <= n.abs().dot(h) + COPLANAR
+        };
         tracer.each_near(
             as_vec3a(-n),
-            |b| b.intersect_aabb(&query),
+            |b| b.intersect_aabb(&query) && reaches_plane(b),
             |id| {
                 let t = tri64(&tracer.triangles[id]);
                 if t.iter().all(|p| side(*p).abs() <= COPLANAR) {
@@ -286,6 +293,10 @@ fn box_corners(lo: DVec3, hi: DVec3) -> [DVec3; 8] {
             if i & 4 == 0 { lo.z } else { hi.z },
         )
     })
+}
+
+fn as_dvec3(p: Vec3A) -> DVec3 {
+    DVec3::new(p.x as f64, p.y as f64, p.z as f64)
 }
 
 fn as_vec3a(p: DVec3) -> Vec3A {
