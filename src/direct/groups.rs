@@ -8,13 +8,13 @@
 //! with what is known of its visibility ([`Known`]). Only visibility is shared: each luminaire's
 //! intensity, distance and cosine are still evaluated exactly.
 //!
-//! A group of [`MIN_GROUP`] luminaires or more, whose radius is below [`GROUP_TAU`] × its distance
-//! and whose box lies wholly in front of one of the planes, is handed to the caller's `settle`
-//! ([`crate::visibility::Occluder::settle`]), which answers only what it proves: seen when no
-//! triangle meets the convex hull of the ray starts and the box (then every shadow ray to every
-//! point of every opening in it is clear), hidden when one plane of triangles, unbroken across
-//! the hull's cross-section, separates the starts from the box. Otherwise the group's halves are
-//! tried in turn, down to single luminaires, which are traced as before.
+//! A group of `MIN_GROUP` (8) luminaires or more, whose radius is below [`GROUP_TAU`] × its
+//! distance and whose box lies wholly in front of one of the planes, is handed to the caller's
+//! `settle` ([`crate::visibility::Occluder::settle`]), which answers only what it proves: seen
+//! when no triangle meets the convex hull of the ray starts and the box (then every shadow ray
+//! to every point of every opening in it is clear), hidden when one plane of triangles, unbroken
+//! across the hull's cross-section, separates the starts from the box. Otherwise the group's
+//! halves are tried in turn, down to single luminaires, which are traced as before.
 //!
 //! The bound: grouping changes no luminaire's visibility, so the direct light at a receiver and
 //! into a patch is that of tracing every luminaire (the proofs keep a margin above the f32
