@@ -15,7 +15,7 @@ fn tri_bounds(t: &[DVec3; 3]) -> (DVec3, DVec3) {
 }
 
 pub(super) fn tri64(t: &Triangle) -> [DVec3; 3] {
-    [t.v0, t.v1, t.v2].map(|a| DVec3::new(a.x as f64, a.y as f64, a.z as f64))
+    [t.v0, t.v1, t.v2].map(|a| a.as_dvec3())
 }
 
 /// The convex hull of points in the plane, counter-clockwise (monotone chain).
@@ -156,10 +156,7 @@ impl Hull {
 
     /// Whether a BVH node's box may meet the hull (conservative).
     pub(super) fn meets_box(&self, b: &Aabb) -> bool {
-        let (bl, bh) = (
-            DVec3::new(b.min.x as f64, b.min.y as f64, b.min.z as f64),
-            DVec3::new(b.max.x as f64, b.max.y as f64, b.max.z as f64),
-        );
+        let (bl, bh) = (b.min.as_dvec3(), b.max.as_dvec3());
         if bl.cmpgt(self.hi + MARGIN).any() || bh.cmplt(self.lo - MARGIN).any() {
             return false;
         }

@@ -200,10 +200,7 @@ impl Occluder {
         let diagonal = (hi - lo).length();
         let scale = BVH_DIAGONAL / diagonal.max(1e-300);
         let tol = 1e-7 * diagonal.max(1e-12);
-        let f = |p: DVec3| {
-            let q = (p - center) * scale;
-            Vec3A::new(q.x as f32, q.y as f32, q.z as f32)
-        };
+        let f = |p: DVec3| as_vec3a((p - center) * scale);
         let (mut all, mut interior) = (Vec::new(), Vec::new());
         for (k, [a, b, c]) in tris.iter().enumerate() {
             let n = (*b - *a).cross(*c - *a);
@@ -262,8 +259,8 @@ impl Occluder {
     fn ray(&self, origin: DVec3, dir: DVec3, tmax: f64) -> Ray {
         let o = (origin - self.center) * self.scale;
         Ray::new(
-            Vec3A::new(o.x as f32, o.y as f32, o.z as f32),
-            Vec3A::new(dir.x as f32, dir.y as f32, dir.z as f32),
+            as_vec3a(o),
+            as_vec3a(dir),
             0.0,
             if tmax.is_finite() {
                 (tmax * self.scale) as f32
@@ -282,7 +279,7 @@ impl Occluder {
         Some(Hit {
             triangle: self.all.ids[hit.primitive_id as usize] as usize,
             distance: hit.t as f64 / self.scale,
-            normal: DVec3::new(n.x as f64, n.y as f64, n.z as f64).normalize_or_zero(),
+            normal: n.as_dvec3().normalize_or_zero(),
         })
     }
 
@@ -357,6 +354,12 @@ impl Occluder {
         ))
     }
 }
+
+/// A point in the BVH's f32 coordinates (already mapped).
+fn as_vec3a(p: DVec3) -> Vec3A {
+    Vec3A::from(p.as_vec3())
+}
+
 /// A triangle whose bounding box is grown by `pad` on every side.
 struct Padded {
     tri: Triangle,
@@ -379,9 +382,8 @@ impl Boundable for Padded {
 /// harmless; a crack is a light leak.
 fn intersect(t: &Triangle, ray: &Ray) -> f32 {
     const SLACK: f64 = 1e-7;
-    let v = |a: Vec3A| DVec3::new(a.x as f64, a.y as f64, a.z as f64);
-    let (v0, v1, v2) = (v(t.v0), v(t.v1), v(t.v2));
-    let (o, d) = (v(ray.origin), v(ray.direction));
+    let (v0, v1, v2) = (t.v0.as_dvec3(), t.v1.as_dvec3(), t.v2.as_dvec3());
+    let (o, d) = (ray.origin.as_dvec3(), ray.direction.as_dvec3());
     let e1 = v1 - v0;
     let e2 = v2 - v0;
     let pv = d.cross(e2);

@@ -8,7 +8,7 @@
 //! luminaire's own rays find; the answer does not depend on the BVH's layout.
 
 use super::hull::{Hull, MARGIN, convex_hull_2d, inside_2d, segment_meets_polygon, tri64};
-use super::{BVH_DIAGONAL, Occluder, Tracer, intersect};
+use super::{BVH_DIAGONAL, Occluder, Tracer, as_vec3a, intersect};
 use glam::{DVec2, DVec3, UVec2, Vec3A};
 use obvhs::{
     aabb::Aabb,
@@ -218,7 +218,7 @@ impl Occluder {
         // Only boxes that reach the plane can hold a triangle lying on it (a floor finely
         // tessellated next to a wall would otherwise be visited triangle by triangle).
         let reaches_plane = |b: &Aabb| {
-            let (bl, bh) = (as_dvec3(b.min), as_dvec3(b.max));
+            let (bl, bh) = (b.min.as_dvec3(), b.max.as_dvec3());
             let (c, h) = ((bl + bh) * 0.5, (bh - bl) * 0.5);
             (side(c)).abs() <= n.abs().dot(h) + COPLANAR
         };
@@ -293,14 +293,6 @@ fn box_corners(lo: DVec3, hi: DVec3) -> [DVec3; 8] {
             if i & 4 == 0 { lo.z } else { hi.z },
         )
     })
-}
-
-fn as_dvec3(p: Vec3A) -> DVec3 {
-    DVec3::new(p.x as f64, p.y as f64, p.z as f64)
-}
-
-fn as_vec3a(p: DVec3) -> Vec3A {
-    Vec3A::new(p.x as f32, p.y as f32, p.z as f32)
 }
 
 /// Distance from `p` to the box `[lo, hi]`.
