@@ -8,6 +8,7 @@ use crate::scene::{
 };
 use glam::{DMat4, DVec3};
 
+pub mod contacts;
 pub mod openplan;
 pub use openplan::{OpenPlan, open_plan};
 
@@ -20,6 +21,11 @@ pub struct SceneBuilder {
 impl SceneBuilder {
     pub fn new() -> Self {
         SceneBuilder::default()
+    }
+
+    /// Go on building `scene`.
+    pub fn from_scene(scene: Scene) -> Self {
+        SceneBuilder { scene }
     }
 
     /// A grey diffuse material with reflectance `rho`; returns its index.

@@ -11,6 +11,7 @@
 
 pub mod bake;
 pub mod baked;
+pub mod contacts;
 pub mod diff;
 pub mod direct;
 pub mod error;

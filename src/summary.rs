@@ -27,6 +27,9 @@ pub struct RunSummary {
     /// `null` for uniform patches (or a scene with nothing to adapt to).
     #[serde(deserialize_with = "required")]
     pub adaptive_meshing: Option<MeshingRecord>,
+    /// Where surfaces cover one another (absent from bakes made before contacts were found).
+    #[serde(default)]
+    pub contacts: ContactsRecord,
     pub solver: SolveStats,
     pub balancing: BalanceStats,
     pub energy: EnergyBalance,
@@ -134,6 +137,19 @@ pub struct MeshingRecord {
     pub absolute: f64,
     pub contact_distance: f64,
     pub indirect_estimate_lx: f64,
+}
+
+/// What the contacts found: surfaces covering others (a cube's bottom on a floor, a panel on a
+/// ceiling), whose covered parts take no part in the light transport.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "camelCase")]
+pub struct ContactsRecord {
+    /// The largest gap between parallel faces counted as contact (m).
+    pub gap_m: f64,
+    /// Covering triangles over covered ones (pairs).
+    pub covers: usize,
+    /// Area of the covered parts, all sides (m²).
+    pub covered_area_m2: f64,
 }
 
 /// The energy report: photometric fluxes in lm, each measured on its own (see `bake::energy`).

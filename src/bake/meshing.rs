@@ -14,12 +14,13 @@
 //! keep patches 4× the area of the uniform mesh's; shadow edges and steep gradients get patches
 //! a quarter of it. `--uniform-patches` turns it off (the harness measures both).
 
+use crate::contacts::{self, Contacts};
 use crate::direct::{bounds::ProfileBounds, emitters, sources::DirectSource};
 use crate::patches::{self, PatchMesh, adapt::Adapt};
 use crate::scene::Scene;
 use crate::settings::Settings;
 use crate::solution::DirectLight;
-use crate::summary::MeshingRecord;
+use crate::summary::{ContactsRecord, MeshingRecord};
 use crate::visibility::Occluder;
 use glam::DVec3;
 use rayon::prelude::*;
@@ -38,11 +39,19 @@ pub const CONTACT: f64 = 0.5;
 /// every vertex of every chair frame against every luminaire.
 const SAMPLED: usize = 128;
 
+/// The largest gap between parallel faces that counts as contact for patch size `h` (m): a
+/// quarter of it. Closer than that, the mesh cannot resolve the light between the faces (it
+/// is a sliver's); relative to h, so a scene behaves alike at every scale.
+pub fn contact_gap(h: f64) -> f64 {
+    0.25 * h
+}
+
 /// The patch mesh and what lives on it before any light is computed.
 pub struct Meshed<'a> {
     pub mesh: PatchMesh,
     /// `None` for uniform patches.
     pub adaptive: Option<MeshingRecord>,
+    pub contacts: ContactsRecord,
     /// All exitance each patch emits (for the output's luminance), profiled emitters included.
     pub emitted: Vec<DVec3>,
     /// Its Lambertian part, which travels through the patch field (profiled emitters are direct
@@ -62,14 +71,23 @@ pub fn stage<'a>(
 ) -> Meshed<'a> {
     // Each profile's intensity bounds, built once for meshing and the direct stage.
     let bounds = ProfileBounds::new(scene);
-    let (mesh, adaptive) = mesh(scene, settings, h, occluder, &bounds);
+    let contacts = contacts::find(scene, contact_gap(h), occluder);
+    let (mesh, adaptive) = mesh(scene, settings, h, occluder, &bounds, &contacts);
     let emitted = emitters::patch_exitance(scene, &mesh);
     let exitance = emitters::diffuse_part(scene, &mesh, &emitted);
     let sources = DirectSource::all(scene, &mesh, &emitted, &bounds);
     let lights = DirectLight::new(sources, &mesh, &exitance, tau_direct);
+    let contacts = ContactsRecord {
+        gap_m: contacts.gap,
+        covers: contacts.count(),
+        covered_area_m2: (mesh.groups.iter())
+            .filter_map(|g| g.covered.as_ref().map(|c| c.area()))
+            .sum(),
+    };
     Meshed {
         mesh,
         adaptive,
+        contacts,
         emitted,
         exitance,
         lights,
@@ -83,16 +101,17 @@ fn mesh(
     h: f64,
     occluder: &Occluder,
     bounds: &ProfileBounds,
+    contacts: &Contacts,
 ) -> (PatchMesh, Option<MeshingRecord>) {
     if settings.uniform_patches {
-        return (patches::build(scene, h, None), None);
+        return (patches::build_cut(scene, h, None, contacts), None);
     }
-    let coarse = patches::build(scene, COARSE * h, None);
+    let coarse = patches::build_cut(scene, COARSE * h, None, contacts);
     let emitted = emitters::patch_exitance(scene, &coarse);
     let sources = DirectSource::all(scene, &coarse, &emitted, bounds);
     if sources.is_empty() {
         // Nothing to adapt to (emitting surfaces only): the uniform mesh.
-        return (patches::build(scene, h, None), None);
+        return (patches::build_cut(scene, h, None, contacts), None);
     }
     // The estimate the edges are judged by: direct light, plus the room's mean indirect light
     // where nothing covers the point. The ceiling around a fitting mounted on it gets no direct
@@ -158,7 +177,7 @@ fn mesh(
         levels: 3,
         mean,
     };
-    let mesh = patches::build(scene, COARSE * h, Some(&adapt));
+    let mesh = patches::build_cut(scene, COARSE * h, Some(&adapt), contacts);
     let record = MeshingRecord {
         coarse_patch_size: COARSE * h,
         smallest_patch_size: h / 2.0,
@@ -235,7 +254,8 @@ mod tests {
         let scene = b.build();
         let occluder = Occluder::build(&scene, OccluderOptions::default());
         let bounds = ProfileBounds::new(&scene);
-        let (mesh, _) = mesh(&scene, &Settings::default(), 0.2, &occluder, &bounds);
+        let none = Contacts::none();
+        let (mesh, _) = mesh(&scene, &Settings::default(), 0.2, &occluder, &bounds, &none);
         let (near, mut far) = ceiling_areas(&mesh);
         assert!(!near.is_empty() && !far.is_empty());
         let smallest_near = near.iter().copied().fold(f64::INFINITY, f64::min);

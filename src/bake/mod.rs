@@ -182,6 +182,7 @@ fn summary_of(
             convex_empty_scene: occluder.convex_empty,
         },
         adaptive_meshing: meshed.adaptive.clone(),
+        contacts: meshed.contacts,
         solver: radiosity.stats,
         balancing: radiosity.balance,
         energy,

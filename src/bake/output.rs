@@ -35,7 +35,7 @@ pub fn surfaces(s: &Solution, scale: f64) -> Vec<BakedSurface> {
                 luminance.push((luma(exitance) / std::f64::consts::PI) as f32);
                 color.push(display::color(e, exitance, material, scale));
             }
-            BakedSurface {
+            let mut out = BakedSurface {
                 surface: g.surface,
                 side: g.side,
                 positions: mesh.receivers[range.clone()]
@@ -56,7 +56,35 @@ pub fn surfaces(s: &Solution, scale: f64) -> Vec<BakedSurface> {
                 illuminance_direct,
                 luminance,
                 color,
+            };
+            if let Some(c) = &g.covered {
+                append_covered(
+                    &mut out,
+                    c,
+                    display::color(DVec3::ZERO, DVec3::ZERO, material, scale),
+                );
             }
+            out
         })
         .collect()
+}
+
+/// A side's covered part, appended with vertices of its own: no light reaches it, and it sends
+/// none (what covers it hides it).
+fn append_covered(out: &mut BakedSurface, c: &crate::patches::CoveredPart, black: [f32; 3]) {
+    let n = out.positions.len() as u32;
+    out.positions.extend_from_slice(&c.positions);
+    out.normals.extend_from_slice(&c.normals);
+    for (uv, extra) in [(&mut out.uv0, &c.uv0), (&mut out.uv1, &c.uv1)] {
+        if let (Some(uv), Some(extra)) = (uv.as_mut(), extra) {
+            uv.extend_from_slice(extra);
+        }
+    }
+    out.triangles
+        .extend(c.triangles.iter().map(|t| t.map(|v| v + n)));
+    let k = c.positions.len();
+    out.illuminance.extend(std::iter::repeat_n(0.0, k));
+    out.illuminance_direct.extend(std::iter::repeat_n(0.0, k));
+    out.luminance.extend(std::iter::repeat_n(0.0, k));
+    out.color.extend(std::iter::repeat_n(black, k));
 }

@@ -136,10 +136,11 @@ pub fn patch_flux(
     facing: bool,
     budget: f64,
 ) -> (f64, f64) {
-    // Sample points pulled a hair inside the patch, so a vertex in a room corner is not tested
-    // edge-on against the neighbouring wall.
+    // Shadow rays start from points pulled a hair inside the patch, so a vertex in a room
+    // corner is not tested edge-on against the neighbouring wall; the geometry (the measure of
+    // each piece) stays the patch's own, so the patches of a closed room sum to the whole sphere.
     let c = (corners[0] + corners[1] + corners[2]) / 3.0;
-    let t = corners.map(|v| v + (c - v) * 1e-4);
+    let t = *corners;
     let at = r
         .samples_corners()
         .then(|| t.map(|p| r.intensity(r.toward(p))));
@@ -154,15 +155,16 @@ pub fn patch_flux(
     } * r.measure(&t, normal);
     let tolerance = budget.max(PATCH_SHARE * top);
     // Shadow rays only once light can arrive at all.
-    let vis = t.map(|p| r.sees(occ, p, normal));
-    let flux = integrate(r, occ, normal, &t, spread, at, vis, 0, tolerance);
+    let sees = |p: DVec3| r.sees(occ, p + (c - p) * 1e-4, normal);
+    let vis = t.map(sees);
+    let flux = integrate(r, &sees, normal, &t, spread, at, vis, 0, tolerance);
     if facing { (flux, 0.0) } else { (0.0, flux) }
 }
 
 #[allow(clippy::too_many_arguments)]
 fn integrate(
     r: &dyn Radiator,
-    occ: &Occluder,
+    sees: &dyn Fn(DVec3) -> bool,
     n: DVec3,
     t: &[DVec3; 3],
     spread: Spread,
@@ -215,11 +217,7 @@ fn integrate(
     if spreads.iter().all(|s| *s == Spread::Zero) {
         return 0.0;
     }
-    let mv = if same {
-        [vis[0]; 3]
-    } else {
-        m.map(|p| r.sees(occ, p, n))
-    };
+    let mv = if same { [vis[0]; 3] } else { m.map(sees) };
     let vis = [
         [vis[0], mv[0], mv[2]],
         [mv[0], vis[1], mv[1]],
@@ -231,7 +229,7 @@ fn integrate(
             let at = ats.map(|a| a[k]);
             integrate(
                 r,
-                occ,
+                sees,
                 n,
                 &pieces[k],
                 spreads[k],

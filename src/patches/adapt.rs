@@ -55,6 +55,8 @@ pub struct SurfaceMesh {
     pub uv0: Option<Vec<DVec2>>,
     pub uv1: Option<Vec<DVec2>>,
     pub triangles: Vec<[u32; 3]>,
+    /// Per triangle, a tag its pieces keep when it is split (or empty: none kept).
+    pub tags: Vec<u32>,
 }
 
 /// Refine `m` (receiving light on the given sides: `+1` front, `−1` back) in place; returns how
@@ -190,12 +192,18 @@ pub fn refine(m: &mut SurfaceMesh, signs: &[f64], a: &Adapt) -> usize {
             }
         }
         let old = std::mem::take(&mut m.triangles);
-        for t in old {
+        let old_tags = std::mem::take(&mut m.tags);
+        for (i, t) in old.into_iter().enumerate() {
             let mids: [Option<u32>; 3] = std::array::from_fn(|k| {
                 let (u, v) = (t[k], t[(k + 1) % 3]);
                 midpoint.get(&(u.min(v), u.max(v))).copied()
             });
+            let before = m.triangles.len();
             split_triangle(t, mids, &m.positions, &mut m.triangles);
+            if let Some(tag) = old_tags.get(i) {
+                m.tags
+                    .extend(std::iter::repeat_n(*tag, m.triangles.len() - before));
+            }
         }
     }
     split_total
@@ -264,6 +272,7 @@ mod tests {
             }
         }
         SurfaceMesh {
+            tags: Vec::new(),
             normals: vec![DVec3::Y; positions.len()],
             positions,
             uv0: None,

@@ -17,6 +17,7 @@
 pub mod adapt;
 pub mod refine;
 
+use crate::contacts::{Contacts, cut};
 use crate::scene::Scene;
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
@@ -73,8 +74,56 @@ pub struct Group {
     pub patches: std::ops::Range<usize>,
     pub uv0: Option<Vec<DVec2>>,
     pub uv1: Option<Vec<DVec2>>,
-    /// Area of this side (m²).
+    /// Area of this side (m², its patches': what is not covered).
     pub area: f64,
+    /// The part of this side another surface covers (see [`crate::contacts`]): written to the
+    /// output with no light, never a patch or a receiver.
+    pub covered: Option<CoveredPart>,
+}
+
+/// Triangles of one side that another surface covers, with vertices of their own.
+#[derive(Debug, Clone, Default)]
+pub struct CoveredPart {
+    pub positions: Vec<DVec3>,
+    pub normals: Vec<DVec3>,
+    pub uv0: Option<Vec<DVec2>>,
+    pub uv1: Option<Vec<DVec2>>,
+    pub triangles: Vec<[u32; 3]>,
+}
+
+impl CoveredPart {
+    /// The triangles `tris` of a mesh, with only the vertices they use.
+    fn of(
+        positions: &[DVec3],
+        normals: &[DVec3],
+        uv0: &Option<Vec<DVec2>>,
+        uv1: &Option<Vec<DVec2>>,
+        tris: &[[u32; 3]],
+    ) -> Option<Self> {
+        if tris.is_empty() {
+            return None;
+        }
+        let (positions, normals, uv0, uv1, triangles, _) =
+            compact(positions, normals, uv0.clone(), uv1.clone(), tris);
+        Some(CoveredPart {
+            positions,
+            normals,
+            uv0,
+            uv1,
+            triangles,
+        })
+    }
+
+    /// Area (m²).
+    pub fn area(&self) -> f64 {
+        self.triangles
+            .iter()
+            .map(|t| {
+                let p = t.map(|v| self.positions[v as usize]);
+                (p[1] - p[0]).cross(p[2] - p[0]).length() / 2.0
+            })
+            .sum()
+    }
 }
 
 #[derive(Debug, Default)]
@@ -87,8 +136,19 @@ pub struct PatchMesh {
 }
 
 /// Refine every surface of `scene` into patches of size ≤ `h` (m), then, with `adapt`, split
-/// them further where direct light needs it (see [`adapt`]).
+/// them further where direct light needs it (see [`adapt`]). No contacts: see [`build_cut`].
 pub fn build(scene: &Scene, h: f64, adapt: Option<&adapt::Adapt>) -> PatchMesh {
+    build_cut(scene, h, adapt, &Contacts::none())
+}
+
+/// [`build`], with each surface first cut along the outlines of what covers it; covered parts
+/// become the groups' [`CoveredPart`]s, not patches.
+pub fn build_cut(
+    scene: &Scene,
+    h: f64,
+    adapt: Option<&adapt::Adapt>,
+    contacts: &Contacts,
+) -> PatchMesh {
     let mut mesh = PatchMesh {
         patch_size: h,
         ..Default::default()
@@ -98,38 +158,69 @@ pub fn build(scene: &Scene, h: f64, adapt: Option<&adapt::Adapt>) -> PatchMesh {
     let refined: Vec<Option<SurfacePatches>> = scene
         .surfaces
         .par_iter()
-        .map(|surface| refine_surface(scene, surface, h, adapt))
+        .enumerate()
+        .map(|(s, surface)| refine_surface(scene, surface, h, adapt, contacts, s))
         .collect();
     for (s, r) in refined.into_iter().enumerate() {
-        let Some(r) = r else { continue };
+        let Some(mut r) = r else { continue };
         let material = scene.surfaces[s].material;
-        for &side in r.sides {
+        for (k, &side) in r.sides.iter().enumerate() {
+            let covered = std::mem::take(&mut r.covered[k]);
+            let outline = std::mem::take(&mut r.outline[k]);
             let sign = if side == Side::Front { 1.0 } else { -1.0 };
-            let tris: Vec<[u32; 3]> = r
-                .triangles
+            let tris: Vec<[u32; 3]> = r.open[k]
                 .iter()
+                .map(|&i| r.triangles[i as usize])
                 .map(|t| {
                     if side == Side::Front {
-                        *t
+                        t
                     } else {
                         [t[0], t[2], t[1]]
                     }
                 })
                 .collect();
-            let shading: Vec<DVec3> = r.normals.iter().map(|n| *n * sign).collect();
+            // With some triangles covered, the side keeps only the vertices it uses.
+            let part;
+            let (positions, normals, uv0, uv1, tris, outline) = if tris.len() < r.triangles.len() {
+                let (p, n, u0, u1, t, order) = compact(
+                    &r.positions,
+                    &r.normals,
+                    r.uv0.clone(),
+                    r.uv1.clone(),
+                    &tris,
+                );
+                let o: Vec<Option<f64>> = order
+                    .iter()
+                    .map(|&i| outline.get(i).copied().flatten())
+                    .collect();
+                part = (p, n, t, o);
+                (&part.0, &part.1, u0, u1, &part.2, part.3.as_slice())
+            } else {
+                (
+                    &r.positions,
+                    &r.normals,
+                    r.uv0.clone(),
+                    r.uv1.clone(),
+                    &tris,
+                    outline.as_slice(),
+                )
+            };
+            let shading: Vec<DVec3> = normals.iter().map(|n| *n * sign).collect();
             add_group(
                 &mut mesh,
                 GroupInput {
                     surface: s,
                     side,
                     material,
-                    positions: &r.positions,
+                    positions,
                     shading_normals: &shading,
-                    triangles: &tris,
-                    uv0: r.uv0.clone(),
-                    uv1: r.uv1.clone(),
+                    triangles: tris,
+                    uv0,
+                    uv1,
                     h,
                     double_sided: r.sides.len() == 2,
+                    covered,
+                    outline,
                 },
             );
         }
@@ -140,6 +231,11 @@ pub fn build(scene: &Scene, h: f64, adapt: Option<&adapt::Adapt>) -> PatchMesh {
 /// One surface refined (and adapted), before its sides become patch groups.
 struct SurfacePatches {
     sides: &'static [Side],
+    /// Per side: the triangles it receives on (indices into `triangles`), and its covered part.
+    open: Vec<Vec<u32>>,
+    covered: Vec<Option<CoveredPart>>,
+    /// Per side, per vertex: the gap of the cover whose outline it lies on (m), if any.
+    outline: Vec<Vec<Option<f64>>>,
     positions: Vec<DVec3>,
     normals: Vec<DVec3>,
     uv0: Option<Vec<DVec2>>,
@@ -147,21 +243,37 @@ struct SurfacePatches {
     triangles: Vec<[u32; 3]>,
 }
 
-/// Refine one surface to patch size `h`, then adapt it; `None` when nothing is left.
+/// Refine one surface (`s`) to patch size `h`, then adapt it; `None` when nothing is left.
+/// The surface is first cut along the outlines of what covers it; every refined triangle keeps
+/// which sides of it are covered, and a side's covered triangles become its [`CoveredPart`].
 fn refine_surface(
     scene: &Scene,
     surface: &crate::scene::Surface,
     h: f64,
     adapt: Option<&adapt::Adapt>,
+    contacts: &Contacts,
+    s: usize,
 ) -> Option<SurfacePatches> {
-    let refined = refine::refine(&surface.positions, &surface.triangles, h);
+    let covers = contacts.of(s);
+    let cut = (!covers.is_empty()).then(|| cut::cut(surface, covers, contacts.tolerance));
+    let (positions, in_normals, in_uv0, in_uv1, in_triangles) = match &cut {
+        None => (
+            &surface.positions,
+            &surface.normals,
+            &surface.uv0,
+            &surface.uv1,
+            &surface.triangles,
+        ),
+        Some(c) => (&c.positions, &c.normals, &c.uv0, &c.uv1, &c.triangles),
+    };
+    let refined = refine::refine(positions, in_triangles, h);
     if refined.triangles.is_empty() {
         return None;
     }
     let normals: Vec<DVec3> = refined
         .origin
         .iter()
-        .map(|b| b.apply(&surface.normals).normalize_or_zero())
+        .map(|b| b.apply(in_normals).normalize_or_zero())
         .collect();
     let interp = |uv: &Option<Vec<DVec2>>| {
         uv.as_ref().map(|d| {
@@ -172,8 +284,8 @@ fn refine_surface(
                 .collect::<Vec<_>>()
         })
     };
-    let (uv0, uv1) = (interp(&surface.uv0), interp(&surface.uv1));
-    let (positions, normals, uv0, uv1, triangles) =
+    let (uv0, uv1) = (interp(in_uv0), interp(in_uv1));
+    let (positions, normals, uv0, uv1, triangles, _) =
         compact(&refined.positions, &normals, uv0, uv1, &refined.triangles);
     let sides: &'static [Side] = if scene.materials[surface.material].double_sided {
         &[Side::Front, Side::Back]
@@ -186,6 +298,10 @@ fn refine_surface(
         uv0,
         uv1,
         triangles,
+        tags: match cut {
+            Some(_) => refined.parent,
+            None => Vec::new(),
+        },
     };
     if let Some(a) = adapt {
         let signs: Vec<f64> = sides
@@ -194,8 +310,64 @@ fn refine_surface(
             .collect();
         adapt::refine(&mut m, &signs, a);
     }
+    let mut open = Vec::with_capacity(sides.len());
+    let mut covered = Vec::with_capacity(sides.len());
+    let mut outline = Vec::with_capacity(sides.len());
+    for k in 0..sides.len() {
+        let bit = [cut::FRONT, cut::BACK][k];
+        // The gap of the cover over triangle i on this side, if covered.
+        let under = |i: usize| {
+            let c = cut.as_ref()?;
+            let parent = m.tags[i] as usize;
+            (c.covered[parent] & bit != 0).then_some(c.gap[parent])
+        };
+        let (mut mine, mut theirs) = (Vec::new(), Vec::new());
+        let mut gap_at: Vec<Option<f64>> = Vec::new();
+        let mut used = Vec::new();
+        if cut.is_some() {
+            gap_at = vec![None; m.positions.len()];
+            used = vec![false; m.positions.len()];
+        }
+        for (i, t) in m.triangles.iter().enumerate() {
+            match under(i) {
+                Some(gap) => {
+                    theirs.push(*t);
+                    for &v in t {
+                        let w = &mut gap_at[v as usize];
+                        *w = Some(w.unwrap_or(0.0).max(gap));
+                    }
+                }
+                None => {
+                    mine.push(i as u32);
+                    if !used.is_empty() {
+                        for &v in t {
+                            used[v as usize] = true;
+                        }
+                    }
+                }
+            }
+        }
+        // Receivers shared with covered triangles lie on an outline.
+        for (w, u) in gap_at.iter_mut().zip(&used) {
+            if !u {
+                *w = None;
+            }
+        }
+        covered.push(CoveredPart::of(
+            &m.positions,
+            &m.normals,
+            &m.uv0,
+            &m.uv1,
+            &theirs,
+        ));
+        open.push(mine);
+        outline.push(gap_at);
+    }
     Some(SurfacePatches {
         sides,
+        open,
+        covered,
+        outline,
         positions: m.positions,
         normals: m.normals,
         uv0: m.uv0,
@@ -210,9 +382,11 @@ type Compacted = (
     Option<Vec<DVec2>>,
     Option<Vec<DVec2>>,
     Vec<[u32; 3]>,
+    Vec<usize>,
 );
 
-/// Drop vertices no triangle uses (from zero-area input triangles or unused input vertices).
+/// Drop vertices no triangle uses (from zero-area input triangles or unused input vertices);
+/// the last item is each kept vertex's old index.
 fn compact(
     positions: &[DVec3],
     normals: &[DVec3],
@@ -243,6 +417,7 @@ fn compact(
         pick_uv(uv0),
         pick_uv(uv1),
         triangles,
+        order,
     )
 }
 
@@ -257,6 +432,9 @@ struct GroupInput<'a> {
     uv1: Option<Vec<DVec2>>,
     h: f64,
     double_sided: bool,
+    covered: Option<CoveredPart>,
+    /// Per vertex (or empty): the gap of the contact whose outline it lies on (m).
+    outline: &'a [Option<f64>],
 }
 
 /// Per vertex: Σ over the triangles around it of the unit direction from it to their centroids
@@ -322,7 +500,10 @@ fn add_group(mesh: &mut PatchMesh, g: GroupInput) {
     }
     let mut offset = Vec::with_capacity(n);
     for i in 0..n {
-        let nudge = 1e-4 * local[i].min(g.h);
+        // On a contact's outline the light changes within the gap's width, finer than any patch:
+        // read it that far off the outline (at most a quarter of the patches around).
+        let contact = g.outline.get(i).copied().flatten().unwrap_or(0.0);
+        let nudge = (1e-4 * local[i].min(g.h)).max((2.0 * contact).min(local[i] / 4.0));
         let face = face_sum[i].normalize_or_zero();
         let shading = g.shading_normals[i];
         // Trust the shading normal unless it disagrees with the faces around the vertex.
@@ -373,5 +554,6 @@ fn add_group(mesh: &mut PatchMesh, g: GroupInput) {
         uv0: g.uv0,
         uv1: g.uv1,
         area,
+        covered: g.covered,
     });
 }

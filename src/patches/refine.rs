@@ -22,6 +22,8 @@ pub struct Refined {
     pub positions: Vec<DVec3>,
     pub origin: Vec<Blend>,
     pub triangles: Vec<[u32; 3]>,
+    /// Per output triangle, the input triangle it lies in.
+    pub parent: Vec<u32>,
 }
 
 /// Barycentric weights over input vertices.
@@ -56,10 +58,11 @@ pub fn refine(positions: &[DVec3], triangles: &[[u32; 3]], h: f64) -> Refined {
         positions: positions.to_vec(),
         origin: (0..positions.len() as u32).map(Blend::vertex).collect(),
         triangles: Vec::with_capacity(triangles.len()),
+        parent: Vec::with_capacity(triangles.len()),
     };
     // Edge (lo, hi) by input index → (segment count, ids of its k+1 points from lo to hi).
     let mut edges: HashMap<(u32, u32), Vec<u32>> = HashMap::new();
-    for tri in triangles {
+    for (index, tri) in triangles.iter().enumerate() {
         let [a, b, c] = tri.map(|v| positions[v as usize]);
         if (b - a).cross(c - a).length_squared() <= 0.0 {
             continue;
@@ -68,7 +71,10 @@ pub fn refine(positions: &[DVec3], triangles: &[[u32; 3]], h: f64) -> Refined {
         let points: [Vec<u32>; 3] =
             sides.map(|(u, v)| edge_points(&mut out, &mut edges, positions, u, v, h));
         let n = points.iter().map(|p| p.len() - 1).max().unwrap_or(1);
+        let before = out.triangles.len();
         subdivide(&mut out, positions, *tri, &points, n);
+        let added = out.triangles.len() - before;
+        out.parent.extend(std::iter::repeat_n(index as u32, added));
     }
     out
 }

@@ -25,6 +25,10 @@ use rayon::prelude::*;
 
 const OVERRELAX: f64 = 1.5;
 
+/// Patches whose target (the front-face share of their hemisphere) is below this are not
+/// balanced: they are inside a solid.
+const MIN_TARGET: f64 = 0.005;
+
 /// The transpose's scatter runs in this many parts (in parallel), summed in order. Each part
 /// holds 8 bytes per tree node and 144 per inner node while the transpose runs, so the part
 /// count multiplies the transpose's memory on large scenes: few parts.
@@ -250,8 +254,10 @@ impl<'a> PatchOperator<'a> {
 
     /// Scale rows and columns of the closed patches to their targets: one minus the part of the
     /// patch's hemisphere covered by back faces (which absorb). By reciprocity the same fraction
-    /// of what a patch sends lands on front faces. Patches with (almost) nothing but back faces in
-    /// view — inside solid objects — are left alone.
+    /// of what a patch sends lands on front faces. Patches with nothing but back faces in view
+    /// (over 99.5 % of the hemisphere: inside solid objects) are left alone; a ceiling over the
+    /// single-sided back of a panel hung below it sees 90–99 % back faces and is balanced like
+    /// any other, or the light it passes on is lost.
     ///
     /// Black nodes get no links (`Gatherer::dark`), so a row sums to one minus the back faces
     /// and the black nodes it sees; the columns of `black` patches (whose exitance is zero
@@ -275,7 +281,7 @@ impl<'a> PatchOperator<'a> {
             .patches
             .iter()
             .zip(&target)
-            .map(|(p, t)| *t > 0.05 && p.v.iter().all(|&v| self.links.closed[v as usize]))
+            .map(|(p, t)| *t > MIN_TARGET && p.v.iter().all(|&v| self.links.closed[v as usize]))
             .collect();
         // Without black nodes rows and columns share their targets (two patch-sized arrays
         // fewer on a 10⁶-triangle bake).

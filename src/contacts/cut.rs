@@ -1,0 +1,353 @@
+//! A surface cut along the outlines of what covers it: every triangle of the result lies wholly
+//! under a cover or wholly outside every cover, on each side.
+//!
+//! Input: one scene surface and its [`Cover`]s. Output: [`CutSurface`]: the surface's vertices
+//! plus the new ones on outlines (normals and UVs interpolated), its triangles (cut ones
+//! replaced by their pieces) and, per triangle, which sides are covered.
+//!
+//! Invariants: a point where an outline crosses an input edge is computed from the edge's ends in
+//! a fixed order (by position) and the outline's half-plane, so the two triangles beside the edge
+//! get the same point and share it; points closer than the tolerance to an outline count as on
+//! it (no slivers); pieces are convex and fanned into triangles.
+
+use super::Cover;
+use crate::scene::Surface;
+use glam::{DVec2, DVec3};
+use std::collections::HashMap;
+
+/// Bit of `CutSurface::covered` for a side.
+pub const FRONT: u8 = 1;
+pub const BACK: u8 = 2;
+
+/// A surface cut along its covers' outlines.
+#[derive(Debug, Default)]
+pub struct CutSurface {
+    pub positions: Vec<DVec3>,
+    pub normals: Vec<DVec3>,
+    pub uv0: Option<Vec<DVec2>>,
+    pub uv1: Option<Vec<DVec2>>,
+    pub triangles: Vec<[u32; 3]>,
+    /// Per triangle: [`FRONT`] | [`BACK`] for the covered sides.
+    pub covered: Vec<u8>,
+    /// Per triangle: the largest depth of the covers over it (m; 0 when uncovered).
+    pub gap: Vec<f64>,
+}
+
+/// Where a piece's vertex came from: an input vertex, a point on an input edge (its ends'
+/// indices, smaller first), or a point inside input triangle `t`. Points are shared by key and
+/// position.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+enum Origin {
+    Vertex(u32),
+    Edge(u32, u32),
+    Inner(u32),
+}
+
+#[derive(Debug, Clone, Copy)]
+struct Point {
+    pos: DVec3,
+    origin: Origin,
+    /// Barycentric weights over the input triangle's three vertices.
+    bary: DVec3,
+}
+
+/// Cut `surface` along `covers` (sorted by triangle); `eps`: the tolerance (m).
+pub fn cut(surface: &Surface, covers: &[Cover], eps: f64) -> CutSurface {
+    let mut out = CutSurface {
+        positions: surface.positions.clone(),
+        normals: surface.normals.clone(),
+        uv0: surface.uv0.clone(),
+        uv1: surface.uv1.clone(),
+        ..Default::default()
+    };
+    let mut shared: HashMap<Origin, Vec<u32>> = HashMap::new();
+    let mut at = 0;
+    for (k, tri) in surface.triangles.iter().enumerate() {
+        let start = at;
+        while at < covers.len() && covers[at].triangle as usize == k {
+            at += 1;
+        }
+        if start == at {
+            out.triangles.push(*tri);
+            out.covered.push(0);
+            out.gap.push(0.0);
+            continue;
+        }
+        let corners: Vec<Point> = (0..3)
+            .map(|i| Point {
+                pos: surface.positions[tri[i] as usize],
+                origin: Origin::Vertex(tri[i]),
+                bary: DVec3::AXES[i],
+            })
+            .collect();
+        let p = corners.iter().map(|c| c.pos).collect::<Vec<_>>();
+        let normal = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
+        let mut pieces = vec![(corners, 0u8, 0.0)];
+        for cover in &covers[start..at] {
+            pieces = split_by(pieces, cover, k as u32, eps);
+        }
+        // Pieces meet along their cut lines; a corner of one lying on another's edge is put
+        // into that edge too, so the pieces share every point (no T-junctions inside a triangle).
+        let all: Vec<Point> = pieces.iter().flat_map(|p| p.0.iter().copied()).collect();
+        for (piece, mask, gap) in pieces {
+            let piece = with_points_on_edges(&piece, &all, eps);
+            let ids: Vec<u32> = piece
+                .iter()
+                .map(|pt| vertex(&mut out, &mut shared, surface, *tri, pt, eps))
+                .collect();
+            let pos: Vec<DVec3> = piece.iter().map(|p| p.pos).collect();
+            for t in ears(&pos, normal, eps) {
+                out.triangles.push(t.map(|i| ids[i]));
+                out.covered.push(mask);
+                out.gap.push(gap);
+            }
+        }
+    }
+    out
+}
+
+/// `poly` with every point of `points` that lies inside one of its edges (within `eps`)
+/// inserted there, in order along the edge.
+fn with_points_on_edges(poly: &[Point], points: &[Point], eps: f64) -> Vec<Point> {
+    let mut out = Vec::with_capacity(poly.len());
+    for i in 0..poly.len() {
+        let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
+        out.push(a);
+        let d = b.pos - a.pos;
+        let len2 = d.length_squared();
+        if len2 <= eps * eps {
+            continue;
+        }
+        let mut on: Vec<(f64, Point)> = points
+            .iter()
+            .filter_map(|p| {
+                let t = (p.pos - a.pos).dot(d) / len2;
+                let off = (a.pos + d * t).distance(p.pos);
+                let inside = t * len2.sqrt() > eps && (1.0 - t) * len2.sqrt() > eps;
+                (inside && off <= eps).then_some((t, *p))
+            })
+            .collect();
+        on.sort_by(|x, y| x.0.total_cmp(&y.0));
+        on.dedup_by(|x, y| x.1.pos.distance(y.1.pos) <= eps);
+        out.extend(on.into_iter().map(|(_, p)| p));
+    }
+    out
+}
+
+/// Triangulate a convex polygon (counter-clockwise about `normal`) that may have points along
+/// its edges, using every point and making no zero-area triangle: clip ears with area.
+fn ears(poly: &[DVec3], normal: DVec3, eps: f64) -> Vec<[usize; 3]> {
+    let mut left: Vec<usize> = (0..poly.len()).collect();
+    let mut out = Vec::with_capacity(poly.len().saturating_sub(2));
+    let area = |a: usize, b: usize, c: usize| {
+        let (a, b, c) = (poly[a], poly[b], poly[c]);
+        let longest = (b - a).length().max((c - b).length()).max((a - c).length());
+        (b - a).cross(c - a).dot(normal) > eps * longest
+    };
+    // The diagonal a–c of an ear must not run along other points (which it would leave out).
+    let on = |a: usize, c: usize, p: usize| {
+        let (a, c, p) = (poly[a], poly[c], poly[p]);
+        let d = c - a;
+        let t = (p - a).dot(d) / d.length_squared().max(1e-300);
+        (0.0..=1.0).contains(&t) && (a + d * t).distance(p) <= eps
+    };
+    while left.len() >= 3 {
+        let n = left.len();
+        let ear = |i: usize| {
+            let (a, b, c) = (left[(i + n - 1) % n], left[i], left[(i + 1) % n]);
+            area(a, b, c)
+                && !left
+                    .iter()
+                    .any(|&p| p != a && p != b && p != c && on(a, c, p))
+        };
+        let Some(i) = (0..n).find(|&i| ear(i)) else {
+            break; // what is left is a line
+        };
+        out.push([left[(i + n - 1) % n], left[i], left[(i + 1) % n]]);
+        left.remove(i);
+    }
+    out
+}
+
+/// Split each piece by `cover`: the part under it gets the cover's side bit.
+type Piece = (Vec<Point>, u8, f64);
+
+fn split_by(pieces: Vec<Piece>, cover: &Cover, t: u32, eps: f64) -> Vec<Piece> {
+    let bit = if cover.back { BACK } else { FRONT };
+    let mut out = Vec::with_capacity(pieces.len() + 3);
+    for (piece, mask, gap) in pieces {
+        // A piece the cover does not overlap stays whole (no cut lines beyond the outline).
+        let mut probe = piece.clone();
+        for k in 0..3 {
+            probe = clip_points(&probe, |x| cover.inside(k, x), t, eps).0;
+        }
+        if probe.len() < 3 || mask & bit != 0 {
+            out.push((piece, mask, gap));
+            continue;
+        }
+        let mut rest = piece;
+        for k in 0..3 {
+            let (inside, outside) = clip_points(&rest, |x| cover.inside(k, x), t, eps);
+            if outside.len() >= 3 {
+                out.push((outside, mask, gap));
+            }
+            rest = inside;
+        }
+        if rest.len() >= 3 {
+            out.push((rest, mask | bit, gap.max(cover.depth)));
+        }
+    }
+    out
+}
+
+/// The index of `pt` in `out`: a point of the same origin within `eps` of it, or a new one.
+fn vertex(
+    out: &mut CutSurface,
+    shared: &mut HashMap<Origin, Vec<u32>>,
+    surface: &Surface,
+    tri: [u32; 3],
+    pt: &Point,
+    eps: f64,
+) -> u32 {
+    if let Origin::Vertex(v) = pt.origin {
+        return v;
+    }
+    let same = shared.entry(pt.origin).or_default();
+    if let Some(&v) = (same.iter()).find(|&&v| out.positions[v as usize].distance(pt.pos) <= eps) {
+        return v;
+    }
+    let v = {
+        let blend3 = |d: &[DVec3]| {
+            (0..3)
+                .map(|i| d[tri[i] as usize] * pt.bary[i])
+                .sum::<DVec3>()
+        };
+        let blend2 = |d: &[DVec2]| {
+            (0..3)
+                .map(|i| d[tri[i] as usize] * pt.bary[i])
+                .sum::<DVec2>()
+        };
+        out.positions.push(pt.pos);
+        out.normals
+            .push(blend3(&surface.normals).normalize_or_zero());
+        if let (Some(uv), Some(src)) = (out.uv0.as_mut(), surface.uv0.as_ref()) {
+            uv.push(blend2(src));
+        }
+        if let (Some(uv), Some(src)) = (out.uv1.as_mut(), surface.uv1.as_ref()) {
+            uv.push(blend2(src));
+        }
+        out.positions.len() as u32 - 1
+    };
+    same.push(v);
+    v
+}
+
+/// Split a convex polygon of points by the line `dist = 0` into the parts with dist ≥ 0 and
+/// dist ≤ 0 (points within `eps` of the line belong to both).
+fn clip_points(
+    poly: &[Point],
+    dist: impl Fn(DVec3) -> f64,
+    t: u32,
+    eps: f64,
+) -> (Vec<Point>, Vec<Point>) {
+    clip_with(poly, |p| p.pos, &dist, |a, b| crossing(a, b, &dist, t), eps)
+}
+
+/// The point where segment a–b crosses `dist = 0`, computed from its ends ordered by position.
+fn crossing(a: &Point, b: &Point, dist: &impl Fn(DVec3) -> f64, t: u32) -> Point {
+    let (a, b) = if lex_less(b.pos, a.pos) {
+        (b, a)
+    } else {
+        (a, b)
+    };
+    let (da, db) = (dist(a.pos), dist(b.pos));
+    let s = da / (da - db);
+    let origin = match (a.origin, b.origin) {
+        (Origin::Vertex(i), Origin::Vertex(j)) => Origin::Edge(i.min(j), i.max(j)),
+        (Origin::Vertex(i), Origin::Edge(p, q)) | (Origin::Edge(p, q), Origin::Vertex(i))
+            if i == p || i == q =>
+        {
+            Origin::Edge(p, q)
+        }
+        (Origin::Edge(p, q), Origin::Edge(r, u)) if (p, q) == (r, u) => Origin::Edge(p, q),
+        _ => Origin::Inner(t),
+    };
+    Point {
+        pos: a.pos + (b.pos - a.pos) * s,
+        origin,
+        bary: a.bary + (b.bary - a.bary) * s,
+    }
+}
+
+fn lex_less(a: DVec3, b: DVec3) -> bool {
+    (a.x, a.y, a.z) < (b.x, b.y, b.z)
+}
+
+/// Split a convex polygon of plain points by `dist = 0` (see [`clip_points`]).
+pub fn clip(poly: &[DVec3], dist: impl Fn(DVec3) -> f64, eps: f64) -> (Vec<DVec3>, Vec<DVec3>) {
+    let lerp = |a: &DVec3, b: &DVec3| {
+        let (a, b) = if lex_less(*b, *a) { (b, a) } else { (a, b) };
+        let (da, db) = (dist(*a), dist(*b));
+        *a + (*b - *a) * (da / (da - db))
+    };
+    clip_with(poly, |p| *p, &dist, lerp, eps)
+}
+
+/// Sutherland–Hodgman against one line, both sides at once.
+fn clip_with<V: Copy>(
+    poly: &[V],
+    pos: impl Fn(&V) -> DVec3,
+    dist: &impl Fn(DVec3) -> f64,
+    cross: impl Fn(&V, &V) -> V,
+    eps: f64,
+) -> (Vec<V>, Vec<V>) {
+    let d: Vec<f64> = poly.iter().map(|p| dist(pos(p))).collect();
+    let side = |x: f64| {
+        if x > eps {
+            1
+        } else if x < -eps {
+            -1
+        } else {
+            0
+        }
+    };
+    let (mut inside, mut outside) = (Vec::new(), Vec::new());
+    for i in 0..poly.len() {
+        let j = (i + 1) % poly.len();
+        let (si, sj) = (side(d[i]), side(d[j]));
+        if si >= 0 {
+            inside.push(poly[i]);
+        }
+        if si <= 0 {
+            outside.push(poly[i]);
+        }
+        if si * sj < 0 {
+            let x = cross(&poly[i], &poly[j]);
+            inside.push(x);
+            outside.push(x);
+        }
+    }
+    // A polygon touching the line from one side is not split.
+    if !d.iter().any(|x| side(*x) < 0) {
+        outside.clear();
+    }
+    if !d.iter().any(|x| side(*x) > 0) {
+        inside.clear();
+    }
+    (inside, outside)
+}
+
+/// Area (m²) and centroid of a planar convex polygon with unit normal `n`.
+pub fn area_centroid(poly: &[DVec3], n: DVec3) -> (f64, DVec3) {
+    let (mut area, mut centre) = (0.0, DVec3::ZERO);
+    for i in 1..poly.len().saturating_sub(1) {
+        let a = (poly[i] - poly[0]).cross(poly[i + 1] - poly[0]).dot(n) / 2.0;
+        area += a;
+        centre += (poly[0] + poly[i] + poly[i + 1]) / 3.0 * a;
+    }
+    if area > 0.0 {
+        (area, centre / area)
+    } else {
+        (0.0, poly.first().copied().unwrap_or(DVec3::ZERO))
+    }
+}

@@ -1,0 +1,203 @@
+//! Things touching things: closed rooms with a panel just below the ceiling, cubes on the floor,
+//! a cabinet against a wall, a picture on a wall. Oracles: Sumpner's balance from the output's
+//! vertex values (in a closed room of one reflectance ρ, Σ(1 − ρ)·E·A over every baked triangle
+//! equals the emitted flux Φ, whatever touches what), the energy report's balance, and the wall
+//! beside a picture against the same wall bare. Axes: +Y up.
+
+use glam::DVec3;
+use luxbake::bake::bake;
+use luxbake::fixtures::contacts::{self, ContactRoom};
+use luxbake::progress::Silent;
+use luxbake::result::{BakeResult, BakedSurface};
+use luxbake::settings::Settings;
+
+fn run(room: &ContactRoom) -> BakeResult {
+    bake(&room.scene, &Settings::default(), &Silent).expect("bake")
+}
+
+/// Σ(1 − ρ)·E·A over every baked triangle (E linear between its vertices), over Φ, minus one.
+fn sumpner_error(r: &BakeResult, rho: f64, flux: f64) -> f64 {
+    let mut absorbed = 0.0;
+    for s in &r.surfaces {
+        for t in &s.triangles {
+            let p = t.map(|v| s.positions[v as usize]);
+            let a = (p[1] - p[0]).cross(p[2] - p[0]).length() / 2.0;
+            let e: f64 = t
+                .iter()
+                .map(|&v| s.illuminance[v as usize] as f64)
+                .sum::<f64>()
+                / 3.0;
+            absorbed += (1.0 - rho) * e * a;
+        }
+    }
+    absorbed / flux - 1.0
+}
+
+/// Illuminance on `s` at `point` (on its plane), linear within the triangle holding it: total
+/// and direct.
+fn value_at(s: &BakedSurface, point: DVec3) -> Option<(f64, f64)> {
+    for t in &s.triangles {
+        let p = t.map(|v| s.positions[v as usize]);
+        let n = (p[1] - p[0]).cross(p[2] - p[0]);
+        let area = n.length();
+        if area == 0.0 || (point - p[0]).dot(n / area).abs() > 1e-6 {
+            continue;
+        }
+        let w = [
+            (p[2] - p[1]).cross(point - p[1]).dot(n) / (area * area),
+            (p[0] - p[2]).cross(point - p[2]).dot(n) / (area * area),
+            (p[1] - p[0]).cross(point - p[0]).dot(n) / (area * area),
+        ];
+        if w.iter().all(|x| *x >= -1e-9) {
+            let at = |e: &[f32]| (0..3).map(|k| w[k] * e[t[k] as usize] as f64).sum();
+            return Some((at(&s.illuminance), at(&s.illuminance_direct)));
+        }
+    }
+    None
+}
+
+/// The illuminance of the room's wall z = 0 (node `room_4`, facing +Z) at `point`: total and
+/// direct.
+fn wall_at(room: &ContactRoom, r: &BakeResult, point: DVec3) -> (f64, f64) {
+    let node = room
+        .scene
+        .nodes
+        .iter()
+        .position(|n| n.name.as_deref() == Some("room_4"));
+    let surface = room.scene.nodes[node.expect("room_4")].surfaces[0];
+    r.surfaces
+        .iter()
+        .filter(|s| s.surface == surface)
+        .find_map(|s| value_at(s, point))
+        .expect("a point on the wall")
+}
+
+/// Bake `room` and return what fails of: balance error ≤ 10⁻⁴, Sumpner within 0.5 %.
+fn check_closed(name: &str, room: &ContactRoom, rho: f64) -> Vec<String> {
+    let r = run(room);
+    let balance = r.summary.energy.balance_error_relative;
+    let sumpner = sumpner_error(&r, rho, room.flux);
+    eprintln!("oracle: contacts/{name} balance {balance:.2e} sumpner {sumpner:+.2e}");
+    let mut failed = Vec::new();
+    if balance > 1e-4 {
+        failed.push(format!("{name}: balance error {balance:.2e}"));
+    }
+    if sumpner.abs() > 0.005 {
+        failed.push(format!("{name}: Σ(1 − ρ)·E·A off Φ by {sumpner:+.2e}"));
+    }
+    failed
+}
+
+#[test]
+fn panel_below_a_ceiling_closes_energy_at_any_gap() {
+    let mut failed = Vec::new();
+    for (rho, gap) in [
+        (0.5, 0.001),
+        (0.9, 0.0),
+        (0.9, 0.001),
+        (0.9, 0.01),
+        (0.9, 0.03),
+        (0.9, 0.1),
+    ] {
+        let name = format!("panel/rho{rho}/gap{gap}");
+        failed.extend(check_closed(
+            &name,
+            &contacts::panel_below_ceiling(rho, gap, false),
+            rho,
+        ));
+    }
+    assert!(failed.is_empty(), "{failed:#?}");
+}
+
+#[test]
+fn a_flat_panel_below_a_ceiling_loses_nothing_unaccounted() {
+    // A single-sided quad's back absorbs what reaches it (no Sumpner identity over the
+    // vertices), but the energy report must still balance.
+    let mut failed = Vec::new();
+    for (rho, gap) in [
+        (0.5, 0.001),
+        (0.9, 0.001),
+        (0.9, 0.01),
+        (0.9, 0.03),
+        (0.9, 0.1),
+    ] {
+        let r = run(&contacts::panel_below_ceiling(rho, gap, true));
+        let balance = r.summary.energy.balance_error_relative;
+        eprintln!("oracle: contacts/flat-panel/rho{rho}/gap{gap} balance {balance:.2e}");
+        if balance > 1e-4 {
+            failed.push(format!(
+                "flat panel, ρ {rho}, gap {gap}: balance error {balance:.2e}"
+            ));
+        }
+    }
+    assert!(failed.is_empty(), "{failed:#?}");
+}
+
+#[test]
+fn cubes_on_a_floor_close_energy() {
+    let mut failed = Vec::new();
+    for (rho, lift) in [(0.5, 0.0), (0.9, 0.0), (0.9, 0.001)] {
+        let name = format!("cubes/rho{rho}/lift{lift}");
+        failed.extend(check_closed(
+            &name,
+            &contacts::cubes_on_floor(rho, lift),
+            rho,
+        ));
+    }
+    assert!(failed.is_empty(), "{failed:#?}");
+}
+
+#[test]
+fn cabinet_against_a_wall_closes_energy() {
+    let failed = check_closed("cabinet/rho0.9", &contacts::cabinet_against_wall(0.9), 0.9);
+    assert!(failed.is_empty(), "{failed:#?}");
+}
+
+#[test]
+fn the_wall_beside_a_picture_reads_as_the_bare_wall() {
+    // 3 cm outside each side of the outline (x 1.6..2.4, y 1.2..1.8 on the wall z = 0), and
+    // further out; a light in front of the picture and one far off to the side. A framed
+    // picture (a closed box 1 cm deep) shows the wall its lit sides: the wall reads as bare.
+    // A single-sided quad 1 cm proud shows it its black back: at x from its edge it hides
+    // ½(1 − x/√(x² + g²)) of the wall's hemisphere (a half-plane at height g), so the wall
+    // reads the bare wall less that share of its inter-reflected light; its direct light is the
+    // bare wall's (neither light's shadow of the edge reaches 3 cm).
+    let points = [
+        DVec3::new(1.57, 1.5, 0.0),
+        DVec3::new(2.43, 1.5, 0.0),
+        DVec3::new(2.0, 1.17, 0.0),
+        DVec3::new(2.0, 1.83, 0.0),
+        DVec3::new(1.3, 1.5, 0.0),
+    ];
+    let mut failed = Vec::new();
+    for light in [DVec3::new(2.0, 1.5, 1.5), DVec3::new(3.5, 2.6, 4.0)] {
+        let bare = contacts::bare_wall(0.5, light);
+        let rb = run(&bare);
+        for boxed in [false, true] {
+            let room = contacts::picture_on_wall(0.5, 0.5, 0.01, boxed, light);
+            let r = run(&room);
+            for at in points {
+                let (with, _) = wall_at(&room, &r, at);
+                let (bare_total, bare_direct) = wall_at(&bare, &rb, at);
+                let x = [at.x - 2.4, 1.6 - at.x, at.y - 1.8, 1.2 - at.y]
+                    .into_iter()
+                    .fold(f64::NEG_INFINITY, f64::max);
+                let hidden = if boxed {
+                    0.0
+                } else {
+                    0.5 * (1.0 - x / x.hypot(0.01))
+                };
+                let without = bare_total - hidden * (bare_total - bare_direct);
+                let rel = with / without - 1.0;
+                let name = format!("light {light}, boxed {boxed}, at {at}");
+                eprintln!(
+                    "oracle: contacts/picture {name}: {with:.2} vs bare {without:.2}: {rel:+.2e}"
+                );
+                if rel.abs() > 0.03 {
+                    failed.push(format!("{name}: {with} vs bare wall {without}"));
+                }
+            }
+        }
+    }
+    assert!(failed.is_empty(), "{failed:#?}");
+}
