@@ -14,6 +14,10 @@ What the conversion does (see bench/README.md, "RADIANCE side by side"):
 - ies2rad's `light` is turned into an `illum` with no alternate material: the same emitter for
   shadow rays, invisible to other rays, so indirect rays reach the luminaire's diffuser face 1 mm
   behind it (a reflector of 0.5 in the glTF) exactly as luxbake's patches do;
+- an emitting material (LUXBAKE_material emission: luminance, or luminousFlux shared by area)
+  becomes a `light` of radiance L / 179 (front side only, black from behind, no reflection: a
+  single-sided black Lambertian emitter), each of its quads one polygon (RADIANCE samples long
+  thin triangular sources poorly); emitters it cannot express are refused;
 - a EULUMDAT profile has no RADIANCE converter: the caller maps it to the IES file that encodes
   the same candela values (samples/office/profiles/README.md).
 
@@ -126,6 +130,62 @@ def _reflectance(material):
     return rho
 
 
+def _area(tri):
+    u = [tri[1][i] - tri[0][i] for i in range(3)]
+    v = [tri[2][i] - tri[0][i] for i in range(3)]
+    n = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]]
+    return 0.5 * math.sqrt(sum(x * x for x in n))
+
+
+def _unit_normal(tri):
+    u = [tri[1][i] - tri[0][i] for i in range(3)]
+    v = [tri[2][i] - tri[0][i] for i in range(3)]
+    n = [u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]]
+    length = math.sqrt(sum(x * x for x in n)) or 1.0
+    return [x / length for x in n]
+
+
+def _same_plane(a, b):
+    """Whether triangles a and b (sharing the edge a0-a2 = b0-b1) face the same way: then
+    a0 a1 a2 b2 is one planar quad, wound as they are."""
+    na, nb = _unit_normal(a), _unit_normal(b)
+    return sum(x * y for x, y in zip(na, nb)) > 1 - 1e-9
+
+
+def _emits(material):
+    em = material.get("extensions", {}).get("LUXBAKE_material", {}).get("emission") or {}
+    return em.get("luminance", 0) > 0 or em.get("luminousFlux", 0) > 0
+
+
+def _emission(material, area):
+    """(luminance cd/m^2, RGB normalised to Y = 1) of a LUXBAKE_material emission, or None for
+    a non-emitting material. RADIANCE's `light` emits from the front side only (a polygon's
+    back looks black and sends nothing: source.c m_light and srcray) and reflects nothing, like
+    a single-sided black emitter in luxbake; what it cannot express is refused."""
+    ext = material.get("extensions", {}).get("LUXBAKE_material", {})
+    em = ext.get("emission")
+    name = material.get("name", "?")
+    if em is None:
+        if any(material.get("emissiveFactor", [0, 0, 0])):
+            raise SystemExit(f"radiance: material '{name}': emission without LUXBAKE_material "
+                             "is not converted")
+        return None
+    if "luminance" in em:
+        luminance = em["luminance"]
+    else:
+        if area <= 0:
+            raise SystemExit(f"radiance: material '{name}': luminousFlux on no area")
+        luminance = em["luminousFlux"] / (math.pi * area)
+    if luminance == 0:
+        return None
+    if "profile" in em or material.get("doubleSided") or any(_reflectance(material)):
+        raise SystemExit(f"radiance: material '{name}': only single-sided black Lambertian "
+                         "emitters are converted (RADIANCE `light`)")
+    c = em.get("color", [1, 1, 1])
+    y = _luminance_y(c)
+    return luminance, [x / y for x in c]
+
+
 def _luminance_y(c):
     return 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]
 
@@ -154,11 +214,9 @@ def convert(gltf_path, out_dir, bin_dir, ldt_to_ies=None):
     doc = g.doc
     os.makedirs(out_dir, exist_ok=True)
     lines = ["# written by luxbake bench/radiance.py from " + os.path.basename(gltf_path),
-             "# units: metres; glTF axes (+Y up); plastic = Lambertian reflectance", ""]
-    for k, m in enumerate(doc.get("materials", [])):
-        r, gg, b = _reflectance(m)
-        lines += [f"void plastic mat{k}", "0", "0", f"5 {r:.6g} {gg:.6g} {b:.6g} 0 0", ""]
-    lines.append("void plastic mat_default\n0\n0\n5 0.5 0.5 0.5 0 0\n")
+             "# units: metres; glTF axes (+Y up); plastic = Lambertian reflectance; "
+             "light = Lambertian emitter (front side only)", ""]
+    mat_area = {}  # material index -> world area of its triangles (for luminousFlux)
 
     # luminaire profiles: (kind, index) -> (bytes or path, mime, name)
     ies_lights = doc.get("extensions", {}).get("EXT_lights_ies", {}).get("lights", [])
@@ -193,12 +251,28 @@ def convert(gltf_path, out_dir, bin_dir, ldt_to_ies=None):
                 ind = g.accessor(prim["indices"]) if "indices" in prim else list(range(len(pos)))
                 mat = f"mat{prim['material']}" if "material" in prim else "mat_default"
                 wp = [_apply(world, p) for p in pos]
+                emits = "material" in prim and _emits(doc["materials"][prim["material"]])
+                merged = False
                 for t in range(0, len(ind), 3):
                     tri = [wp[ind[t]], wp[ind[t + 1]], wp[ind[t + 2]]]
+                    if "material" in prim:
+                        mat_area[prim["material"]] = mat_area.get(prim["material"], 0.0) + \
+                            _area(tri)
+                    triangles += 1
+                    if merged:  # second half of the quad written with the previous triangle
+                        merged = False
+                        continue
+                    # An emitting quad stays one polygon: RADIANCE samples a long thin
+                    # triangular source poorly ("triangular source with poor aspect": its -ab 0
+                    # working plane came out 0.36 % high, 0.7 % RMS, on office-panels' halves).
+                    if emits and t + 5 < len(ind) and ind[t + 3] == ind[t] and \
+                            ind[t + 4] == ind[t + 2] and \
+                            _same_plane(tri, [wp[ind[t]], wp[ind[t + 2]], wp[ind[t + 5]]]):
+                        tri = tri + [wp[ind[t + 5]]]
+                        merged = True
                     name = f"n{idx}_t{t // 3}"
                     coords = " ".join(f"{c:.7g}" for p in tri for c in p)
-                    polys.append(f"{mat} polygon {name}\n0\n0\n9 {coords}\n")
-                    triangles += 1
+                    polys.append(f"{mat} polygon {name}\n0\n0\n{3 * len(tri)} {coords}\n")
         exts = node.get("extensions", {})
         ies = exts.get("EXT_lights_ies")
         lux = exts.get("LUXBAKE_luminaire")
@@ -253,9 +327,23 @@ def convert(gltf_path, out_dir, bin_dir, ldt_to_ies=None):
                            "nadir": [-rot[i][2] for i in range(3)],
                            "c0": [rot[i][0] for i in range(3)]})
         polys.append(placed)
+    emitters = []
+    for k, m in enumerate(doc.get("materials", [])):
+        em = _emission(m, mat_area.get(k, 0.0))
+        if em is None:
+            r, gg, b = _reflectance(m)
+            lines += [f"void plastic mat{k}", "0", "0", f"5 {r:.6g} {gg:.6g} {b:.6g} 0 0", ""]
+            continue
+        luminance, rgb = em
+        # RADIANCE radiance (W/(sr m^2)) = luminance / 179 lm/W (as ies2rad converts candela)
+        r, gg, b = (luminance * c / EFFICACY for c in rgb)
+        lines += [f"void light mat{k}", "0", "0", f"3 {r:.9g} {gg:.9g} {b:.9g}", ""]
+        emitters.append({"material": m.get("name", str(k)), "luminance": luminance,
+                         "area": mat_area.get(k, 0.0), "radiance": [r, gg, b]})
+    lines.append("void plastic mat_default\n0\n0\n5 0.5 0.5 0.5 0 0\n")
     with open(os.path.join(out_dir, "scene.rad"), "w", encoding="utf-8") as f:
         f.write("\n".join(lines) + "\n" + "\n".join(polys))
-    return {"triangles": triangles, "luminaires": luminaires,
+    return {"triangles": triangles, "luminaires": luminaires, "emitters": emitters,
             "profiles": sorted({p for _, p in ies_made.values()})}
 
 

@@ -6,8 +6,9 @@
 
 Runs `bake` on a set of scenes at several quality settings and records wall time, CPU time, peak
 memory, patch/link/ray counts and the error against a reference (closed form where one exists,
-else a converged high-quality bake), runs RADIANCE's rtrace on the office at the same points at
-several -ab/-ad settings, and writes results.md, results.json, time_vs_error.svg and
+else a converged high-quality bake), runs RADIANCE's rtrace on the office and on office-panels
+(the office with Lambertian panels, against a converged RADIANCE reference) at the same points
+at several -ab/-ad settings, and writes results.md, results.json, time_vs_error.svg and
 scaling.svg. Python standard library only; RADIANCE comes from PyPI `pyradiance`, installed into
 bench/.venv by this script when missing.
 """
@@ -45,6 +46,9 @@ OFFICE_IES = {"CNS70 1/50W": os.path.join(ROOT, "samples", "office", "profiles",
                                                   "miral_58w.ies")}
 OFFICE_PROBES = os.path.join(BENCH, "data", "office_probes.csv")
 OFFICE_WP = ["--working-plane", "0.8", "--working-plane-spacing", "0.5"]
+# office-panels (scenes.office_panels_gltf): the seed office as its HELIOS run modelled it
+PANELS_GAP = 0.01  # m between the ceiling and the panels' emitting faces
+PANELS_REF_CACHE = os.path.join(BENCH, "data", "office_panels_radiance_ref.json")
 CORNELL = os.path.join(ROOT, "samples", "cornell-box", "cornell-box.obj")
 CORNELL_WP = ["--working-plane", "0.05", "--working-plane-spacing", "0.05"]
 OPENPLAN_WP = ["--working-plane", "0.8", "--working-plane-spacing", "0.5"]
@@ -66,6 +70,9 @@ PLANS = {
         "rad_sweep": [(2, 128), (4, 256), (6, 256), (8, 512), (12, 512), (12, 1024),
                       (12, 2048)],
         "rad_ref": (12, 4096, "1e-5"),
+        "panels_runs": ["draft", "default", "high"],
+        "panels_rad_sweep": [(2, 128), (4, 128), (4, 256), (6, 128), (6, 256), (8, 256),
+                             (8, 512), (12, 512), (12, 1024), (12, 2048)],
         "cie_rhos": [0.5, 0.9, 0.99],
         "cie_runs": ["draft", "default", "high"],
         "cornell_runs": ["draft", "default", "high"],
@@ -82,6 +89,8 @@ PLANS = {
         "office_ref_name": "high (quick: not converged)",
         "rad_sweep": [(2, 128), (4, 256)],
         "rad_ref": (8, 512, "1e-5"),
+        "panels_runs": ["draft", "default"],
+        "panels_rad_sweep": [(2, 128), (4, 256), (6, 256)],
         "cie_rhos": [0.5, 0.99],
         "cie_runs": ["draft", "default"],
         "cornell_runs": ["draft"],
@@ -93,6 +102,13 @@ PLANS = {
         "openplan_ref_name": "default (quick: not converged)",
     },
 }
+
+# office-panels' RADIANCE reference (both plans: it is cached in PANELS_REF_CACHE): pure Monte
+# Carlo (RAD_COMMON has -aa 0), the working-plane points listed PANELS_REF_REPEATS times in one
+# rtrace run, which gives independent estimates (each ray its own sample index: rtrace has no
+# seed option) and their spread the reference's statistical error.
+PANELS_REF = (16, 512, "1e-5")
+PANELS_REF_REPEATS = 16
 
 # Time limits (s): a run longer than this is stopped and reported as such (the harness must
 # finish in ~20 minutes; a 10^6-triangle bake five times over its 60 s target is a miss anyway).
@@ -515,6 +531,198 @@ def bench_radiance(ctx, plan, rad, lux_ref):
                             "RADIANCE's own reference"}
 
 
+def wp_means(points):
+    """Mean of the working-plane points' E, and of their direct part when they carry one."""
+    n = len(points)
+    m = {"wpMean": sum(p["E"] for p in points) / n}
+    if all("direct" in p for p in points):
+        m["wpDirectMean"] = sum(p["direct"] for p in points) / n
+    return m
+
+
+def panels_errors(run, ref, direct_mean):
+    """Errors of a working plane against office-panels' RADIANCE reference: the mean's, its
+    inter-reflected part's (mean minus direct_mean, the run's own direct part, against the
+    reference's mean minus RADIANCE's -ab 0 mean) and the per-point RMS and max."""
+    a, b = run["workingPlanePoints"], ref["workingPlanePoints"]
+    if len(a) != len(b):
+        raise SystemExit(f"office-panels: {len(a)} points against the reference's {len(b)}")
+    mean, ref_mean = wp_means(a)["wpMean"], ref["wpMean"]
+    ind, ref_ind = mean - direct_mean, ref_mean - ref["wpDirectMean"]
+    e = [rel(p["E"], q["E"]) for p, q in zip(a, b)]
+    return {"wpMean": mean, "wpMeanRef": ref_mean, "wpMeanErr": rel(mean, ref_mean),
+            "wpIndirect": ind, "wpIndirectRef": ref_ind, "wpIndirectErr": rel(ind, ref_ind),
+            "wpRms": math.sqrt(sum(x * x for x in e) / len(e)),
+            "wpMax": max(abs(x) for x in e), "wpPoints": len(a)}
+
+
+def panels_reference(rd, run, options, points, radiance_version):
+    """office-panels' converged RADIANCE reference: read from PANELS_REF_CACHE when it was
+    computed for the same scene.rad, options, repeats, points and RADIANCE, else computed (the
+    points listed PANELS_REF_REPEATS times in one rtrace run) and written there."""
+    with open(os.path.join(rd, "scene.rad"), "rb") as f:
+        scene_sha = hashlib.sha256(f.read()).hexdigest()
+    key = hashlib.sha256(json.dumps({
+        "sceneRad": scene_sha, "options": options, "repeats": PANELS_REF_REPEATS,
+        "points": [[f"{v:.9g}" for v in p] for p in points], "radiance": radiance_version},
+        sort_keys=True).encode()).hexdigest()
+    try:
+        with open(PANELS_REF_CACHE, encoding="utf-8") as f:
+            cached = json.load(f)
+    except (OSError, ValueError):
+        cached = None
+    if cached and cached.get("key") == key:
+        log(f"  radiance/reference: cached in {os.path.relpath(PANELS_REF_CACHE, ROOT)} "
+            f"({cached['date']}, {cached['wall']:.0f} s wall then)")
+        ref = {k: cached[k] for k in ("tag", "options", "command", "wall", "cpu", "repeats",
+                                      "repeatMeans", "wpMean", "date")}
+        ref["workingPlanePoints"] = [{"position": p, "E": e, "se": se} for p, e, se in
+                                     zip(cached["points"], cached["E"], cached["seE"])]
+        ref["cached"] = True
+        return ref
+    old = "stale (other scene, options, points or RADIANCE)" if cached else "missing"
+    log(f"  radiance/reference: cache {old}: computing it ({PANELS_REF_REPEATS} repeats; "
+        "several minutes)")
+    ref = run("reference", options, PANELS_REF_REPEATS)
+    ref["cached"] = False
+    ref["date"] = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+    with open(PANELS_REF_CACHE, "w", encoding="utf-8") as f:
+        json.dump({"what": "office-panels' RADIANCE reference at the working-plane points "
+                           "(bench/run.py bench_office_panels; E in lx, seE = standard error "
+                           "over the repeats)",
+                   "key": key, "sceneRadSha256": scene_sha, "radiance": radiance_version,
+                   **{k: ref[k] for k in ("tag", "options", "command", "wall", "cpu",
+                                          "repeats", "repeatMeans", "wpMean", "date")},
+                   "points": [p["position"] for p in ref["workingPlanePoints"]],
+                   "E": [p["E"] for p in ref["workingPlanePoints"]],
+                   "seE": [p["se"] for p in ref["workingPlanePoints"]]}, f, indent=1)
+        f.write("\n")
+    log(f"  radiance/reference: written to {os.path.relpath(PANELS_REF_CACHE, ROOT)}")
+    return ref
+
+
+def bench_office_panels(ctx, plan, rad, results):
+    """office-panels: luxbake at every quality, and RADIANCE at the same working-plane points
+    (a converged pure Monte Carlo reference, its -ab 0 direct part and an -ab/-ad sweep); errors
+    of the working-plane mean and of its inter-reflected part against RADIANCE's reference."""
+    log(f"office-panels (samples/office's shell, six Lambertian panels {PANELS_GAP} m below "
+        "the ceiling)")
+    d = os.path.join(ctx.work, "office-panels")
+    os.makedirs(d, exist_ok=True)
+    inp = os.path.join(d, "scene.gltf")
+    text, info = scenes.office_panels_gltf(OFFICE, gap=PANELS_GAP)
+    with open(inp, "w", encoding="utf-8") as f:
+        f.write(text)
+    runs = []
+    for q in plan["panels_runs"]:
+        r = bake_run(ctx, "office-panels", q, inp, quality_args(q) + OFFICE_WP, repeats=3,
+                     probes=True)
+        if "workingPlanePoints" in r:
+            r.update(wp_means(r["workingPlanePoints"]))
+        runs.append(r)
+    scene = {"scene": info, "reference": {"name": "not run"},
+             "errorMeasure": "relative error of the working-plane mean against RADIANCE's "
+                             "converged reference"}
+    results["scenes"]["office-panels"] = scene
+    done = [r for r in runs if "workingPlanePoints" in r]
+    scene["runs"] = [strip(r) for r in runs]
+    if not done or rad is None:
+        results["notes"].append("office-panels: " + ("every bake failed" if not done else
+                                "RADIANCE not run (--no-radiance): no errors"))
+        return
+    grid = [p["position"] for p in done[0]["workingPlanePoints"]]
+    for r in done[1:]:
+        other = [p["position"] for p in r["workingPlanePoints"]]
+        if len(other) != len(grid) or any(abs(u - v) > 1e-6 for a, b in zip(grid, other)
+                                           for u, v in zip(a, b)):
+            raise SystemExit(f"office-panels: {r['tag']}'s working plane differs from "
+                             f"{done[0]['tag']}'s")
+
+    rad_bin, rad_lib = rad
+    log("office-panels in RADIANCE (pyradiance rtrace -I)")
+    rd = os.path.join(d, "radiance")
+    if os.path.exists(rd):
+        shutil.rmtree(rd)
+    os.makedirs(rd)
+    t0 = time.perf_counter()
+    conv = radiance.convert(inp, rd, rad_bin)
+    m_oconv = measure.run([os.path.join(rad_bin, "oconv"), "scene.rad"], cwd=rd,
+                          env=dict(os.environ, RAYPATH=os.pathsep.join([".", rad_lib])),
+                          stdout_path=os.path.join(rd, "scene.oct"),
+                          stderr_path=os.path.join(rd, "oconv.err"))
+    if m_oconv["returncode"] != 0:
+        raise SystemExit("oconv failed: see " + os.path.join(rd, "oconv.err"))
+    conv_seconds = time.perf_counter() - t0
+    points = [tuple(p) + (0.0, 1.0, 0.0) for p in grid]
+
+    def run(tag, options, repeats=1):
+        wd = os.path.join(rd, tag)
+        os.makedirs(wd)
+        vals, m, cmd = radiance.run_rtrace(rad_bin, rad_lib, os.path.join(rd, "scene.oct"),
+                                          points * repeats, options, wd,
+                                          threads=ctx.threads or os.cpu_count())
+        n = len(points)
+        reps = [vals[k * n:(k + 1) * n] for k in range(repeats)]
+        pts = []
+        for i, p in enumerate(grid):
+            v = [x[i] for x in reps]
+            e = sum(v) / repeats
+            pt = {"position": p, "E": e}
+            if repeats > 1:
+                pt["se"] = math.sqrt(sum((x - e) ** 2 for x in v) / (repeats - 1) / repeats)
+            pts.append(pt)
+        rec = {"scene": "office-panels", "tag": tag, "tool": "RADIANCE",
+               "options": " ".join(options),
+               "command": "rtrace " + " ".join(cmd[1:-1]) + " scene.oct < points" +
+                          (f" (the {n} points listed {repeats} times)" if repeats > 1 else ""),
+               "wall": m["wall"] + m_oconv["wall"], "cpu": m["cpu"] + m_oconv["cpu"],
+               "rtraceWall": m["wall"], "oconvWall": m_oconv["wall"],
+               "peakMiB": max(m["peakMiB"], m_oconv["peakMiB"]), "points": n,
+               "repeats": repeats, "workingPlanePoints": pts,
+               "repeatMeans": [sum(x) / n for x in reps], **wp_means(pts)}
+        log(f"  radiance/{tag}: {rec['wall']:.1f} s wall, {rec['cpu']:.1f} s CPU, "
+            f"WP mean {rec['wpMean']:.3f} lx")
+        return rec
+
+    direct = run("ab0", RAD_COMMON + ["-ab", "0"])
+    ref_ab, ref_ad, ref_lw = PANELS_REF
+    ref = panels_reference(rd, run, rad_options(ref_ab, ref_ad, ref_lw), points,
+                           results["machine"].get("radiance"))
+    ref["wpDirectMean"] = direct["wpMean"]
+    rm = ref["repeatMeans"]
+    se = math.sqrt(sum((x - ref["wpMean"]) ** 2 for x in rm) / (len(rm) - 1) / len(rm))
+    ref_ind = ref["wpMean"] - direct["wpMean"]
+    ref["statError"] = {
+        "repeats": len(rm), "wpMeanSe": se, "wpMeanSeRel": se / ref["wpMean"],
+        "wpIndirectSeRel": se / ref_ind,
+        "pointSeRelRms": math.sqrt(sum((p["se"] / p["E"]) ** 2 for p in
+                                       ref["workingPlanePoints"]) / len(grid))}
+    sweep = []
+    for ab, ad in plan["panels_rad_sweep"]:
+        r = run(f"ab{ab}_ad{ad}", rad_options(ab, ad, RAD_SWEEP_LW))
+        r["errors"] = panels_errors(r, ref, direct["wpMean"])
+        r["plotError"] = abs(r["errors"]["wpMeanErr"])
+        sweep.append(r)
+    for r in runs:
+        if "workingPlanePoints" not in r:
+            continue
+        r["errors"] = panels_errors(r, ref, r["wpDirectMean"])
+        r["errors"]["wpDirectErr"] = rel(r["wpDirectMean"], direct["wpMean"])
+        r["plotError"] = abs(r["errors"]["wpMeanErr"])
+        r["speedup"] = {k: speedup(r, sweep, k) for k in ("wpMeanErr", "wpIndirectErr",
+                                                          "wpRms")}
+    scene["runs"] = [strip(r) for r in runs]
+    scene["reference"] = {
+        "name": f"RADIANCE rtrace -I {ref['options']}, {ref['repeats']} independent repeats",
+        **{k: v for k, v in ref.items() if k not in ("workingPlanePoints", "tag")},
+        "wpIndirectMean": ref_ind}
+    scene["radiance"] = {
+        "conversion": {**conv, "seconds": conv_seconds},
+        "directOnly": {**strip(direct), "wpMean": direct["wpMean"]},
+        "runs": [strip(r) for r in sweep],
+        "errorMeasure": "relative error of the working-plane mean against the same reference"}
+
+
 def bench_cie(ctx, plan, results):
     for rho in plan["cie_rhos"]:
         name = f"cie5.8_rho{rho}"
@@ -701,6 +909,28 @@ def targets(results):
             rows.append([f"Office working plane ({label} error): luxbake default at least 20× "
                          f"faster than RADIANCE at equal or better error", "≥ 20×",
                          s["text"], s["met"]])
+    op = find("office-panels", "default")
+    if op and "errors" in op:
+        e = op["errors"]
+        st = sc["office-panels"]["reference"].get("statError") or {}
+        rows.append(["Office with Lambertian panels (the seed's HELIOS model), default quality: "
+                     "working-plane mean within 0.5 % of RADIANCE's converged value", "≤ 0.5 %",
+                     f"{100 * e['wpMeanErr']:+.3f} % (reference ± "
+                     f"{100 * st.get('wpMeanSeRel', float('nan')):.3f} %)",
+                     abs(e["wpMeanErr"]) <= 0.005])
+        rows.append(["Office with Lambertian panels, default quality: inter-reflected part of "
+                     "the working-plane mean within 1 %", "≤ 1 %",
+                     f"{100 * e['wpIndirectErr']:+.3f} % (reference ± "
+                     f"{100 * st.get('wpIndirectSeRel', float('nan')):.3f} %)",
+                     abs(e["wpIndirectErr"]) <= 0.01])
+        for key, label in (("wpMeanErr", "mean"), ("wpIndirectErr", "inter-reflected part")):
+            s = op["speedup"][key]
+            rows.append([f"Office with Lambertian panels, working plane ({label} error): "
+                         "luxbake default at least 20× faster than RADIANCE at equal or better "
+                         "error", "≥ 20×", s["text"], s["met"]])
+    elif "office-panels" in sc:
+        rows.append(["Office with Lambertian panels: targets", "—",
+                     "not measured (no RADIANCE reference or no default bake)", None])
     sc_rows = results.get("scaling") or []
     large = [r for r in sc_rows if r["scene"] == "openplan-large"]
     if large:
@@ -775,10 +1005,10 @@ def write_plots(results, out):
             label = f"{name} (luxbake" + (f", {variant} patches)" if variant else ")")
             if pts:
                 series.append({"name": label, "points": pts, "dash": bool(variant)})
-        if name == "office" and s.get("radiance"):
+        if name in ("office", "office-panels") and s.get("radiance"):
             rp = sorted((r["wall"], r["plotError"] * 100, r["tag"].replace("_", " "))
                         for r in s["radiance"]["runs"])
-            series.append({"name": "office (RADIANCE rtrace)", "points": rp, "dash": True})
+            series.append({"name": f"{name} (RADIANCE rtrace)", "points": rp, "dash": True})
     if not series:
         return write_scaling(results, out)
     svgplot.plot(os.path.join(out, "time_vs_error.svg"), series,
@@ -788,6 +1018,8 @@ def write_plots(results, out):
                           "the relative error against a converged bake;",
                           "RADIANCE: against its own reference "
                           f"({rad_ref_name(results)}), at the same points.",
+                          "office-panels (luxbake and RADIANCE): relative error of the "
+                          "working-plane mean against RADIANCE's converged reference.",
                           "CIE 171 test 5.8: relative error of the mean indirect illuminance "
                           "against the closed form. Hollow points lie below the axis floor.",
                           f"Machine: {results['machine']['cpu'].split(' (')[0]}, "
@@ -817,6 +1049,75 @@ def write_scaling(results, out):
                               "N log N through the first point.",
                               "Hollow points: the bake was stopped at its time limit (the time "
                               "is a lower bound)."])
+
+
+def panels_markdown(s, results):
+    """The office-panels section of results.md."""
+    info, ref = s["scene"], s["reference"]
+    c = info["panelCentres"]
+    L = ["### office-panels", "",
+         "The seed office modelled as the seed's HELIOS run modelled it: samples/office's room "
+         "shell (5 × 8 × 3.2 m; floor, ceiling, walls, back wall" +
+         (" and the picture" if info["picture"] else "") + " with their reflectances "
+         f"{info['reflectances']}; no desks), its six louvred fluorescents replaced by "
+         f"{info['panelSize'][0]} × {info['panelSize'][1]} m single-sided black Lambertian "
+         f"panels of {info['panelFluxLm']:.0f} lm each (`LUXBAKE_material` emission "
+         "`luminousFlux`; RADIANCE `light` polygons), facing down (−Y), their faces "
+         f"{info['gapMetres']} m below the ceiling (y = {c[0][1]} m, +Y up), centres at the "
+         f"luminaires' (x, z) = " + ", ".join(f"({p[0]:.2f}, {p[2]:.2f})" for p in c) +
+         f", long side along {info['panelLongSide']}. Working plane 0.8 m, 0.5 m grid. "
+         "Errors are against RADIANCE, for luxbake and RADIANCE alike; the inter-reflected "
+         "part is total − direct (luxbake: its own direct part; RADIANCE: its `-ab 0` run).", ""]
+    if "statError" not in ref:
+        L += ["RADIANCE was not run: no errors.", ""]
+        return L
+    st = ref["statError"]
+    L += [f"Reference: `{ref['name']}` ({ref['wall']:.0f} s wall, {ref['cpu']:.0f} s CPU" +
+          (f"; cached in `bench/data/{os.path.basename(PANELS_REF_CACHE)}`, computed "
+           f"{ref['date']}" if ref.get("cached") else f"; computed in this run, {ref['date']}")
+          + f"): working-plane mean {ref['wpMean']:.3f} lx, direct (`-ab 0`) "
+          f"{ref['wpDirectMean']:.3f} lx, inter-reflected {ref['wpIndirectMean']:.3f} lx. "
+          f"Statistical error (standard error over the {st['repeats']} repeats): "
+          f"{st['wpMeanSe']:.3f} lx = {100 * st['wpMeanSeRel']:.4f} % of the mean, "
+          f"{100 * st['wpIndirectSeRel']:.4f} % of the inter-reflected part; per point "
+          f"{100 * st['pointSeRelRms']:.3f} % (RMS).", "",
+          "| run | wall s | CPU s | peak MiB | patches | wp mean lx | wp mean err % | "
+          "inter-reflected lx | inter-reflected err % | wp RMS % | direct vs RADIANCE -ab 0 % "
+          "| speed-up at equal mean error: wall / CPU | at equal inter-reflected error |",
+          "| --- |" + " ---: |" * 10 + " --- | --- |"]
+    for r in s["runs"]:
+        e, c = r.get("errors"), r.get("counts") or {}
+        if not e:
+            L.append(f"| luxbake {r['tag']} | failed or stopped after {r['wall']:.0f} s |")
+            continue
+        cells = []
+        for key in ("wpMeanErr", "wpIndirectErr"):
+            x = r["speedup"][key]
+            cells.append(f"> {x['ratio']:.1f}× / > {x['cpuRatio']:.1f}× (none reached)"
+                         if x["lowerBound"] else
+                         f"{x['ratio']:.1f}× / {x['cpuRatio']:.1f}× ({x['radiance']})")
+        L.append(f"| luxbake {r['tag']} | {r['wall']:.2f} | {r['cpu']:.2f} | "
+                 f"{r['peakMiB']:.0f} | {c.get('patches')} | {e['wpMean']:.3f} | "
+                 f"{100 * e['wpMeanErr']:+.3f} | {e['wpIndirect']:.3f} | "
+                 f"{100 * e['wpIndirectErr']:+.3f} | {pct(e['wpRms'])} | "
+                 f"{100 * e['wpDirectErr']:+.4f} | {cells[0]} | {cells[1]} |")
+    for r in s["radiance"]["runs"]:
+        e = r["errors"]
+        L.append(f"| RADIANCE {r['options'].split('-aa 0 ')[-1]} | {r['wall']:.2f} | "
+                 f"{r['cpu']:.2f} | {r['peakMiB']:.0f} | | {e['wpMean']:.3f} | "
+                 f"{100 * e['wpMeanErr']:+.3f} | {e['wpIndirect']:.3f} | "
+                 f"{100 * e['wpIndirectErr']:+.3f} | {pct(e['wpRms'])} | | | |")
+    conv = s["radiance"]["conversion"]
+    L += ["", f"RADIANCE: {conv['triangles']} triangles converted, the panels as "
+          f"{len(conv['emitters'])} `light` material(s) of radiance "
+          f"{conv['emitters'][0]['radiance'][0]:.4f} W/(sr·m²) = "
+          f"{conv['emitters'][0]['luminance']:.2f} cd/m² / 179 lm/W, one polygon per panel "
+          "(a light polygon emits from its front only and looks black from behind, like a "
+          "single-sided black emitter in luxbake). Options common to all runs: "
+          f"`{' '.join(RAD_COMMON)}`; sweep `-lw {RAD_SWEEP_LW}`, one run each. Time = oconv + "
+          f"rtrace (-n {results['radianceThreads']}). Speed-up: RADIANCE's cheapest run of the "
+          "sweep with no larger error, over luxbake's time (as for the office).", ""]
+    return L
 
 
 def write_markdown(results, out, rows):
@@ -858,6 +1159,9 @@ def write_markdown(results, out, rows):
           "of every probe, `surfaces` = largest error of a node's area-weighted mean "
           "illuminance.", ""]
     for name, s in results["scenes"].items():
+        if name == "office-panels":
+            L += panels_markdown(s, results)
+            continue
         ref = s["reference"]
         L += [f"### {name}", "", f"Reference: {ref['name']}" +
               (f" ({ref['wall']:.1f} s wall, {ref['cpu']:.1f} s CPU, {ref['peakMiB']:.0f} MiB, "
@@ -1021,8 +1325,8 @@ def main():
     ap.add_argument("--quick", action="store_true",
                     help="a quick subset: fewer settings, unconverged references, no large "
                          "floors; writes bench/work/quick-results unless --out")
-    ap.add_argument("--scenes", default="office,cie,cornell,openplan",
-                    help="comma-separated subset of office,cie,cornell,openplan")
+    ap.add_argument("--scenes", default="office,office-panels,cie,cornell,openplan",
+                    help="comma-separated subset of office,office-panels,cie,cornell,openplan")
     ap.add_argument("--no-radiance", action="store_true", help="skip the RADIANCE comparison")
     ap.add_argument("--openplan-limit", type=float, default=0, metavar="SECONDS",
                     help="time limit of the medium and large open-plan bakes (default 150 s: "
@@ -1067,7 +1371,7 @@ def main():
     bake = os.path.abspath(a.bake) if a.bake else build_bake()
     if not os.path.exists(bake):
         raise SystemExit(f"no bake binary at {bake}")
-    rad_dir = None if a.no_radiance or "office" not in wanted else \
+    rad_dir = None if a.no_radiance or not wanted & {"office", "office-panels"} else \
         ensure_venv(os.path.join(BENCH, ".venv"))
     rad = (os.path.join(rad_dir, "bin"), os.path.join(rad_dir, "lib")) if rad_dir else None
     work = os.path.join(a.work, "quick" if a.quick else "full")
@@ -1100,13 +1404,15 @@ def main():
         bench_cie(ctx, plan, results)
     if "office" in wanted:
         bench_office(ctx, plan, rad, results)
+    if "office-panels" in wanted:
+        bench_office_panels(ctx, plan, rad, results)
     if "cornell" in wanted:
         bench_cornell(ctx, plan, results)
     if "openplan" in wanted:
         bench_openplan(ctx, plan, results)
     elif not a.quick:
         results["notes"].append("open-plan floors not run (--scenes)")
-    if "office" in wanted and a.no_radiance:
+    if wanted & {"office", "office-panels"} and a.no_radiance:
         results["notes"].append("RADIANCE comparison not run (--no-radiance)")
     results["loadavgEnd"] = loadavg()
     results["harnessSeconds"] = time.perf_counter() - t_start
