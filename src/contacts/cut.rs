@@ -10,7 +10,7 @@
 //! get the same point and share it; points closer than the tolerance to an outline count as on
 //! it (no slivers); pieces are convex and fanned into triangles.
 
-use super::Cover;
+use super::{Cover, Seam};
 use crate::scene::Surface;
 use glam::{DVec2, DVec3};
 use std::collections::HashMap;
@@ -31,6 +31,9 @@ pub struct CutSurface {
     pub covered: Vec<u8>,
     /// Per triangle: the largest depth of the covers over it (m; 0 when uncovered).
     pub gap: Vec<f64>,
+    /// Per triangle: a piece of a triangle cut along a seam (its sides are judged by what is in
+    /// front of them, see `contacts::find`).
+    pub seamed: Vec<bool>,
 }
 
 /// Where a piece's vertex came from: an input vertex, a point on an input edge (its ends'
@@ -51,8 +54,8 @@ struct Point {
     bary: DVec3,
 }
 
-/// Cut `surface` along `covers` (sorted by triangle); `eps`: the tolerance (m).
-pub fn cut(surface: &Surface, covers: &[Cover], eps: f64) -> CutSurface {
+/// Cut `surface` along `covers` and `seams` (each sorted by triangle); `eps`: the tolerance (m).
+pub fn cut(surface: &Surface, covers: &[Cover], seams: &[Seam], eps: f64) -> CutSurface {
     let mut out = CutSurface {
         positions: surface.positions.clone(),
         normals: surface.normals.clone(),
@@ -61,17 +64,27 @@ pub fn cut(surface: &Surface, covers: &[Cover], eps: f64) -> CutSurface {
         ..Default::default()
     };
     let mut shared: HashMap<Origin, Vec<u32>> = HashMap::new();
-    let mut at = 0;
+    // First every triangle's pieces, their points registered (so that every point on an input
+    // edge is known before any triangle is triangulated)...
+    struct Cut {
+        normal: DVec3,
+        pieces: Vec<(Vec<(u32, Point)>, u8, f64)>,
+        seamed: bool,
+    }
+    let mut cuts: Vec<Cut> = Vec::with_capacity(surface.triangles.len());
+    // Points put on each input edge, by the edge's place (its ends' positions, ordered): two
+    // triangles beside one edge may not share vertex indices (a crease, or an exporter's
+    // duplicates), yet each must have the other's points.
+    let mut on_edges: HashMap<[[u64; 3]; 2], Vec<DVec3>> = HashMap::new();
+    let (mut at, mut seam_at) = (0, 0);
     for (k, tri) in surface.triangles.iter().enumerate() {
         let start = at;
         while at < covers.len() && covers[at].triangle as usize == k {
             at += 1;
         }
-        if start == at {
-            out.triangles.push(*tri);
-            out.covered.push(0);
-            out.gap.push(0.0);
-            continue;
+        let seam_start = seam_at;
+        while seam_at < seams.len() && seams[seam_at].triangle as usize == k {
+            seam_at += 1;
         }
         let corners: Vec<Point> = (0..3)
             .map(|i| Point {
@@ -86,20 +99,146 @@ pub fn cut(surface: &Surface, covers: &[Cover], eps: f64) -> CutSurface {
         for cover in &covers[start..at] {
             pieces = split_by(pieces, cover, k as u32, eps);
         }
+        let seamed = seam_start < seam_at;
+        for seam in &seams[seam_start..seam_at] {
+            pieces = split_along(pieces, seam, k as u32, eps);
+        }
         // Pieces meet along their cut lines; a corner of one lying on another's edge is put
         // into that edge too, so the pieces share every point (no T-junctions inside a triangle).
         let all: Vec<Point> = pieces.iter().flat_map(|p| p.0.iter().copied()).collect();
-        for (piece, mask, gap) in pieces {
-            let piece = with_points_on_edges(&piece, &all, eps);
-            let ids: Vec<u32> = piece
-                .iter()
-                .map(|pt| vertex(&mut out, &mut shared, surface, *tri, pt, eps))
-                .collect();
-            let pos: Vec<DVec3> = piece.iter().map(|p| p.pos).collect();
-            for t in ears(&pos, normal, eps) {
-                out.triangles.push(t.map(|i| ids[i]));
+        let pieces = (pieces.into_iter())
+            .map(|(piece, mask, gap)| {
+                let piece = match all.len() > 3 {
+                    true => with_points_on_edges(&piece, &all, eps),
+                    false => piece,
+                };
+                let ids = (piece.iter())
+                    .map(|pt| {
+                        if let Origin::Edge(p, q) = pt.origin {
+                            let key = geometric(
+                                surface.positions[p as usize],
+                                surface.positions[q as usize],
+                            );
+                            on_edges.entry(key).or_default().push(pt.pos);
+                        }
+                        (vertex(&mut out, &mut shared, surface, *tri, pt, eps), *pt)
+                    })
+                    .collect();
+                (ids, mask, gap)
+            })
+            .collect();
+        cuts.push(Cut {
+            normal,
+            pieces,
+            seamed,
+        });
+    }
+    // ...then each piece with the points of its neighbours' cuts on its edges put in (no
+    // T-junctions across input edges either), fanned by ears.
+    for (k, c) in cuts.into_iter().enumerate() {
+        let tri = surface.triangles[k];
+        for (piece, mask, gap) in c.pieces {
+            let mut id = |pt: &Point| vertex(&mut out, &mut shared, surface, tri, pt, eps);
+            let piece = with_edge_points(&piece, &on_edges, &surface.positions, &mut id, eps);
+            let pos: Vec<DVec3> = piece.iter().map(|p| p.1.pos).collect();
+            for t in ears(&pos, c.normal, eps) {
+                out.triangles.push(t.map(|i| piece[i].0));
                 out.covered.push(mask);
                 out.gap.push(gap);
+                out.seamed.push(c.seamed);
+            }
+        }
+    }
+    out
+}
+
+/// The input edge two points both lie on, if any (smaller index first).
+fn common_edge(a: Origin, b: Origin) -> Option<(u32, u32)> {
+    match (a, b) {
+        (Origin::Vertex(i), Origin::Vertex(j)) if i != j => Some((i.min(j), i.max(j))),
+        (Origin::Vertex(i), Origin::Edge(p, q)) | (Origin::Edge(p, q), Origin::Vertex(i))
+            if i == p || i == q =>
+        {
+            Some((p, q))
+        }
+        (Origin::Edge(p, q), Origin::Edge(r, u)) if (p, q) == (r, u) => Some((p, q)),
+        _ => None,
+    }
+}
+
+/// The place of the edge between `a` and `b`, whichever way it runs.
+fn geometric(a: DVec3, b: DVec3) -> [[u64; 3]; 2] {
+    let (a, b) = if lex_less(b, a) { (b, a) } else { (a, b) };
+    [
+        a.to_array().map(f64::to_bits),
+        b.to_array().map(f64::to_bits),
+    ]
+}
+
+/// `poly` (ids and points) with the points put on each input edge it runs along (by any
+/// triangle) inserted between its ends, in order; `id` gives a point's vertex.
+fn with_edge_points(
+    poly: &[(u32, Point)],
+    on_edges: &HashMap<[[u64; 3]; 2], Vec<DVec3>>,
+    input: &[DVec3],
+    id: &mut dyn FnMut(&Point) -> u32,
+    eps: f64,
+) -> Vec<(u32, Point)> {
+    let mut out = Vec::with_capacity(poly.len());
+    for i in 0..poly.len() {
+        let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
+        out.push(a);
+        let Some((p, q)) = common_edge(a.1.origin, b.1.origin) else {
+            continue;
+        };
+        let Some(on) = on_edges.get(&geometric(input[p as usize], input[q as usize])) else {
+            continue;
+        };
+        let d = b.1.pos - a.1.pos;
+        let len = d.length();
+        if len <= eps {
+            continue;
+        }
+        let mut inner: Vec<(f64, DVec3)> = (on.iter())
+            .map(|&x| ((x - a.1.pos).dot(d) / len, x))
+            .filter(|(t, _)| *t > eps && *t < len - eps)
+            .collect();
+        inner.sort_by(|x, y| x.0.total_cmp(&y.0));
+        inner.dedup_by(|x, y| x.1.distance(y.1) <= eps);
+        for (t, x) in inner {
+            let s = t / len;
+            let pt = Point {
+                pos: x,
+                origin: Origin::Edge(p, q),
+                bary: a.1.bary + (b.1.bary - a.1.bary) * s,
+            };
+            out.push((id(&pt), pt));
+        }
+    }
+    out
+}
+
+/// Split the pieces the seam's segment runs through along its line.
+fn split_along(pieces: Vec<Piece>, seam: &Seam, t: u32, eps: f64) -> Vec<Piece> {
+    let (m, d) = seam.line;
+    let along = (seam.ends[1] - seam.ends[0]).normalize_or_zero();
+    let (s0, s1) = (along.dot(seam.ends[0]), along.dot(seam.ends[1]));
+    let mut out = Vec::with_capacity(pieces.len() + 1);
+    for (piece, mask, gap) in pieces {
+        let dist: Vec<f64> = piece.iter().map(|p| m.dot(p.pos) - d).collect();
+        let straddles = dist.iter().any(|x| *x > eps) && dist.iter().any(|x| *x < -eps);
+        let (lo, hi) = (piece.iter().map(|p| along.dot(p.pos)))
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+                (a.min(x), b.max(x))
+            });
+        if !straddles || hi < s0 + eps || lo > s1 - eps {
+            out.push((piece, mask, gap));
+            continue;
+        }
+        let (a, b) = clip_points(&piece, |x| m.dot(x) - d, t, eps);
+        for part in [a, b] {
+            if part.len() >= 3 {
+                out.push((part, mask, gap));
             }
         }
     }
@@ -160,7 +299,20 @@ fn ears(poly: &[DVec3], normal: DVec3, eps: f64) -> Vec<[usize; 3]> {
                     .iter()
                     .any(|&p| p != a && p != b && p != c && on(a, c, p))
         };
-        let Some(i) = (0..n).find(|&i| ear(i)) else {
+        // The best-shaped ear first (area over the squares of its sides): no needless slivers.
+        let quality = |i: usize| {
+            let (a, b, c) = (
+                poly[left[(i + n - 1) % n]],
+                poly[left[i]],
+                poly[left[(i + 1) % n]],
+            );
+            let area = (b - a).cross(c - a).length();
+            area / ((b - a).length_squared() + (c - b).length_squared() + (a - c).length_squared())
+        };
+        let Some(i) = (0..n)
+            .filter(|&i| ear(i))
+            .max_by(|&x, &y| quality(x).total_cmp(&quality(y)).then(y.cmp(&x)))
+        else {
             break; // what is left is a line
         };
         out.push([left[(i + n - 1) % n], left[i], left[(i + 1) % n]]);

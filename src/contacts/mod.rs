@@ -53,11 +53,28 @@ impl Cover {
     }
 }
 
+/// Where another surface meets a triangle along a line (a block's side standing on a floor, a
+/// partition on a floor, a leg through it): the triangle is cut along it, and each piece on
+/// either side is covered when the space in front of it is inside a solid.
+#[derive(Debug, Clone)]
+pub struct Seam {
+    /// The triangle met (index into its surface's triangles).
+    pub triangle: u32,
+    /// The line in the triangle's plane: points x with m·x = d (m unit, in the plane).
+    pub line: (DVec3, f64),
+    /// The ends of the meeting segment (on the line).
+    pub ends: [DVec3; 2],
+}
+
 /// The covers of every surface, and the tolerances they were found with.
 #[derive(Debug, Default)]
 pub struct Contacts {
     /// Per scene surface, its covers ordered by triangle.
     pub covers: Vec<Vec<Cover>>,
+    /// Per scene surface, its seams ordered by triangle.
+    pub seams: Vec<Vec<Seam>>,
+    /// Per scene surface, the surface cut along its covers and seams (`None`: untouched).
+    pub cuts: Vec<Option<cut::CutSurface>>,
     /// Largest gap counted as contact (m).
     pub gap: f64,
     /// Distances below this are zero (m): coplanarity and points on outlines.
@@ -75,9 +92,15 @@ impl Contacts {
         self.covers.get(s).map_or(&[], |c| c.as_slice())
     }
 
-    /// Total number of covers.
+    /// Surface `s` cut along its contacts, when it has any.
+    pub fn cut(&self, s: usize) -> Option<&cut::CutSurface> {
+        self.cuts.get(s).and_then(|c| c.as_ref())
+    }
+
+    /// Total number of covers and seams.
     pub fn count(&self) -> usize {
-        self.covers.iter().map(|c| c.len()).sum()
+        self.covers.iter().map(|c| c.len()).sum::<usize>()
+            + self.seams.iter().map(|c| c.len()).sum::<usize>()
     }
 }
 
@@ -138,31 +161,98 @@ pub fn find(scene: &Scene, gap: f64, occ: &Occluder) -> Contacts {
         tolerance,
         occ,
     };
-    let found: Vec<Vec<(u32, Cover)>> = tris
+    type Found = (Vec<(u32, Cover)>, Vec<(u32, Seam)>);
+    let found: Vec<Found> = tris
         .par_chunks(1024)
         .map(|chunk| {
-            let mut out = Vec::new();
+            let (mut covers, mut seams) = (Vec::new(), Vec::new());
             let mut near = Vec::new();
             for t in chunk {
                 grid.near(t.p, &mut near);
-                let mut mine = Vec::new();
+                let (mut c, mut m) = (Vec::new(), Vec::new());
                 for &u in &near {
-                    context.covers(t, &tris[u as usize], &mut mine);
+                    context.covers(t, &tris[u as usize], &mut c);
+                    context.seam(t, &tris[u as usize], &mut m);
                 }
-                out.extend(mine.into_iter().map(|c| (t.surface, c)));
+                covers.extend(c.into_iter().map(|c| (t.surface, c)));
+                seams.extend(m.into_iter().map(|m| (t.surface, m)));
             }
-            out
+            (covers, seams)
         })
         .collect();
-    // Chunks come in triangle order and triangles in surface order: covers stay sorted.
+    // Chunks come in triangle order and triangles in surface order: both stay sorted.
     let mut covers: Vec<Vec<Cover>> = vec![Vec::new(); scene.surfaces.len()];
-    for (s, c) in found.into_iter().flatten() {
-        covers[s as usize].push(c);
+    let mut seams: Vec<Vec<Seam>> = vec![Vec::new(); scene.surfaces.len()];
+    for (c, m) in found {
+        for (s, c) in c {
+            covers[s as usize].push(c);
+        }
+        for (s, m) in m {
+            seams[s as usize].push(m);
+        }
     }
+    let cuts = (0..scene.surfaces.len())
+        .into_par_iter()
+        .map(|s| {
+            if covers[s].is_empty() && seams[s].is_empty() {
+                return None;
+            }
+            let surface = &scene.surfaces[s];
+            let mut c = cut::cut(surface, &covers[s], &seams[s], tolerance);
+            let double = scene.materials[surface.material].double_sided;
+            classify_seamed(&mut c, double, occ);
+            Some(c)
+        })
+        .collect();
     Contacts {
         covers,
+        seams,
+        cuts,
         gap,
         tolerance,
+    }
+}
+
+/// Whether the space just in front of `p` (on a surface with unit normal `n`) is inside a solid,
+/// and if so how far the solid reaches along `n` (m). Five rays — along `n` and four at 45° to
+/// it — each ask whether the first surface met shows its back; three backs make it inside. One
+/// ray is not enough: where two faces coincide (a leg's top against a desk top's underside) the
+/// first hit may be either.
+fn inside_solid(occ: &Occluder, p: DVec3, n: DVec3) -> Option<f64> {
+    let start = p + n * (4.0 * occ.epsilon);
+    let u = n.any_orthonormal_vector();
+    let v = n.cross(u);
+    let dirs = [n, n + u, n - u, n + v, n - v].map(|d| d.normalize());
+    let mut backs = 0;
+    let mut depth = f64::INFINITY;
+    for d in dirs {
+        if let Some(hit) = occ.closest(start, d).filter(|h| h.normal.dot(d) > 0.0) {
+            backs += 1;
+            depth = depth.min(hit.distance * d.dot(n) + 4.0 * occ.epsilon);
+        }
+    }
+    (backs >= 3).then_some(depth)
+}
+
+/// Pieces cut along seams are covered on a side when the space just in front of it is inside a
+/// solid (a block's inside); the contact's depth is how far the solid reaches.
+fn classify_seamed(c: &mut cut::CutSurface, double: bool, occ: &Occluder) {
+    for i in 0..c.triangles.len() {
+        if !c.seamed[i] {
+            continue;
+        }
+        let p = c.triangles[i].map(|v| c.positions[v as usize]);
+        let normal = (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero();
+        let centre = (p[0] + p[1] + p[2]) / 3.0;
+        for (bit, n) in [(cut::FRONT, normal), (cut::BACK, -normal)] {
+            if (bit == cut::BACK && !double) || c.covered[i] & bit != 0 {
+                continue;
+            }
+            if let Some(depth) = inside_solid(occ, centre, n) {
+                c.covered[i] |= bit;
+                c.gap[i] = c.gap[i].max(depth);
+            }
+        }
     }
 }
 
@@ -208,9 +298,8 @@ impl Context<'_> {
                     a < b || (a == b && (u.surface, u.index) > (t.surface, t.index))
                 } else {
                     // Face to face, or back to back (a slab drawn as two faces)? Face to face
-                    // when the space just in front is inside a solid: the first surface a ray
-                    // from there meets shows it its back.
-                    hit.is_some_and(|hit| hit.normal.dot(n) > 0.0)
+                    // when the space just in front is inside a solid.
+                    inside_solid(self.occ, centre, n).is_some()
                 };
                 if !covers {
                     continue;
@@ -226,6 +315,87 @@ impl Context<'_> {
                 edges,
             });
         }
+    }
+}
+
+impl Context<'_> {
+    /// Push the seam along which `u` (not parallel to `t`) meets `t`'s plane inside `t`: `u`
+    /// touches or crosses that plane and the segment where it does has length inside `t`.
+    fn seam(&self, t: &Tri, u: &Tri, out: &mut Vec<Seam>) {
+        if t.surface == u.surface && t.index == u.index || t.normal.dot(u.normal).abs() >= PARALLEL
+        {
+            return;
+        }
+        let eps = self.tolerance;
+        let h = u.p.map(|q| t.normal.dot(q - t.p[0]));
+        if h.iter().all(|x| *x > eps) || h.iter().all(|x| *x < -eps) {
+            return;
+        }
+        // The segment of u in t's plane: u's corners on it, and its edges crossing it.
+        let mut points = Vec::with_capacity(3);
+        for k in 0..3 {
+            let (a, b) = (k, (k + 1) % 3);
+            if h[a].abs() <= eps {
+                points.push(u.p[a]);
+            } else if h[b].abs() > eps && (h[a] > 0.0) != (h[b] > 0.0) {
+                points.push(u.p[a] + (u.p[b] - u.p[a]) * (h[a] / (h[a] - h[b])));
+            }
+        }
+        if points.len() < 2 {
+            return;
+        }
+        let dir = (points[1] - points[0]).normalize_or_zero();
+        if dir == DVec3::ZERO {
+            return;
+        }
+        // The line in t's plane, and the part of the segment inside t.
+        let m = t.normal.cross(dir).normalize_or_zero();
+        let project = |q: DVec3| q - t.normal * t.normal.dot(q - t.p[0]);
+        let (a, b) = (project(points[0]), project(points[points.len() - 1]));
+        let mut seg = vec![a, b];
+        for (edge_m, edge_d) in outline(t) {
+            if seg.len() < 2 {
+                return;
+            }
+            seg = clip_segment(&seg, |x| edge_m.dot(x) - edge_d, eps);
+        }
+        if seg.len() < 2 || seg[0].distance(seg[1]) <= eps {
+            return;
+        }
+        // Along t's own edges nothing is cut.
+        let line = (m, m.dot(a));
+        if t.p.iter().all(|&c| m.dot(c) - line.1 >= -eps)
+            || t.p.iter().all(|&c| m.dot(c) - line.1 <= eps)
+        {
+            return;
+        }
+        // A seam matters where it bounds the inside of a solid (a block's foot): one side of it
+        // just in front of t is inside, the other not. A fin or a partition standing on t with
+        // open space on both sides cuts nothing.
+        let mid = (seg[0] + seg[1]) * 0.5;
+        let step = (seg[0].distance(seg[1]) * 0.01).max(16.0 * self.occ.epsilon);
+        let inside =
+            |side: f64| inside_solid(self.occ, mid + m * (side * step), t.normal).is_some();
+        if inside(1.0) == inside(-1.0) {
+            return;
+        }
+        out.push(Seam {
+            triangle: t.index,
+            line,
+            ends: [seg[0], seg[1]],
+        });
+    }
+}
+
+/// The part of segment `seg` (two points) where `dist ≥ 0` (within `eps`).
+fn clip_segment(seg: &[DVec3], dist: impl Fn(DVec3) -> f64, eps: f64) -> Vec<DVec3> {
+    let (a, b) = (seg[0], seg[1]);
+    let (da, db) = (dist(a), dist(b));
+    match (da >= -eps, db >= -eps) {
+        (true, true) => vec![a, b],
+        (false, false) => Vec::new(),
+        (true, false) => vec![a, a + (b - a) * (da / (da - db))],
+        (false, true) => vec![a + (b - a) * (da / (da - db)), b],
     }
 }
 

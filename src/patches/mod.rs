@@ -254,9 +254,8 @@ fn refine_surface(
     contacts: &Contacts,
     s: usize,
 ) -> Option<SurfacePatches> {
-    let covers = contacts.of(s);
-    let cut = (!covers.is_empty()).then(|| cut::cut(surface, covers, contacts.tolerance));
-    let (positions, in_normals, in_uv0, in_uv1, in_triangles) = match &cut {
+    let cut = contacts.cut(s);
+    let (positions, in_normals, in_uv0, in_uv1, in_triangles) = match cut {
         None => (
             &surface.positions,
             &surface.normals,
@@ -317,7 +316,7 @@ fn refine_surface(
         let bit = [cut::FRONT, cut::BACK][k];
         // The gap of the cover over triangle i on this side, if covered.
         let under = |i: usize| {
-            let c = cut.as_ref()?;
+            let c = cut?;
             let parent = m.tags[i] as usize;
             (c.covered[parent] & bit != 0).then_some(c.gap[parent])
         };
