@@ -22,7 +22,8 @@ ROOT = os.path.dirname(BENCH)
 
 RUNS = [["--test", "analytic"], ["--test", "black"],
         ["--lib", "transport::gather::tests::tilted_receivers_in_a_long_hall"],
-        ["--test", "luminaires"], ["--test", "direct_light"], ["--test", "photometry"]]
+        ["--test", "luminaires"], ["--test", "direct_light"], ["--test", "photometry"],
+        ["--test", "contacts"]]
 LINE = re.compile(r"^oracle: (\S+) measured (\S+)\s*$")
 SUPERSCRIPT = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
 
@@ -69,6 +70,22 @@ ROWS = [
     ("tilted receivers in an empty 60 × 45 × 3 m hall, far slivers on the horizon skipped (unit "
      "test in `transport::gather`)", "coverage before normalisation = 1", "10⁻³",
      lambda m: f"{sci(m['hall-coverage'])} worst"),
+    ("closed 4 × 3 × 5 m room, 1 × 1 m panel in a 4 cm housing 0 / 1 mm / 1 cm / 3 cm / 10 cm "
+     "under the ceiling, ρ = 0.5 and 0.9 (`tests/contacts.rs`)",
+     "Σ(1−ρ)·E·A over the output's triangles = Φ; balance error", "0.5 %; 10⁻⁴",
+     lambda m: f"{pct(m['contacts/panel-sumpner'])}; {sci(m['contacts/panel-balance'])} worst"),
+    ("the same with a single-sided flat panel (its back absorbs) 1 mm to 10 cm under the ceiling",
+     "balance error", "10⁻⁴", lambda m: f"{sci(m['contacts/flat-panel-balance'])} worst"),
+    ("three 0.6 m cubes standing on the floor (and lifted 1 mm), point light, ρ = 0.5 / 0.9",
+     "Σ(1−ρ)·E·A = Φ; balance error", "0.5 %; 10⁻⁴",
+     lambda m: f"{pct(m['contacts/cubes-sumpner'])}; {sci(m['contacts/cubes-balance'])} worst"),
+    ("a 1.2 × 2 × 0.5 m cabinet on the floor, back against a wall, ρ = 0.9",
+     "Σ(1−ρ)·E·A = Φ; balance error", "0.5 %; 10⁻⁴",
+     lambda m: f"{pct(m['contacts/cabinet-sumpner'])}; {sci(m['contacts/cabinet-balance'])}"),
+    ("the wall 3 cm outside a 0.8 × 0.6 m picture 1 cm proud of it, two point lights; framed (a "
+     "1 cm box) / a single-sided quad", "the bare wall / the bare wall less its inter-reflected "
+     "light from the hemisphere share the quad's black back hides, ½(1 − x/√(x² + g²))", "3 %",
+     lambda m: f"{pct(m['contacts/picture-framed'])} / {pct(m['contacts/picture-quad'])} worst"),
     ("CIE 171:2006 test 5.8, ρ = 0.2 / 0.5 / 0.9 / 0.95", "mean E_ind = ρΦ/(S(1−ρ))", "0.5 %",
      lambda m: " / ".join(pct(m[f"cie5.8/{r}"]) for r in ("0.2", "0.5", "0.9", "0.95"))),
     ("Lambertian panel over a floor", "Lambert's formula at every vertex", "0.5 %",

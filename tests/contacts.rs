@@ -72,12 +72,15 @@ fn wall_at(room: &ContactRoom, r: &BakeResult, point: DVec3) -> (f64, f64) {
         .expect("a point on the wall")
 }
 
-/// Bake `room` and return what fails of: balance error ≤ 10⁻⁴, Sumpner within 0.5 %.
-fn check_closed(name: &str, room: &ContactRoom, rho: f64) -> Vec<String> {
+/// Bake `room` and return what fails of: balance error ≤ 10⁻⁴, Sumpner within 0.5 %; `worst`
+/// keeps the largest of each.
+fn check_closed(name: &str, room: &ContactRoom, rho: f64, worst: &mut [f64; 2]) -> Vec<String> {
     let r = run(room);
     let balance = r.summary.energy.balance_error_relative;
     let sumpner = sumpner_error(&r, rho, room.flux);
-    eprintln!("oracle: contacts/{name} balance {balance:.2e} sumpner {sumpner:+.2e}");
+    eprintln!("contacts/{name}: balance {balance:.2e}, Sumpner {sumpner:+.2e}");
+    worst[0] = worst[0].max(balance);
+    worst[1] = worst[1].max(sumpner.abs());
     let mut failed = Vec::new();
     if balance > 1e-4 {
         failed.push(format!("{name}: balance error {balance:.2e}"));
@@ -90,7 +93,7 @@ fn check_closed(name: &str, room: &ContactRoom, rho: f64) -> Vec<String> {
 
 #[test]
 fn panel_below_a_ceiling_closes_energy_at_any_gap() {
-    let mut failed = Vec::new();
+    let (mut failed, mut worst) = (Vec::new(), [0.0; 2]);
     for (rho, gap) in [
         (0.5, 0.001),
         (0.9, 0.0),
@@ -100,12 +103,11 @@ fn panel_below_a_ceiling_closes_energy_at_any_gap() {
         (0.9, 0.1),
     ] {
         let name = format!("panel/rho{rho}/gap{gap}");
-        failed.extend(check_closed(
-            &name,
-            &contacts::panel_below_ceiling(rho, gap, false),
-            rho,
-        ));
+        let room = contacts::panel_below_ceiling(rho, gap, false);
+        failed.extend(check_closed(&name, &room, rho, &mut worst));
     }
+    eprintln!("oracle: contacts/panel-balance measured {:e}", worst[0]);
+    eprintln!("oracle: contacts/panel-sumpner measured {:e}", worst[1]);
     assert!(failed.is_empty(), "{failed:#?}");
 }
 
@@ -113,7 +115,7 @@ fn panel_below_a_ceiling_closes_energy_at_any_gap() {
 fn a_flat_panel_below_a_ceiling_loses_nothing_unaccounted() {
     // A single-sided quad's back absorbs what reaches it (no Sumpner identity over the
     // vertices), but the energy report must still balance.
-    let mut failed = Vec::new();
+    let (mut failed, mut worst) = (Vec::new(), 0.0f64);
     for (rho, gap) in [
         (0.5, 0.001),
         (0.9, 0.001),
@@ -123,33 +125,38 @@ fn a_flat_panel_below_a_ceiling_loses_nothing_unaccounted() {
     ] {
         let r = run(&contacts::panel_below_ceiling(rho, gap, true));
         let balance = r.summary.energy.balance_error_relative;
-        eprintln!("oracle: contacts/flat-panel/rho{rho}/gap{gap} balance {balance:.2e}");
+        eprintln!("contacts/flat-panel/rho{rho}/gap{gap}: balance {balance:.2e}");
+        worst = worst.max(balance);
         if balance > 1e-4 {
             failed.push(format!(
                 "flat panel, ρ {rho}, gap {gap}: balance error {balance:.2e}"
             ));
         }
     }
+    eprintln!("oracle: contacts/flat-panel-balance measured {worst:e}");
     assert!(failed.is_empty(), "{failed:#?}");
 }
 
 #[test]
 fn cubes_on_a_floor_close_energy() {
-    let mut failed = Vec::new();
+    let (mut failed, mut worst) = (Vec::new(), [0.0; 2]);
     for (rho, lift) in [(0.5, 0.0), (0.9, 0.0), (0.9, 0.001)] {
         let name = format!("cubes/rho{rho}/lift{lift}");
-        failed.extend(check_closed(
-            &name,
-            &contacts::cubes_on_floor(rho, lift),
-            rho,
-        ));
+        let room = contacts::cubes_on_floor(rho, lift);
+        failed.extend(check_closed(&name, &room, rho, &mut worst));
     }
+    eprintln!("oracle: contacts/cubes-balance measured {:e}", worst[0]);
+    eprintln!("oracle: contacts/cubes-sumpner measured {:e}", worst[1]);
     assert!(failed.is_empty(), "{failed:#?}");
 }
 
 #[test]
 fn cabinet_against_a_wall_closes_energy() {
-    let failed = check_closed("cabinet/rho0.9", &contacts::cabinet_against_wall(0.9), 0.9);
+    let mut worst = [0.0; 2];
+    let room = contacts::cabinet_against_wall(0.9);
+    let failed = check_closed("cabinet/rho0.9", &room, 0.9, &mut worst);
+    eprintln!("oracle: contacts/cabinet-balance measured {:e}", worst[0]);
+    eprintln!("oracle: contacts/cabinet-sumpner measured {:e}", worst[1]);
     assert!(failed.is_empty(), "{failed:#?}");
 }
 
@@ -169,7 +176,7 @@ fn the_wall_beside_a_picture_reads_as_the_bare_wall() {
         DVec3::new(2.0, 1.83, 0.0),
         DVec3::new(1.3, 1.5, 0.0),
     ];
-    let mut failed = Vec::new();
+    let (mut failed, mut worst) = (Vec::new(), [0.0f64; 2]);
     for light in [DVec3::new(2.0, 1.5, 1.5), DVec3::new(3.5, 2.6, 4.0)] {
         let bare = contacts::bare_wall(0.5, light);
         let rb = run(&bare);
@@ -190,14 +197,17 @@ fn the_wall_beside_a_picture_reads_as_the_bare_wall() {
                 let without = bare_total - hidden * (bare_total - bare_direct);
                 let rel = with / without - 1.0;
                 let name = format!("light {light}, boxed {boxed}, at {at}");
-                eprintln!(
-                    "oracle: contacts/picture {name}: {with:.2} vs bare {without:.2}: {rel:+.2e}"
-                );
+                eprintln!("contacts/picture {name}: {with:.2} vs {without:.2}: {rel:+.2e}");
+                if at.x != 1.3 {
+                    worst[boxed as usize] = worst[boxed as usize].max(rel.abs());
+                }
                 if rel.abs() > 0.03 {
                     failed.push(format!("{name}: {with} vs bare wall {without}"));
                 }
             }
         }
     }
+    eprintln!("oracle: contacts/picture-quad measured {:e}", worst[0]);
+    eprintln!("oracle: contacts/picture-framed measured {:e}", worst[1]);
     assert!(failed.is_empty(), "{failed:#?}");
 }

@@ -108,6 +108,49 @@ pub fn into_patches(
             *total += x;
         }
     }
+    // What reaches covered parts (through a gap a few millimetres wide, under a cover) is
+    // absorbed there: counted with the backs, so the energy report sees it.
+    let covered: Vec<[DVec3; 3]> = (mesh.groups.iter())
+        .filter_map(|g| g.covered.as_ref())
+        .flat_map(|c| {
+            c.triangles
+                .iter()
+                .map(|t| t.map(|v| c.positions[v as usize]))
+        })
+        .collect();
+    let into_covered: Vec<(DVec3, Vec<f64>)> = covered
+        .par_chunks(FLUX_CHUNK)
+        .map(|chunk| {
+            let mut total = (DVec3::ZERO, vec![0.0; sources.len()]);
+            for corners in chunk {
+                let normal = (corners[1] - corners[0]).cross(corners[2] - corners[0]);
+                let Some(normal) = normal.try_normalize() else {
+                    continue;
+                };
+                // Its corners lie on the outline, where a ray may slip out through the gap:
+                // the triangle shrunk a hundredth toward its centroid is traced, and its flux
+                // scaled back to the whole area.
+                let c = (corners[0] + corners[1] + corners[2]) / 3.0;
+                let inset = corners.map(|v| v + (c - v) * 0.01);
+                let settle = |lo: DVec3, hi: DVec3, n: DVec3| {
+                    occ.settle(&inset.map(|v| v + n * occ.epsilon), lo, hi)
+                };
+                groups.visit(c, &[normal], settle, |k, known| {
+                    let (front, _) = sources[k].patch_flux(occ, &inset, normal, known);
+                    let front = front / (0.99 * 0.99);
+                    total.0 += sources[k].color() * front;
+                    total.1[k] += front;
+                });
+            }
+            total
+        })
+        .collect();
+    for (back, per_source) in into_covered {
+        out.back += back;
+        for (total, x) in out.per_source.iter_mut().zip(per_source) {
+            *total += x;
+        }
+    }
     out
 }
 

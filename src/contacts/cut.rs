@@ -55,7 +55,16 @@ struct Point {
 }
 
 /// Cut `surface` along `covers` and `seams` (each sorted by triangle); `eps`: the tolerance (m).
-pub fn cut(surface: &Surface, covers: &[Cover], seams: &[Seam], eps: f64) -> CutSurface {
+/// A triangle with no edge as long as `whole_below` (m) is not cut: smaller than a patch, it is
+/// covered as a whole on a side where covers hold most of it (tessellated clutter — a chair's
+/// tubes under its seat — would otherwise become a patch per sliver).
+pub fn cut(
+    surface: &Surface,
+    covers: &[Cover],
+    seams: &[Seam],
+    eps: f64,
+    whole_below: f64,
+) -> CutSurface {
     let mut out = CutSurface {
         positions: surface.positions.clone(),
         normals: surface.normals.clone(),
@@ -68,7 +77,7 @@ pub fn cut(surface: &Surface, covers: &[Cover], seams: &[Seam], eps: f64) -> Cut
     // edge is known before any triangle is triangulated)...
     struct Cut {
         normal: DVec3,
-        pieces: Vec<(Vec<(u32, Point)>, u8, f64)>,
+        pieces: Vec<Placed>,
         seamed: bool,
     }
     let mut cuts: Vec<Cut> = Vec::with_capacity(surface.triangles.len());
@@ -100,6 +109,50 @@ pub fn cut(surface: &Surface, covers: &[Cover], seams: &[Seam], eps: f64) -> Cut
             pieces = split_by(pieces, cover, k as u32, eps);
         }
         let seamed = seam_start < seam_at;
+        let longest = (0..3)
+            .map(|i| p[i].distance(p[(i + 1) % 3]))
+            .fold(0.0, f64::max);
+        if longest < whole_below {
+            // Judged whole: covered on a side where covers hold more than half of it.
+            let area = |poly: &[Point]| {
+                let pos: Vec<DVec3> = poly.iter().map(|x| x.pos).collect();
+                area_centroid(&pos, normal).0
+            };
+            let total: f64 = pieces.iter().map(|x| area(&x.0)).sum();
+            let mut mask = 0;
+            let mut gap = 0.0f64;
+            for bit in [FRONT, BACK] {
+                let under: f64 = (pieces.iter())
+                    .filter(|x| x.1 & bit != 0)
+                    .map(|x| area(&x.0))
+                    .sum();
+                if under > 0.5 * total {
+                    mask |= bit;
+                    gap = pieces
+                        .iter()
+                        .filter(|x| x.1 & bit != 0)
+                        .fold(gap, |g, x| g.max(x.2));
+                }
+            }
+            let ids: Vec<(u32, Point)> = (0..3)
+                .map(|i| {
+                    (
+                        tri[i],
+                        Point {
+                            pos: surface.positions[tri[i] as usize],
+                            origin: Origin::Vertex(tri[i]),
+                            bary: DVec3::AXES[i],
+                        },
+                    )
+                })
+                .collect();
+            cuts.push(Cut {
+                normal,
+                pieces: vec![(ids, mask, gap)],
+                seamed,
+            });
+            continue;
+        }
         for seam in &seams[seam_start..seam_at] {
             pieces = split_along(pieces, seam, k as u32, eps);
         }
@@ -320,6 +373,9 @@ fn ears(poly: &[DVec3], normal: DVec3, eps: f64) -> Vec<[usize; 3]> {
     }
     out
 }
+
+/// A piece whose points have their vertex ids, its covered sides and its depth.
+type Placed = (Vec<(u32, Point)>, u8, f64);
 
 /// Split each piece by `cover`: the part under it gets the cover's side bit.
 type Piece = (Vec<Point>, u8, f64);

@@ -5,8 +5,8 @@
 //! (to tell a face resting on a body from two faces back to back). Output: [`Contacts`]: per
 //! surface, the [`Cover`]s of its triangles' sides. A side of triangle T is covered where
 //! another triangle U, parallel to it within [`PARALLEL`], lies in front of that side no
-//! further than the gap, over the part of T that U's outline (projected along U's normal)
-//! overlaps. Coplanar U facing the same way (a rug drawn on a floor) covers T when U's surface
+//! further than the gap (and than a twentieth of the extent of U's surface), over the part of T
+//! that U's outline (projected along U's normal) overlaps. Coplanar U facing the same way (a rug drawn on a floor) covers T when U's surface
 //! is the smaller; coplanar U facing the other way covers T only when the space just in front
 //! of T there is inside a solid (a cube's bottom on a floor: yes; the two faces of a slab drawn
 //! back to back: no).
@@ -150,6 +150,20 @@ pub fn find(scene: &Scene, gap: f64, occ: &Occluder) -> Contacts {
                 .sum()
         })
         .collect();
+    // A gap counts as contact only when small beside what covers it (a twentieth of the covering
+    // surface's extent): a panel 3 cm under a ceiling, not a shelf 30 cm above a desk.
+    let surface_extent: Vec<f64> = scene
+        .surfaces
+        .iter()
+        .map(|s| {
+            let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+            for p in &s.positions {
+                lo = lo.min(*p);
+                hi = hi.max(*p);
+            }
+            if lo.x > hi.x { 0.0 } else { (hi - lo).length() }
+        })
+        .collect();
     let grid = grid::Grid::new(
         &tris.iter().map(|t| t.p).collect::<Vec<_>>(),
         gap + tolerance,
@@ -157,6 +171,7 @@ pub fn find(scene: &Scene, gap: f64, occ: &Occluder) -> Contacts {
     let context = Context {
         scene,
         surface_area: &surface_area,
+        surface_extent: &surface_extent,
         gap,
         tolerance,
         occ,
@@ -198,7 +213,8 @@ pub fn find(scene: &Scene, gap: f64, occ: &Occluder) -> Contacts {
                 return None;
             }
             let surface = &scene.surfaces[s];
-            let mut c = cut::cut(surface, &covers[s], &seams[s], tolerance);
+            // Triangles shorter than a patch (8 × the gap: 2h) are covered or not as a whole.
+            let mut c = cut::cut(surface, &covers[s], &seams[s], tolerance, 8.0 * gap);
             let double = scene.materials[surface.material].double_sided;
             classify_seamed(&mut c, double, occ);
             Some(c)
@@ -259,6 +275,7 @@ fn classify_seamed(c: &mut cut::CutSurface, double: bool, occ: &Occluder) {
 struct Context<'a> {
     scene: &'a Scene,
     surface_area: &'a [f64],
+    surface_extent: &'a [f64],
     gap: f64,
     tolerance: f64,
     occ: &'a Occluder,
@@ -279,7 +296,8 @@ impl Context<'_> {
             }
             let n = if back { -t.normal } else { t.normal };
             let heights = u.p.map(|q| n.dot(q - t.p[0]));
-            if heights.iter().any(|h| *h < -eps || *h > self.gap) {
+            let gap = self.gap.min(self.surface_extent[u.surface as usize] / 20.0);
+            if heights.iter().any(|h| *h < -eps || *h > gap) {
                 continue;
             }
             let edges = outline(u);
@@ -423,4 +441,139 @@ fn overlap_centre(t: &Tri, edges: &[(DVec3, f64); 3], eps: f64) -> Option<DVec3>
         .map(|k| (poly[k] - poly[(k + 1) % poly.len()]).length())
         .fold(0.0, f64::max);
     (area > eps * longest.max(eps)).then_some(centre)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fixtures::SceneBuilder;
+    use crate::visibility::OccluderOptions;
+
+    /// Area of a cut surface's triangles, all and covered on the front.
+    fn areas(c: &cut::CutSurface) -> (f64, f64) {
+        let (mut all, mut covered) = (0.0, 0.0);
+        for (t, m) in c.triangles.iter().zip(&c.covered) {
+            let p = t.map(|v| c.positions[v as usize]);
+            let a = (p[1] - p[0]).cross(p[2] - p[0]).length() / 2.0;
+            all += a;
+            if m & cut::FRONT != 0 {
+                covered += a;
+            }
+        }
+        (all, covered)
+    }
+
+    /// A 4 × 4 m floor (two triangles sharing no vertex index, +Y up) under a closed room, and
+    /// what `extra` adds.
+    fn floor_room(extra: impl FnOnce(&mut SceneBuilder, usize)) -> (Scene, Contacts) {
+        let mut b = SceneBuilder::new();
+        let grey = b.material("grey", 0.5);
+        let c = |x: f64, z: f64| DVec3::new(x, 0.0, z);
+        let (p, q, r, s) = (c(0.0, 0.0), c(0.0, 4.0), c(4.0, 4.0), c(4.0, 0.0));
+        b.surface(
+            "floor",
+            vec![p, q, r, p, r, s],
+            vec![DVec3::Y; 6],
+            vec![[0, 1, 2], [3, 4, 5]],
+            grey,
+        );
+        let faces = crate::fixtures::box_faces(DVec3::ZERO, DVec3::new(4.0, 3.0, 4.0));
+        for (k, f) in faces.iter().enumerate().skip(1) {
+            b.quad(&format!("room_{k}"), *f, grey);
+        }
+        extra(&mut b, grey);
+        let scene = b.build();
+        let occ = Occluder::build(&scene, OccluderOptions::default());
+        let contacts = find(&scene, 0.05, &occ);
+        (scene, contacts)
+    }
+
+    /// Every vertex of `c` lying inside an edge of one of its triangles (a T-junction).
+    fn t_junctions(c: &cut::CutSurface) -> usize {
+        let mut n = 0;
+        for t in &c.triangles {
+            for k in 0..3 {
+                let (a, b) = (
+                    c.positions[t[k] as usize],
+                    c.positions[t[(k + 1) % 3] as usize],
+                );
+                let d = b - a;
+                for p in c
+                    .triangles
+                    .iter()
+                    .flatten()
+                    .map(|&v| c.positions[v as usize])
+                {
+                    let s = (p - a).dot(d) / d.length_squared();
+                    if s > 1e-9 && s < 1.0 - 1e-9 && (a + d * s).distance(p) < 1e-9 {
+                        n += 1;
+                    }
+                }
+            }
+        }
+        n
+    }
+
+    #[test]
+    fn a_turned_block_on_a_floor_covers_its_footprint_exactly_without_t_junctions() {
+        // A 0.6 m cube turned 30° about +Y, standing on the floor (its bottom face on it), and
+        // a 0.5 × 0.8 m block without a bottom face (a seam): both footprints are covered.
+        let (_, contacts) = floor_room(|b, grey| {
+            let turn = glam::DQuat::from_rotation_y(30f64.to_radians());
+            let at = |p: DVec3| turn * (p - DVec3::splat(0.3)) + DVec3::new(1.2, 0.3, 1.3);
+            for (k, f) in crate::fixtures::box_faces(DVec3::ZERO, DVec3::splat(0.6))
+                .iter()
+                .enumerate()
+            {
+                b.quad(&format!("cube_{k}"), [f[0], f[3], f[2], f[1]].map(at), grey);
+            }
+            let faces =
+                crate::fixtures::box_faces(DVec3::new(2.5, 0.0, 2.5), DVec3::new(3.0, 1.0, 3.3));
+            for (k, f) in faces.iter().enumerate().skip(1) {
+                b.quad(&format!("block_{k}"), [f[0], f[3], f[2], f[1]], grey);
+            }
+        });
+        let floor = contacts.cut(0).expect("the floor is cut");
+        let (all, covered) = areas(floor);
+        assert!((all - 16.0).abs() < 1e-9, "the cut floor's area {all}");
+        let want = 0.36 + 0.5 * 0.8;
+        assert!(
+            (covered - want).abs() < 1e-9,
+            "covered {covered} m², footprints {want}"
+        );
+        assert_eq!(t_junctions(floor), 0);
+        assert!(!contacts.seams[0].is_empty() && !contacts.covers[0].is_empty());
+    }
+
+    #[test]
+    fn a_slab_drawn_as_two_faces_back_to_back_covers_nothing() {
+        // A mezzanine: its top (facing +Y) and underside (facing −Y) drawn at one height, and a
+        // rug lying on its top (coplanar, facing the same way, smaller: on top).
+        let (scene, contacts) = floor_room(|b, grey| {
+            let c = |x: f64, z: f64| DVec3::new(x, 1.5, z);
+            let (p, q, r, s) = (c(1.0, 1.0), c(1.0, 3.0), c(3.0, 3.0), c(3.0, 1.0));
+            b.quad("slab_top", [p, q, r, s], grey);
+            b.quad("slab_underside", [p, s, r, q], grey);
+            let c = |x: f64, z: f64| DVec3::new(x, 1.5, z);
+            b.quad(
+                "rug",
+                [c(1.5, 1.5), c(1.5, 2.5), c(2.5, 2.5), c(2.5, 1.5)],
+                grey,
+            );
+        });
+        let named = |n: &str| {
+            scene
+                .nodes
+                .iter()
+                .position(|x| x.name.as_deref() == Some(n))
+                .unwrap()
+        };
+        let surface = |n: &str| scene.nodes[named(n)].surfaces[0];
+        assert!(contacts.of(surface("slab_underside")).is_empty());
+        assert!(contacts.of(surface("rug")).is_empty());
+        let top = contacts
+            .cut(surface("slab_top"))
+            .expect("the rug covers the slab's top");
+        assert!((areas(top).1 - 1.0).abs() < 1e-9, "{:?}", areas(top));
+    }
 }

@@ -165,7 +165,12 @@ pub fn build_cut(
         let Some(mut r) = r else { continue };
         let material = scene.surfaces[s].material;
         for (k, &side) in r.sides.iter().enumerate() {
-            let covered = std::mem::take(&mut r.covered[k]);
+            let mut covered = std::mem::take(&mut r.covered[k]);
+            if let (Side::Back, Some(c)) = (side, covered.as_mut()) {
+                // The back's covered part faces the other way, like its patches.
+                c.triangles.iter_mut().for_each(|t| t.swap(1, 2));
+                c.normals.iter_mut().for_each(|n| *n = -*n);
+            }
             let outline = std::mem::take(&mut r.outline[k]);
             let sign = if side == Side::Front { 1.0 } else { -1.0 };
             let tris: Vec<[u32; 3]> = r.open[k]
