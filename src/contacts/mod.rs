@@ -44,6 +44,9 @@ pub struct Cover {
     /// Inward half-planes of the outline: a point x is under the cover when m·x ≥ d for all
     /// three (m unit, perpendicular to the covering triangle's normal).
     pub edges: [(DVec3, f64); 3],
+    /// The covering surface, and the area of the covered triangle under this cover (m²).
+    pub by: u32,
+    pub area: f64,
 }
 
 impl Cover {
@@ -176,6 +179,8 @@ pub fn find(scene: &Scene, gap: f64, occ: &Occluder) -> Contacts {
         tolerance,
         occ,
     };
+    // Covers and seams below the patch scale (2 × the gap is h/2) are not cut along.
+    let (min_area, min_seam) = ((2.0 * gap).powi(2), 2.0 * gap);
     type Found = (Vec<(u32, Cover)>, Vec<(u32, Seam)>);
     let found: Vec<Found> = tris
         .par_chunks(1024)
@@ -189,6 +194,20 @@ pub fn find(scene: &Scene, gap: f64, occ: &Occluder) -> Contacts {
                     context.covers(t, &tris[u as usize], &mut c);
                     context.seam(t, &tris[u as usize], &mut m);
                 }
+                // What a surface covers of this triangle smaller than a quarter patch (a desk
+                // leg's foot) is left uncut: the mesh cannot show it, and cutting it costs patches.
+                let covered_by = |by: u32, back: bool| -> f64 {
+                    (c.iter().filter(|x: &&Cover| x.by == by && x.back == back))
+                        .map(|x| x.area)
+                        .sum()
+                };
+                let keep: Vec<bool> = c
+                    .iter()
+                    .map(|x| covered_by(x.by, x.back) >= min_area)
+                    .collect();
+                let mut k = keep.iter();
+                c.retain(|_| *k.next().expect("one flag per cover"));
+                m.retain(|x: &Seam| x.ends[0].distance(x.ends[1]) >= min_seam);
                 covers.extend(c.into_iter().map(|c| (t.surface, c)));
                 seams.extend(m.into_iter().map(|m| (t.surface, m)));
             }
@@ -301,7 +320,7 @@ impl Context<'_> {
                 continue;
             }
             let edges = outline(u);
-            let Some(centre) = overlap_centre(t, &edges, eps) else {
+            let Some((centre, area)) = overlap_centre(t, &edges, eps) else {
                 continue;
             };
             let start = centre + n * (4.0 * self.occ.epsilon);
@@ -331,6 +350,8 @@ impl Context<'_> {
                 plane: (t.normal, t.normal.dot(t.p[0])),
                 depth,
                 edges,
+                by: u.surface,
+                area,
             });
         }
     }
@@ -428,7 +449,7 @@ fn outline(u: &Tri) -> [(DVec3, f64); 3] {
 
 /// The centroid of the part of `t` inside the half-planes, when that part has area (more than
 /// a sliver `eps` wide).
-fn overlap_centre(t: &Tri, edges: &[(DVec3, f64); 3], eps: f64) -> Option<DVec3> {
+fn overlap_centre(t: &Tri, edges: &[(DVec3, f64); 3], eps: f64) -> Option<(DVec3, f64)> {
     let mut poly: Vec<DVec3> = t.p.to_vec();
     for (m, d) in edges {
         poly = cut::clip(&poly, |x| m.dot(x) - d, eps).0;
@@ -440,7 +461,7 @@ fn overlap_centre(t: &Tri, edges: &[(DVec3, f64); 3], eps: f64) -> Option<DVec3>
     let longest = (0..poly.len())
         .map(|k| (poly[k] - poly[(k + 1) % poly.len()]).length())
         .fold(0.0, f64::max);
-    (area > eps * longest.max(eps)).then_some(centre)
+    (area > eps * longest.max(eps)).then_some((centre, area))
 }
 
 #[cfg(test)]
