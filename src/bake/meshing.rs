@@ -4,6 +4,9 @@
 //! [`PatchMesh`] every later stage uses and what the summary says about it, what each patch
 //! emits, and the direct light of the scene's sources on that mesh.
 //!
+//! First the contacts ([`contacts::find`], gap [`contact_gap`]): both the coarse and the final
+//! mesh are built from surfaces cut along what covers them, covered parts kept aside.
+//!
 //! Adaptive meshing starts from patches of `COARSE × h`, estimates the light on them — direct
 //! light from the scene's lights, luminaires and profiled emitters (Lambertian emitting surfaces
 //! are not in the estimate: their light arrives through the patch field), plus Sumpner's mean

@@ -2,8 +2,9 @@
 //!
 //! [`solve`] runs the stages up to the solved scene, [`bake`] adds the probes and the output;
 //! each stage is a function of the previous stages' data, in its own module:
-//! 1. `meshing` — surfaces refined into patches (adaptively by default), vertices as receivers,
-//!    what each patch emits, the direct sources on that mesh;
+//! 1. `meshing` — contacts found (what covers what: `contacts`), surfaces cut along them and
+//!    refined into patches (adaptively by default), vertices as receivers, what each patch
+//!    emits, the direct sources on that mesh;
 //! 2. `direct` — direct light exact at every vertex, and as flux into every patch;
 //! 3. `links` — every vertex's gather row over the patch hierarchy;
 //! 4. `solve` — the balanced patch operator and GMRES: reflected exitance of every patch;
