@@ -211,3 +211,35 @@ fn the_wall_beside_a_picture_reads_as_the_bare_wall() {
     eprintln!("oracle: contacts/picture-framed measured {:e}", worst[1]);
     assert!(failed.is_empty(), "{failed:#?}");
 }
+
+#[test]
+fn contacts_bake_alike_on_one_and_two_threads() {
+    // Covers, seams and cuts are found in parallel: the output must not depend on it. The
+    // framed picture (covers) and cubes on a floor (covers and seams along their sides).
+    for room in [
+        contacts::picture_on_wall(0.5, 0.3, 0.01, true, DVec3::new(2.0, 1.5, 1.5)),
+        contacts::cubes_on_floor(0.7, 0.0),
+    ] {
+        let pool = |n| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(n)
+                .build()
+                .unwrap()
+        };
+        let one = pool(1).install(|| run(&room));
+        let two = pool(2).install(|| run(&room));
+        assert!(
+            one.summary.contacts.covers > 0,
+            "{:?}",
+            one.summary.contacts
+        );
+        assert_eq!(one.summary, two.summary);
+        assert_eq!(one.surfaces.len(), two.surfaces.len());
+        for (a, b) in one.surfaces.iter().zip(&two.surfaces) {
+            let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+            assert_eq!(a.positions, b.positions);
+            assert_eq!(a.triangles, b.triangles);
+            assert_eq!(bits(&a.illuminance), bits(&b.illuminance));
+        }
+    }
+}
