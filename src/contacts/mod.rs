@@ -34,8 +34,6 @@ pub struct Cover {
     pub triangle: u32,
     /// The covered side is the back (of a double-sided surface).
     pub back: bool,
-    /// The covered triangle's plane: unit normal n (of its front) and offset, n·x = offset.
-    pub plane: (DVec3, f64),
     /// How deep the contact is (m): from the covered side at the overlap, along its normal, to
     /// the first surface there (the cover itself across a gap; a body's far side — a framed
     /// picture's face, a cube's top — when the cover is a body's face resting on it). Light
@@ -88,11 +86,6 @@ impl Contacts {
     /// No contacts (every surface whole).
     pub fn none() -> Self {
         Contacts::default()
-    }
-
-    /// The covers of surface `s`.
-    pub fn of(&self, s: usize) -> &[Cover] {
-        self.covers.get(s).map_or(&[], |c| c.as_slice())
     }
 
     /// Surface `s` cut along its contacts, when it has any.
@@ -347,7 +340,6 @@ impl Context<'_> {
             out.push(Cover {
                 triangle: t.index,
                 back,
-                plane: (t.normal, t.normal.dot(t.p[0])),
                 depth,
                 edges,
                 by: u.surface,
@@ -590,8 +582,8 @@ mod tests {
                 .unwrap()
         };
         let surface = |n: &str| scene.nodes[named(n)].surfaces[0];
-        assert!(contacts.of(surface("slab_underside")).is_empty());
-        assert!(contacts.of(surface("rug")).is_empty());
+        assert!(contacts.covers[surface("slab_underside")].is_empty());
+        assert!(contacts.covers[surface("rug")].is_empty());
         let top = contacts
             .cut(surface("slab_top"))
             .expect("the rug covers the slab's top");

@@ -318,36 +318,29 @@ fn refine_surface(
     let mut covered = Vec::with_capacity(sides.len());
     let mut outline = Vec::with_capacity(sides.len());
     for k in 0..sides.len() {
-        let bit = [cut::FRONT, cut::BACK][k];
-        // The gap of the cover over triangle i on this side, if covered.
-        let under = |i: usize| {
-            let c = cut?;
-            let parent = m.tags[i] as usize;
-            (c.covered[parent] & bit != 0).then_some(c.gap[parent])
+        let Some(c) = cut else {
+            // Nothing covers the surface: every triangle receives, no receiver is on an outline.
+            open.push((0..m.triangles.len() as u32).collect());
+            covered.push(None);
+            outline.push(Vec::new());
+            continue;
         };
+        let bit = [cut::FRONT, cut::BACK][k];
         let (mut mine, mut theirs) = (Vec::new(), Vec::new());
-        let mut gap_at: Vec<Option<f64>> = Vec::new();
-        let mut used = Vec::new();
-        if cut.is_some() {
-            gap_at = vec![None; m.positions.len()];
-            used = vec![false; m.positions.len()];
-        }
+        let mut gap_at: Vec<Option<f64>> = vec![None; m.positions.len()];
+        let mut used = vec![false; m.positions.len()];
         for (i, t) in m.triangles.iter().enumerate() {
-            match under(i) {
-                Some(gap) => {
-                    theirs.push(*t);
-                    for &v in t {
-                        let w = &mut gap_at[v as usize];
-                        *w = Some(w.unwrap_or(0.0).max(gap));
-                    }
+            let parent = m.tags[i] as usize;
+            if c.covered[parent] & bit != 0 {
+                theirs.push(*t);
+                for &v in t {
+                    let w = &mut gap_at[v as usize];
+                    *w = Some(w.unwrap_or(0.0).max(c.gap[parent]));
                 }
-                None => {
-                    mine.push(i as u32);
-                    if !used.is_empty() {
-                        for &v in t {
-                            used[v as usize] = true;
-                        }
-                    }
+            } else {
+                mine.push(i as u32);
+                for &v in t {
+                    used[v as usize] = true;
                 }
             }
         }
