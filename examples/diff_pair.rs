@@ -54,10 +54,12 @@ fn main() {
             illuminance_direct: e.iter().map(|x| x * 0.7).collect(),
             color: vec![[0.5; 3]; positions.len()],
             illuminance: e,
+            lightmap: None,
         };
         let result = BakeResult {
             surfaces: vec![surface],
             probes: Vec::new(),
+            lightmaps: None,
             summary: Default::default(),
             timings: Default::default(),
         };

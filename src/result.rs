@@ -30,6 +30,55 @@ pub struct BakedSurface {
     pub luminance: Vec<f32>,
     /// Display colour for `COLOR_0`, linear, each component in [0, 1].
     pub color: Vec<[f32; 3]>,
+    /// The lightmap atlas this surface is laid out in (`--lightmaps`): then `uv1` is its layout
+    /// (`TEXCOORD_1`, in [0, 1], v down as glTF's), and vertices on chart edges are split.
+    pub lightmap: Option<usize>,
+}
+
+/// The lightmap atlases of a bake (`--lightmaps`).
+#[derive(Debug, Clone, Default)]
+pub struct Lightmaps {
+    /// Texel edge the layout was made for (m); a surface too large for one atlas is laid out
+    /// coarser (see the run summary).
+    pub texel_size: f64,
+    pub atlases: Vec<Atlas>,
+}
+
+/// One atlas: per texel, row-major from the top row. Texel (col, row) covers UV
+/// ((col + 0.5)/width, (row + 0.5)/height) at its centre, row 0 at v = 0 (glTF's UV axes).
+#[derive(Debug, Clone, Default)]
+pub struct Atlas {
+    pub width: u32,
+    pub height: u32,
+    /// Luminance leaving the surface per channel (cd/m², linear RGB): photometric Y is
+    /// 0.2126 R + 0.7152 G + 0.0722 B, as `_LUMINANCE`.
+    pub luminance: Vec<[f32; 3]>,
+    /// Illuminance (lx, photometric).
+    pub illuminance: Vec<f32>,
+    /// Its direct part (lx).
+    pub illuminance_direct: Vec<f32>,
+    /// Area of surface the texel stands for (m²): 0 for padding (values there are dilated from
+    /// neighbours so bilinear filtering never reads an empty texel).
+    pub area: Vec<f32>,
+    /// Display colour, linear, each component in [0, 1]: the rule of `COLOR_0` (exposure and
+    /// shoulder), to be shown times the material's base colour factor.
+    pub display: Vec<[f32; 3]>,
+}
+
+impl Atlas {
+    /// An atlas of `width` × `height` texels, every value 0.
+    pub fn new(width: u32, height: u32) -> Self {
+        let n = width as usize * height as usize;
+        Atlas {
+            width,
+            height,
+            luminance: vec![[0.0; 3]; n],
+            illuminance: vec![0.0; n],
+            illuminance_direct: vec![0.0; n],
+            area: vec![0.0; n],
+            display: vec![[0.0; 3]; n],
+        }
+    }
 }
 
 /// Everything the bake produced.
@@ -39,6 +88,8 @@ pub struct BakeResult {
     /// Cubic illuminance at every probe (scene nodes marked `probe`, grids, CSV files, the
     /// working plane).
     pub probes: Vec<crate::probes::ProbeResult>,
+    /// The lightmap atlases (`--lightmaps`).
+    pub lightmaps: Option<Lightmaps>,
     /// The run summary; written as the output scene's `extras.luxbake` and by `--summary-json`.
     pub summary: RunSummary,
     /// Wall-clock seconds per stage (not part of `summary` unless asked for: they differ run to
@@ -69,12 +120,14 @@ impl BakeResult {
                     illuminance_direct: vec![0.0; n],
                     luminance: vec![0.0; n],
                     color: vec![[0.0; 3]; n],
+                    lightmap: None,
                 }
             })
             .collect();
         BakeResult {
             surfaces,
             probes: Vec::new(),
+            lightmaps: None,
             summary: RunSummary::default(),
             timings: StageSeconds::default(),
         }

@@ -54,6 +54,18 @@ impl Quality {
     }
 }
 
+impl Quality {
+    /// The default lightmap texel edge (m) and the most texels the default may make: the texel
+    /// is this edge, at most a quarter patch, and at least what keeps the count under the cap.
+    pub fn lightmap_texel(self) -> (f64, f64) {
+        match self {
+            Quality::Draft => (0.10, 250_000.0),
+            Quality::Default => (0.05, 1_000_000.0),
+            Quality::High => (0.025, 4_000_000.0),
+        }
+    }
+}
+
 /// How baked illuminance maps to the display colour `COLOR_0`.
 #[derive(Debug, Clone, Copy, PartialEq, Default, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "camelCase", tag = "mode")]
@@ -97,6 +109,27 @@ pub struct Settings {
     pub working_plane: Option<ProbeGrid>,
     /// Add a glyph mesh per probe (illumination vector arrow, symmetric sphere) to the output.
     pub probe_glyphs: bool,
+    /// Bake lightmap atlases too (`--lightmaps`).
+    pub lightmaps: Option<LightmapSettings>,
+}
+
+/// What `--lightmaps` asks for.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "camelCase")]
+pub struct LightmapSettings {
+    /// Texel edge in metres; `None`: the quality's.
+    pub texel_size: Option<f64>,
+    /// Largest atlas edge in texels.
+    pub max_size: u32,
+}
+
+impl Default for LightmapSettings {
+    fn default() -> Self {
+        LightmapSettings {
+            texel_size: None,
+            max_size: 2048,
+        }
+    }
 }
 
 impl Default for Settings {
@@ -116,6 +149,7 @@ impl Default for Settings {
             extra_probes: Vec::new(),
             working_plane: None,
             probe_glyphs: false,
+            lightmaps: None,
         }
     }
 }
@@ -163,6 +197,21 @@ impl Settings {
                 return Err(Error::Settings(format!(
                     "{name}: spacing must be a positive length and height finite (m), got {} and {}",
                     g.spacing, g.height
+                )));
+            }
+        }
+        if let Some(l) = &self.lightmaps {
+            if let Some(t) = l.texel_size
+                && !(t.is_finite() && t > 0.0)
+            {
+                return Err(Error::Settings(format!(
+                    "--texel-size must be a positive length in metres, got {t}"
+                )));
+            }
+            if !(16..=16384).contains(&l.max_size) {
+                return Err(Error::Settings(format!(
+                    "--lightmap-size must be between 16 and 16384 texels, got {}",
+                    l.max_size
                 )));
             }
         }

@@ -37,6 +37,9 @@ pub struct RunSummary {
     pub sources: Vec<SourceRecord>,
     pub exposure: ExposureRecord,
     pub units: Units,
+    /// The lightmaps' layout and how their texels were read (`--lightmaps`; absent otherwise).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lightmaps: Option<LightmapRecord>,
     /// Wall-clock seconds per stage: only when asked for (`--timings-in-output`), since they make
     /// bakes differ run to run.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -64,6 +67,9 @@ pub struct SettingsRecord {
     #[serde(deserialize_with = "required")]
     pub working_plane: Option<ProbeGrid>,
     pub probe_glyphs: bool,
+    /// `--lightmaps` as asked (absent: none).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lightmaps: Option<crate::settings::LightmapSettings>,
 }
 
 impl From<&Settings> for SettingsRecord {
@@ -78,6 +84,7 @@ impl From<&Settings> for SettingsRecord {
             probe_grid: s.probe_grid,
             working_plane: s.working_plane,
             probe_glyphs: s.probe_glyphs,
+            lightmaps: s.lightmaps,
         }
     }
 }
@@ -150,6 +157,36 @@ pub struct ContactsRecord {
     pub covers: usize,
     /// Area of the covered parts, all sides (m²).
     pub covered_area_m2: f64,
+}
+
+/// What `--lightmaps` made.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "camelCase")]
+pub struct LightmapRecord {
+    /// Texel edge of the layout (m).
+    pub texel_size_m: f64,
+    /// Largest atlas edge allowed (texels).
+    pub max_size: u32,
+    /// Each atlas's size in texels.
+    pub atlases: Vec<[u32; 2]>,
+    /// Texels standing for some surface (the rest is padding).
+    pub texels: usize,
+    /// Charts made, and how many surfaces kept their own `TEXCOORD_1` layout.
+    pub charts: usize,
+    pub kept_input_layouts: usize,
+    /// Surfaces laid out coarser than `texelSizeM` to fit one atlas, and their texel edges (m).
+    pub coarser: Vec<CoarserSurface>,
+    /// Texels whose inter-reflected light was gathered at the texel rather than interpolated
+    /// from the vertices' gathers.
+    pub gathered_texels: usize,
+}
+
+/// A surface laid out coarser than asked, to fit one atlas.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "camelCase")]
+pub struct CoarserSurface {
+    pub surface: usize,
+    pub texel_size_m: f64,
 }
 
 /// The energy report: photometric fluxes in lm, each measured on its own (see `bake::energy`).

@@ -72,6 +72,7 @@ pub fn bake(scene: &Scene, settings: &Settings, progress: &dyn Progress) -> Resu
     Ok(BakeResult {
         surfaces,
         probes,
+        lightmaps: None,
         summary,
         timings: run.seconds,
     })
@@ -193,6 +194,7 @@ fn summary_of(
             .collect(),
         exposure: Default::default(),
         units: Units::default(),
+        lightmaps: None,
         timings_seconds: None,
     }
 }

@@ -56,6 +56,7 @@ pub fn surfaces(s: &Solution, scale: f64) -> Vec<BakedSurface> {
                 illuminance_direct,
                 luminance,
                 color,
+                lightmap: None,
             };
             if let Some(c) = &g.covered {
                 append_covered(

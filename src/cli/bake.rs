@@ -9,7 +9,7 @@ use clap::{Args, ValueEnum};
 use luxbake::export::{self, ExportOptions};
 use luxbake::import::{self, ImportOptions, UpAxis};
 use luxbake::progress::Progress;
-use luxbake::settings::{Exposure, Quality, Settings};
+use luxbake::settings::{Exposure, LightmapSettings, Quality, Settings};
 use luxbake::summary::{RunRecord, RunSummary};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -52,6 +52,28 @@ pub struct BakeArgs {
     /// Keep the input materials instead of switching them to KHR_materials_unlit.
     #[arg(long)]
     keep_lit_materials: bool,
+    /// Also bake lightmaps: per atlas an OpenEXR file beside the output (R, G, B luminance in
+    /// cd/m², illuminance and illuminanceDirect in lx, area in m²) and a display PNG in it,
+    /// laid out on TEXCOORD_1.
+    #[arg(long)]
+    lightmaps: bool,
+    /// Lightmap texel edge in metres (default per --quality: draft 0.1, default 0.05, high
+    /// 0.025, at most a quarter patch; coarser where the count would pass 0.25/1/4 million).
+    #[arg(
+        long,
+        value_name = "METRES",
+        requires = "lightmaps",
+        allow_negative_numbers = true
+    )]
+    texel_size: Option<f64>,
+    /// Largest lightmap atlas edge in texels; more atlases when one is full.
+    #[arg(
+        long,
+        value_name = "PX",
+        default_value_t = 2048,
+        requires = "lightmaps"
+    )]
+    lightmap_size: u32,
     /// Up axis of an OBJ input (glTF is always +Y up).
     #[arg(long, value_enum, default_value_t = UpArg::Y)]
     obj_up: UpArg,
@@ -120,6 +142,10 @@ fn settings(args: &BakeArgs) -> Result<Settings> {
         uniform_patches: args.uniform_patches,
         always_trace: args.always_trace,
         gather_black: args.gather_black,
+        lightmaps: args.lightmaps.then_some(LightmapSettings {
+            texel_size: args.texel_size,
+            max_size: args.lightmap_size,
+        }),
         ..Settings::default()
     };
     args.probes.apply(&mut settings)?;

@@ -160,6 +160,7 @@ mod tests {
             illuminance_direct: vec![0.5; 3],
             luminance: vec![0.5; 3],
             color: vec![[0.2, 0.4, 0.6]; 3],
+            lightmap: None,
         }
     }
 

@@ -114,6 +114,7 @@ fn baked(index: usize, s: &Surface, side: Side, e0: f32, rho: f32) -> BakedSurfa
             [0.9, 0.8, 0.7],
             [1.0, 0.0, 0.25],
         ],
+        lightmap: None,
     }
 }
 
@@ -217,6 +218,7 @@ pub fn scene() -> (Scene, BakeResult) {
             baked(1, &surfaces[1], Side::Front, 50.0, 0.5),
             baked(1, &surfaces[1], Side::Back, 20.0, 0.5),
         ],
+        lightmaps: None,
         summary: RunSummary {
             counts: Counts {
                 patches: 12,
