@@ -59,9 +59,19 @@ impl Quality {
     /// is this edge, at most a quarter patch, and at least what keeps the count under the cap.
     pub fn lightmap_texel(self) -> (f64, f64) {
         match self {
-            Quality::Draft => (0.10, 250_000.0),
+            Quality::Draft => (0.1, 250_000.0),
             Quality::Default => (0.05, 1_000_000.0),
             Quality::High => (0.025, 4_000_000.0),
+        }
+    }
+
+    /// How far a lightmap triangle's interpolated inter-reflected light may miss a gather at
+    /// its middle texel (fraction of the texel's illuminance) before every texel is gathered.
+    pub fn lightmap_tolerance(self) -> f64 {
+        match self {
+            Quality::Draft => 0.03,
+            Quality::Default => 0.01,
+            Quality::High => 0.0,
         }
     }
 }

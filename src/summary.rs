@@ -304,11 +304,13 @@ pub struct StageSeconds {
     pub energy: f64,
     pub probes: f64,
     pub output: f64,
+    #[serde(default)]
+    pub lightmaps: f64,
 }
 
 impl StageSeconds {
     /// The stages in order, with their names.
-    pub fn named(&self) -> [(&'static str, f64); 7] {
+    pub fn named(&self) -> [(&'static str, f64); 8] {
         [
             ("mesh", self.mesh),
             ("direct", self.direct),
@@ -317,6 +319,7 @@ impl StageSeconds {
             ("energy", self.energy),
             ("probes", self.probes),
             ("output", self.output),
+            ("lightmaps", self.lightmaps),
         ]
     }
 }

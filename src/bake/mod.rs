@@ -30,7 +30,7 @@ use crate::error::{Error, Result};
 use crate::progress::Progress;
 use crate::result::BakeResult;
 use crate::scene::Scene;
-use crate::settings::Settings;
+use crate::settings::{LightmapSettings, Settings};
 use crate::solution::{PlaneLight, Solution, solved};
 use crate::summary::{Counts, EnergyBalance, RunSummary, SettingsRecord, Units};
 use crate::visibility::{Occluder, OccluderOptions};
@@ -61,10 +61,26 @@ pub fn bake(scene: &Scene, settings: &Settings, progress: &dyn Progress) -> Resu
         let places = crate::probes::place::all(scene, wanted, solution.occluder(), progress);
         probes::measure(&solution, &places, progress)
     });
-    let surfaces = run.time(Stage::Output, || {
-        let (scale, exposure) = display::exposure(settings.exposure, &solution);
-        summary.exposure = exposure;
-        output::surfaces(&solution, scale)
+    let (scale, exposure) = run.time(Stage::Output, || {
+        display::exposure(settings.exposure, &solution)
+    });
+    summary.exposure = exposure;
+    let mut surfaces = run.time(Stage::Output, || output::surfaces(&solution, scale));
+    let lightmaps = settings.lightmaps.map(|l| {
+        run.time(Stage::Lightmaps, || {
+            let options = crate::lightmap::Options {
+                texel_size: texel_size(&l, settings.quality, summary.patch_size, &solution),
+                max_size: l.max_size,
+                tolerance: settings.quality.lightmap_tolerance(),
+            };
+            let color = |e: DVec3, m: DVec3, material: usize| {
+                display::color(e, m, &scene.materials[material], scale)
+            };
+            let (maps, record) =
+                crate::lightmap::bake(&solution, &mut surfaces, &options, &color, progress);
+            summary.lightmaps = Some(record);
+            maps
+        })
     });
     if settings.record_timings {
         summary.timings_seconds = Some(run.seconds);
@@ -72,7 +88,7 @@ pub fn bake(scene: &Scene, settings: &Settings, progress: &dyn Progress) -> Resu
     Ok(BakeResult {
         surfaces,
         probes,
-        lightmaps: None,
+        lightmaps,
         summary,
         timings: run.seconds,
     })
@@ -228,6 +244,19 @@ fn solution_of<'a>(
         vertices,
         first_reflected_flux,
     })
+}
+
+/// The lightmap texel edge (m): asked for, or a quarter of the patch size (so the quality sets
+/// it: about four texels per patch edge), at most the quality's edge and at least what keeps
+/// the texel count under the quality's cap.
+fn texel_size(l: &LightmapSettings, q: crate::settings::Quality, h: f64, s: &Solution) -> f64 {
+    if let Some(t) = l.texel_size {
+        return t;
+    }
+    let (t, cap) = q.lightmap_texel();
+    let mesh = s.mesh();
+    let area: f64 = (mesh.groups.iter()).map(|g| g.area).sum::<f64>();
+    (h / 4.0).min(t).max((area / cap).sqrt())
 }
 
 /// The patch size: the settings' or, from the quality's patch count, the longest edge of the

@@ -15,6 +15,7 @@ pub enum Stage {
     Energy,
     Probes,
     Output,
+    Lightmaps,
 }
 
 /// The stages whose shadow rays are counted.
@@ -49,6 +50,7 @@ impl Run {
             Stage::Energy => &mut s.energy,
             Stage::Probes => &mut s.probes,
             Stage::Output => &mut s.output,
+            Stage::Lightmaps => &mut s.lightmaps,
         } += start.elapsed().as_secs_f64();
         out
     }

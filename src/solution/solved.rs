@@ -111,6 +111,26 @@ impl<'a> Solution<'a> {
     /// a vertex's row when the point is enclosed).
     pub fn light_at(&self, r: &Receiver) -> Vec<PlaneLight> {
         let direct = self.lights.at(&self.mesh, &self.occluder, r);
+        let normals = r.planes.as_slice();
+        // Planes through one point share their shadow rays; one plane alone has nothing to share.
+        let mut shared = (normals.len() > 1).then(SharedRays::default);
+        normals
+            .iter()
+            .zip(direct)
+            .map(|(n, direct)| PlaneLight {
+                direct,
+                indirect: self.gather(r.point, *n, shared.as_mut()),
+            })
+            .collect()
+    }
+
+    /// The inter-reflected illuminance on the plane through `point` with unit normal `n`
+    /// (lx, RGB): what [`Solution::light_at`] gathers, without the direct light.
+    pub fn indirect_at(&self, point: DVec3, n: DVec3) -> DVec3 {
+        self.gather(point, n, None)
+    }
+
+    fn gather(&self, point: DVec3, n: DVec3, shared: Option<&mut SharedRays>) -> DVec3 {
         let gatherer = Gatherer {
             mesh: &self.mesh,
             tree: &self.reflected.tree,
@@ -121,20 +141,8 @@ impl<'a> Solution<'a> {
         let field = self.node_reflected.get_or_init(|| {
             NodeField::new(&self.reflected.tree, &self.mesh, &self.reflected.exitance)
         });
-        let normals = r.planes.as_slice();
-        // Planes through one point share their shadow rays; one plane alone has nothing to share.
-        let mut shared = (normals.len() > 1).then(SharedRays::default);
-        normals
-            .iter()
-            .zip(direct)
-            .map(|(n, direct)| {
-                let row = links::gather_row_shared(&gatherer, r.point, *n, shared.as_mut());
-                PlaneLight {
-                    direct,
-                    indirect: field.gather(&row.links),
-                }
-            })
-            .collect()
+        let row = links::gather_row_shared(&gatherer, point, n, shared);
+        field.gather(&row.links)
     }
 
     /// Cuttle's constant estimate of the indirect illuminance, FRF / (A·(1 − R)) (lx): the first

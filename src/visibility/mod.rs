@@ -258,6 +258,9 @@ impl Occluder {
 
     fn ray(&self, origin: DVec3, dir: DVec3, tmax: f64) -> Ray {
         let o = (origin - self.center) * self.scale;
+        // obvhs's slab test misses with a zero direction component (an axis-aligned ray finds
+        // nothing); a component of 1e-20 is zero for the distance and finite for the slabs.
+        let dir = dir.map(|c| if c == 0.0 { 1e-20 } else { c });
         Ray::new(
             as_vec3a(o),
             as_vec3a(dir),
