@@ -19,6 +19,7 @@ pub mod export;
 pub mod fixtures;
 pub mod geom;
 pub mod import;
+pub mod lightmap;
 pub mod patches;
 pub mod photometry;
 pub mod probes;
