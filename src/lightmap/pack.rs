@@ -2,11 +2,16 @@
 //! few atlases as fit, every group whole in one atlas (a glTF primitive references one texture),
 //! charts never rotated (the UV mapping assumes none).
 //!
-//! A skyline packer, bottom-left rule (J. Jylänki, "A Thousand Ways to Pack the Bin", 2010, §4):
-//! the free space of an atlas is a staircase of horizontal segments; a rectangle goes where its
-//! far edge (y + h, y down) ends lowest, leftmost on ties. Chosen over etagere, guillotiere,
-//! crunch and rectangle-pack on the figures in `bench/results/lightmaps/packers.md`.
-//! Deterministic: groups in input order, a group's rectangles by height, no hashing, no threads.
+//! A skyline packer with a waste map (J. Jylänki, "A Thousand Ways to Pack the Bin", 2010, §4,
+//! SKYLINE-BL-WM): the free space of an atlas is a staircase of horizontal segments, and a
+//! rectangle goes where its far edge (y + h, y down) ends least far, leftmost on ties; the free
+//! texels a rectangle closes off between itself and the skyline are kept as holes and filled
+//! first (best short-side fit). Groups are taken tallest first, each group's rectangles tallest
+//! first, so rows of like heights form.
+//! Chosen over etagere, guillotiere, crunch and rectangle-pack on the figures in
+//! `bench/results/lightmaps/packers.md`. Deterministic: no hashing, no threads.
+
+use std::cmp::Reverse;
 
 /// A chart's rectangle in texels, padding already included by the caller.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -28,7 +33,7 @@ pub struct Place {
 pub struct Packing {
     /// Width and height of each atlas in texels, multiples of 4.
     pub atlases: Vec<(u32, u32)>,
-    /// Per group, per rectangle (in the caller's order).
+    /// Per group, per rectangle, in the caller's order.
     pub places: Vec<Vec<Place>>,
 }
 
@@ -41,281 +46,231 @@ pub struct TooBig {
 /// Edges above this are treated as this (keeps every sum of two coordinates inside `u32`).
 const EDGE_CAP: u32 = 1 << 30;
 
-/// Packing variants measured in bench/packers (temporary).
-#[derive(Debug, Clone)]
-pub(crate) struct Opts {
-    pub sort_groups: bool,
-    pub fills: Vec<f64>,
-    pub min_waste: bool,
-    pub waste_map: bool,
-}
-
-impl Default for Opts {
-    fn default() -> Self {
-        Self {
-            sort_groups: false,
-            fills: vec![0.85],
-            min_waste: false,
-            waste_map: false,
-        }
-    }
-}
+/// A new atlas is filled first to a width of √(A / FILL), A the area still to place, so that a
+/// last, partly filled atlas comes out near square rather than a strip `max_edge` wide.
+const FILL: f64 = 0.85;
 
 /// Pack groups of rectangles (each group = one surface's charts; a group must land whole in one
 /// atlas, since a glTF primitive references one texture) into as few atlases of at most
-/// `max_edge` texels a side as it can; groups in order, deterministic (same input → same output,
-/// no hashing order, no threads). A group goes to the first atlas it fits, else to a new one.
-/// Each atlas is then trimmed to the extent used (width and height rounded up to a multiple of
-/// 4, at least 4). The usable square is `max_edge` rounded down to a multiple of 4.
-/// Zero-sized rectangles take no space; they are placed at (0, 0) of their group's atlas.
+/// `max_edge` texels a side as it can; deterministic (same input → same output, no hashing
+/// order, no threads). Groups are taken tallest rectangle first (then larger area, then input
+/// order); each goes to the first atlas that takes all of it, else to a new one. Each atlas is
+/// then trimmed to the extent used (width and height rounded up to a multiple of 4, at least 4).
+/// The usable square is `max_edge` rounded down to a multiple of 4. Zero-sized rectangles take
+/// no space: they are placed at (0, 0) of their group's atlas.
 pub fn pack(groups: &[Vec<Rect>], max_edge: u32) -> Result<Packing, TooBig> {
-    pack_with(groups, max_edge, &Opts::default())
-}
-
-pub(crate) fn pack_with(
-    groups: &[Vec<Rect>],
-    max_edge: u32,
-    opts: &Opts,
-) -> Result<Packing, TooBig> {
-    let mut best: Option<Packing> = None;
-    let cost = |p: &Packing| {
-        (
-            p.atlases.len(),
-            p.atlases
-                .iter()
-                .map(|&(w, h)| w as u64 * h as u64)
-                .sum::<u64>(),
-        )
-    };
-    for &fill in &opts.fills {
-        let p = pack_once(groups, max_edge, opts, fill)?;
-        if best.as_ref().is_none_or(|b| cost(&p) < cost(b)) {
-            best = Some(p);
-        }
-    }
-    Ok(best.unwrap())
-}
-
-fn pack_once(
-    groups: &[Vec<Rect>],
-    max_edge: u32,
-    opts: &Opts,
-    fill: f64,
-) -> Result<Packing, TooBig> {
     let edge = max_edge.min(EDGE_CAP) / 4 * 4;
-    let area = |g: &Vec<Rect>| g.iter().map(|r| r.w as u64 * r.h as u64).sum::<u64>();
-    let mut gorder: Vec<usize> = (0..groups.len()).collect();
-    if opts.sort_groups {
-        let tallest = |g: &Vec<Rect>| g.iter().map(|r| r.h).max().unwrap_or(0);
-        gorder.sort_by_key(|&g| {
-            (
-                std::cmp::Reverse(tallest(&groups[g])),
-                std::cmp::Reverse(area(&groups[g])),
-                g,
-            )
-        });
-    }
-    // Area and widest rectangle of the groups from the k-th on (processing order).
-    let mut remaining: Vec<u64> = vec![0; groups.len() + 1];
-    let mut widest: Vec<u32> = vec![0; groups.len() + 1];
-    for (k, &g) in gorder.iter().enumerate().rev() {
+    let area = |g: &[Rect]| g.iter().map(|r| r.w as u64 * r.h as u64).sum::<u64>();
+    let tallest = |g: &[Rect]| g.iter().map(|r| r.h).max().unwrap_or(0);
+    let mut by_height: Vec<usize> = (0..groups.len()).collect();
+    by_height.sort_by_key(|&g| (Reverse(tallest(&groups[g])), Reverse(area(&groups[g])), g));
+    // Area and widest rectangle of the groups from the k-th taken on.
+    let mut remaining = vec![0u64; groups.len() + 1];
+    let mut widest = vec![0u32; groups.len() + 1];
+    for (k, &g) in by_height.iter().enumerate().rev() {
         remaining[k] = remaining[k + 1] + area(&groups[g]);
         widest[k] = widest[k + 1].max(groups[g].iter().map(|r| r.w).max().unwrap_or(0));
     }
-
+    // Holes narrower or lower than every rectangle can take none: they are not kept.
     let nonzero = || groups.iter().flatten().filter(|r| r.w > 0 && r.h > 0);
-    let min_w = nonzero().map(|r| r.w).min().unwrap_or(1);
-    let min_h = nonzero().map(|r| r.h).min().unwrap_or(1);
+    let least = (
+        nonzero().map(|r| r.w).min().unwrap_or(1),
+        nonzero().map(|r| r.h).min().unwrap_or(1),
+    );
+
     let mut atlases: Vec<Atlas> = Vec::new();
     let mut places = vec![Vec::new(); groups.len()];
-    for (k, &gi) in gorder.iter().enumerate() {
-        let group = &groups[gi];
+    for (k, &g) in by_height.iter().enumerate() {
+        let group = &groups[g];
         if group.is_empty() {
             continue;
         }
         if group.iter().any(|r| r.w > edge || r.h > edge) {
-            return Err(TooBig { group: gi });
+            return Err(TooBig { group: g });
         }
-        // Tallest first (then widest, then the caller's order): rows of like heights.
         let mut order: Vec<usize> = (0..group.len()).collect();
-        order.sort_by_key(|&i| {
-            (
-                std::cmp::Reverse(group[i].h),
-                std::cmp::Reverse(group[i].w),
-                i,
-            )
-        });
+        order.sort_by_key(|&i| (Reverse(group[i].h), Reverse(group[i].w), i));
         let need = area(group);
 
         let mut found = None;
-        for (ai, atlas) in atlases.iter_mut().enumerate() {
-            if atlas.free_area() < need {
-                continue;
-            }
-            if let Some(xy) = atlas.try_group(group, &order, opts.min_waste) {
-                found = Some((ai, xy));
+        for (a, atlas) in atlases.iter_mut().enumerate() {
+            if atlas.free_area() >= need
+                && let Some(xy) = atlas.try_group(group, &order)
+            {
+                found = Some((a, xy));
                 break;
             }
         }
-        let (ai, xy) = match found {
+        let (a, xy) = match found {
             Some(f) => f,
             None => {
-                let soft = soft_width(remaining[k], widest[k], edge, fill);
-                let mut atlas = Atlas::new(edge, soft);
-                atlas.waste_map = opts.waste_map;
-                atlas.min_w = min_w;
-                atlas.min_h = min_h;
-                let xy = atlas
-                    .try_group(group, &order, opts.min_waste)
-                    .ok_or(TooBig { group: gi })?;
+                let soft = soft_width(remaining[k], widest[k], edge);
+                let mut atlas = Atlas::new(edge, soft, least);
+                let xy = atlas.try_group(group, &order).ok_or(TooBig { group: g })?;
                 atlases.push(atlas);
                 (atlases.len() - 1, xy)
             }
         };
-        places[gi] = xy
+        places[g] = xy
             .into_iter()
-            .map(|(x, y)| Place { atlas: ai, x, y })
+            .map(|(x, y)| Place { atlas: a, x, y })
             .collect();
     }
     let trim = |v: u32| v.div_ceil(4).max(1) * 4;
     Ok(Packing {
         atlases: atlases
             .iter()
-            .map(|a| (trim(a.used_w), trim(a.used_h)))
+            .map(|a| (trim(a.used.0), trim(a.used.1)))
             .collect(),
         places,
     })
 }
 
 /// The width a new atlas is filled to first: √(remaining area / FILL), at least the widest
-/// rectangle, at most the edge, a multiple of 4.
-fn soft_width(remaining: u64, widest: u32, edge: u32, fill: f64) -> u32 {
-    let w = ((remaining as f64 / fill).sqrt().ceil() as u64).min(edge as u64) as u32;
+/// rectangle still to place, at most the edge, a multiple of 4.
+fn soft_width(remaining: u64, widest: u32, edge: u32) -> u32 {
+    let w = ((remaining as f64 / FILL).sqrt().ceil() as u64).min(edge as u64) as u32;
     (w.div_ceil(4) * 4).max(widest).min(edge)
 }
 
-/// One atlas: its skyline, the width it is filled to first, the extent used.
+/// A hole under the skyline: x, y, w, h.
+type Hole = (u32, u32, u32, u32);
+
+/// One atlas: its skyline and holes, the width it is filled to first, the extent and area used.
 struct Atlas {
-    sky: Skyline,
+    sky: Vec<Seg>,
+    holes: Vec<Hole>,
     edge: u32,
     soft: u32,
-    used_w: u32,
-    used_h: u32,
+    /// Holes smaller than this (w, h) are not kept.
+    least: (u32, u32),
+    used: (u32, u32),
     used_area: u64,
-    /// Holes left under placed rectangles (x, y, w, h), filled before the skyline.
-    holes: Vec<(u32, u32, u32, u32)>,
-    waste_map: bool,
-    /// Narrowest and lowest rectangle of the input: smaller holes are not kept.
-    min_w: u32,
-    min_h: u32,
 }
 
 impl Atlas {
-    fn new(edge: u32, soft: u32) -> Self {
+    fn new(edge: u32, soft: u32, least: (u32, u32)) -> Self {
         Self {
-            sky: Skyline::new(edge),
+            sky: vec![Seg {
+                x: 0,
+                y: 0,
+                w: edge,
+            }],
+            holes: Vec::new(),
             edge,
             soft,
-            used_w: 0,
-            used_h: 0,
+            least,
+            used: (0, 0),
             used_area: 0,
-            holes: Vec::new(),
-            waste_map: false,
-            min_w: 1,
-            min_h: 1,
         }
     }
 
-    /// An upper bound of the area still free (waste under the skyline not subtracted).
+    /// An upper bound of the area still free.
     fn free_area(&self) -> u64 {
         self.edge as u64 * self.edge as u64 - self.used_area
     }
 
     /// Place the whole group (in `order`) or nothing: top-left corners in the group's order.
-    fn try_group(
-        &mut self,
-        group: &[Rect],
-        order: &[usize],
-        min_waste: bool,
-    ) -> Option<Vec<(u32, u32)>> {
-        let saved = self.sky.segs.clone();
-        let saved_holes = self.holes.clone();
+    fn try_group(&mut self, group: &[Rect], order: &[usize]) -> Option<Vec<(u32, u32)>> {
+        let saved = (self.sky.clone(), self.holes.clone());
         let mut xy = vec![(0, 0); group.len()];
-        let (mut used_w, mut used_h) = (self.used_w, self.used_h);
+        let mut used = self.used;
         for &i in order {
-            let r = group[i];
-            if r.w == 0 || r.h == 0 {
+            let Rect { w, h } = group[i];
+            if w == 0 || h == 0 {
                 continue;
             }
-            if self.waste_map {
-                if let Some((x, y)) = self.fill_hole(r.w, r.h) {
-                    xy[i] = (x, y);
-                    used_w = used_w.max(x + r.w);
-                    used_h = used_h.max(y + r.h);
-                    continue;
-                }
-            }
-            // Within the soft width if it fits there, else anywhere in the atlas.
-            let at = self
-                .sky
-                .find(r.w, r.h, self.soft, self.edge, min_waste)
-                .or_else(|| self.sky.find(r.w, r.h, self.edge, self.edge, min_waste));
-            let Some((seg, x, y)) = at else {
-                self.sky.segs = saved;
-                self.holes = saved_holes;
-                return None;
+            let at = match self.fill_hole(w, h) {
+                Some(at) => at,
+                // Within the soft width if it fits there, else anywhere in the atlas.
+                None => match find(&self.sky, w, h, self.soft, self.edge)
+                    .or_else(|| find(&self.sky, w, h, self.edge, self.edge))
+                {
+                    Some((seg, x, y)) => {
+                        self.cover(seg, x, y, w, h);
+                        (x, y)
+                    }
+                    None => {
+                        (self.sky, self.holes) = saved;
+                        return None;
+                    }
+                },
             };
-            if self.waste_map {
-                // Segments below y under the rectangle become holes.
-                for t in &self.sky.segs[seg..] {
-                    if t.x >= x + r.w {
-                        break;
-                    }
-                    if y - t.y >= self.min_h && (t.x + t.w).min(x + r.w) - t.x >= self.min_w {
-                        let span = (t.x + t.w).min(x + r.w) - t.x;
-                        self.holes.push((t.x, t.y, span, y - t.y));
-                    }
-                }
-            }
-            self.sky.place(seg, x, y + r.h, r.w);
-            xy[i] = (x, y);
-            used_w = used_w.max(x + r.w);
-            used_h = used_h.max(y + r.h);
+            xy[i] = at;
+            used = (used.0.max(at.0 + w), used.1.max(at.1 + h));
         }
-        self.used_w = used_w;
-        self.used_h = used_h;
+        self.used = used;
         self.used_area += group.iter().map(|r| r.w as u64 * r.h as u64).sum::<u64>();
         Some(xy)
     }
 
-    /// Best-short-side-fit hole for w × h; the rest of the hole split along its shorter leftover.
+    /// Put w × h in the hole it fits best (least leftover on the short side, then on the long
+    /// side, first found on ties); the rest of the hole is cut along its shorter leftover.
     fn fill_hole(&mut self, w: u32, h: u32) -> Option<(u32, u32)> {
         let mut best: Option<(u32, u32, usize)> = None;
-        for (k, &(_, _, fw, fh)) in self.holes.iter().enumerate() {
-            if fw >= w && fh >= h {
-                let key = ((fw - w).min(fh - h), (fw - w).max(fh - h), k);
+        for (k, &(_, _, hw, hh)) in self.holes.iter().enumerate() {
+            if hw >= w && hh >= h {
+                let (a, b) = (hw - w, hh - h);
+                let key = (a.min(b), a.max(b), k);
                 if best.is_none_or(|b| (key.0, key.1) < (b.0, b.1)) {
                     best = Some(key);
                 }
             }
         }
         let (_, _, k) = best?;
-        let (x, y, fw, fh) = self.holes.swap_remove(k);
-        let (right, below) = if fw - w < fh - h {
-            ((x + w, y, fw - w, h), (x, y + h, fw, fh - h))
+        let (x, y, hw, hh) = self.holes.swap_remove(k);
+        let (right, below) = if hw - w < hh - h {
+            ((x + w, y, hw - w, h), (x, y + h, hw, hh - h))
         } else {
-            ((x + w, y, fw - w, fh), (x, y + h, w, fh - h))
+            ((x + w, y, hw - w, hh), (x, y + h, w, hh - h))
         };
-        for hole in [right, below] {
-            if hole.2 >= self.min_w && hole.3 >= self.min_h {
-                self.holes.push(hole);
-            }
-        }
+        self.keep_hole(right);
+        self.keep_hole(below);
         Some((x, y))
+    }
+
+    fn keep_hole(&mut self, hole: Hole) {
+        if hole.2 >= self.least.0 && hole.3 >= self.least.1 {
+            self.holes.push(hole);
+        }
+    }
+
+    /// Move the skyline over x..x + w (starting at segment `i`, whose x it is) down to y + h; the
+    /// free texels between those segments and the rectangle at y become holes.
+    fn cover(&mut self, i: usize, x: u32, y: u32, w: u32, h: u32) {
+        let end = x + w;
+        // Segments i..j are covered whole; segment j (if any) is cut at `end`.
+        let mut j = i;
+        while j < self.sky.len() && self.sky[j].x < end {
+            let s = self.sky[j];
+            let span = (s.x + s.w).min(end) - s.x;
+            self.keep_hole((s.x, s.y, span, y - s.y));
+            if s.x + s.w > end {
+                break;
+            }
+            j += 1;
+        }
+        if j < self.sky.len() && self.sky[j].x < end {
+            let s = &mut self.sky[j];
+            s.w -= end - s.x;
+            s.x = end;
+        }
+        let top = y + h;
+        self.sky.splice(i..j, [Seg { x, y: top, w }]);
+        // Merge with neighbours at the same height.
+        if i + 1 < self.sky.len() && self.sky[i + 1].y == top {
+            self.sky[i].w += self.sky[i + 1].w;
+            self.sky.remove(i + 1);
+        }
+        if i > 0 && self.sky[i - 1].y == top {
+            self.sky[i - 1].w += self.sky[i].w;
+            self.sky.remove(i);
+        }
     }
 }
 
-/// A segment of the skyline: texels x..x + w are free from row y down.
+/// A segment of the skyline: texels x..x + w are free from row y down. An atlas's segments run
+/// left to right over 0..edge, no two neighbours at the same y.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 struct Seg {
     x: u32,
@@ -323,117 +278,33 @@ struct Seg {
     w: u32,
 }
 
-/// Segments left to right, covering 0..edge, no two neighbours at the same y.
-struct Skyline {
-    segs: Vec<Seg>,
-}
-
-impl Skyline {
-    fn new(edge: u32) -> Self {
-        Self {
-            segs: vec![Seg {
-                x: 0,
-                y: 0,
-                w: edge,
-            }],
+/// Where a w × h rectangle (w, h > 0) ends least far down (least y + h), then leftmost, within
+/// x + w ≤ `limit` and y + h ≤ `max_h`: (index of the segment it starts on, x, y).
+fn find(sky: &[Seg], w: u32, h: u32, limit: u32, max_h: u32) -> Option<(usize, u32, u32)> {
+    let mut best: Option<(u32, usize, u32, u32)> = None; // (y + h, segment, x, y)
+    for (i, s) in sky.iter().enumerate() {
+        let x = s.x;
+        if x + w > limit {
+            break;
         }
-    }
-
-    /// Where a w × h rectangle (w, h > 0) ends lowest (least y + h), then leftmost, within
-    /// x + w ≤ `limit` and y + h ≤ `max_h`: (index of the segment it starts on, x, y).
-    fn find(
-        &self,
-        w: u32,
-        h: u32,
-        limit: u32,
-        max_h: u32,
-        min_waste: bool,
-    ) -> Option<(usize, u32, u32)> {
-        if min_waste {
-            return self.find_min_waste(w, h, limit, max_h);
-        }
-        let mut best: Option<(u32, usize, u32, u32)> = None; // (y + h, segment, x, y)
-        for (i, s) in self.segs.iter().enumerate() {
-            let x = s.x;
-            if x + w > limit {
+        // The rectangle starts at the largest y of the segments under x..x + w; stop as soon
+        // as it cannot beat the best found (later candidates lie further right).
+        let bound = best.map_or(max_h, |b| (b.0 - 1).min(max_h));
+        let mut y = 0;
+        for t in &sky[i..] {
+            if t.x >= x + w {
                 break;
             }
-            // The rectangle rests on the lowest-reaching segment under x..x + w.
-            let bound = best.map_or(max_h, |b| (b.0 - 1).min(max_h));
-            let mut y = 0;
-            for t in &self.segs[i..] {
-                if t.x >= x + w {
-                    break;
-                }
-                y = y.max(t.y);
-                if y + h > bound {
-                    break;
-                }
-            }
-            if y + h <= bound {
-                best = Some((y + h, i, x, y));
-            }
-        }
-        best.map(|(_, i, x, y)| (i, x, y))
-    }
-
-    fn find_min_waste(&self, w: u32, h: u32, limit: u32, max_h: u32) -> Option<(usize, u32, u32)> {
-        let mut best: Option<(u64, u32, usize, u32, u32)> = None;
-        for (i, s) in self.segs.iter().enumerate() {
-            let x = s.x;
-            if x + w > limit {
+            y = y.max(t.y);
+            if y + h > bound {
                 break;
             }
-            let mut y = 0;
-            for t in &self.segs[i..] {
-                if t.x >= x + w {
-                    break;
-                }
-                y = y.max(t.y);
-            }
-            if y + h > max_h {
-                continue;
-            }
-            let mut waste = 0u64;
-            for t in &self.segs[i..] {
-                if t.x >= x + w {
-                    break;
-                }
-                let span = (t.x + t.w).min(x + w) - t.x;
-                waste += (y - t.y) as u64 * span as u64;
-            }
-            let key = (waste, y + h, i, x, y);
-            if best.is_none_or(|b| (key.0, key.1) < (b.0, b.1)) {
-                best = Some(key);
-            }
         }
-        best.map(|(_, _, i, x, y)| (i, x, y))
-    }
-
-    /// Raise x..x + w (starting at segment `i`, whose x it is) to `top`.
-    fn place(&mut self, i: usize, x: u32, top: u32, w: u32) {
-        let end = x + w;
-        // Segments i..j are covered whole; segment j (if any) is cut at `end`.
-        let mut j = i;
-        while j < self.segs.len() && self.segs[j].x + self.segs[j].w <= end {
-            j += 1;
-        }
-        if j < self.segs.len() && self.segs[j].x < end {
-            let s = &mut self.segs[j];
-            s.w -= end - s.x;
-            s.x = end;
-        }
-        self.segs.splice(i..j, [Seg { x, y: top, w }]);
-        // Merge with neighbours at the same height.
-        if i + 1 < self.segs.len() && self.segs[i + 1].y == top {
-            self.segs[i].w += self.segs[i + 1].w;
-            self.segs.remove(i + 1);
-        }
-        if i > 0 && self.segs[i - 1].y == top {
-            self.segs[i - 1].w += self.segs[i].w;
-            self.segs.remove(i);
+        if y + h <= bound {
+            best = Some((y + h, i, x, y));
         }
     }
+    best.map(|(_, i, x, y)| (i, x, y))
 }
 
 #[cfg(test)]
@@ -553,6 +424,21 @@ mod tests {
         assert_eq!(p.atlases.len(), 2);
         assert!(p.places[1].iter().all(|q| q.atlas == 1));
         check(&groups, 100, &p);
+    }
+
+    #[test]
+    fn the_hole_under_a_wide_rectangle_is_filled_first() {
+        let mut atlas = Atlas::new(100, 100, (1, 1));
+        assert_eq!(atlas.try_group(&[r(10, 30)], &[0]), Some(vec![(0, 0)]));
+        // 100 wide: only below the first, closing off 90 × 30 beside it.
+        assert_eq!(atlas.try_group(&[r(100, 10)], &[0]), Some(vec![(0, 30)]));
+        assert_eq!(atlas.holes, vec![(10, 0, 90, 30)]);
+        // The skyline's place would be (0, 40); the hole takes it.
+        assert_eq!(atlas.try_group(&[r(20, 20)], &[0]), Some(vec![(10, 0)]));
+        // A group that does not fit leaves skyline and holes as they were.
+        let (sky, holes) = (atlas.sky.clone(), atlas.holes.clone());
+        assert_eq!(atlas.try_group(&[r(30, 30), r(100, 61)], &[0, 1]), None);
+        assert_eq!((atlas.sky, atlas.holes), (sky, holes));
     }
 
     #[test]

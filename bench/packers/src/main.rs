@@ -4,7 +4,9 @@
 //! extent used, edges multiples of 4). Every result is checked (inside, no overlap, groups whole).
 //!
 //! `pack-bench` runs every packer on every input, each in a child process with a time limit, and
-//! prints a Markdown table; `pack-bench PACKER INPUT` runs one and prints one line.
+//! prints a Markdown table; `pack-bench PACKER INPUT` runs one and prints one line;
+//! `pack-bench seeds P1,P2,… INPUT N` prints each packer's efficiency over seeds 1..=N;
+//! `pack-bench info INPUT` describes an input (also `e-mixed`, `f-clutter-4k`: larger ones).
 
 #[path = "../../../src/lightmap/pack.rs"]
 #[allow(dead_code)]
@@ -21,6 +23,7 @@ const PACKERS: &[&str] = &[
     "etagere-0.3",
     "guillotiere-0.6",
     "guillotiere-0.7",
+    "guillotiere-0.7+grow",
     "crunch-0.5",
     "rectangle-pack-0.4",
 ];
@@ -64,7 +67,12 @@ fn clutter(rng: &mut Lcg, n: usize) -> Vec<Vec<Rect>> {
 
 /// (groups, max_edge) of an input.
 fn input(name: &str) -> (Vec<Vec<Rect>>, u32) {
-    let mut rng = Lcg(24);
+    input_seeded(name, 24)
+}
+
+/// An input drawn from another seed of the same sequence.
+fn input_seeded(name: &str, seed: u64) -> (Vec<Vec<Rect>>, u32) {
+    let mut rng = Lcg(seed);
     let groups = match name {
         // A room: 30 surfaces of 1–6 charts, 4 × 4 to 400 × 300 (walls, floor, desks).
         "a-room" => (0..30)
@@ -95,6 +103,13 @@ fn input(name: &str) -> (Vec<Vec<Rect>>, u32) {
             g.extend(clutter(&mut rng, 500));
             g
         }
+        // Stress, not in the default table: 50 000 charts of 3–40 in one group, 4096² atlases.
+        "e-mixed" => {
+            let g: Vec<Vec<Rect>> = clutter(&mut rng, 5000);
+            return (vec![g.into_iter().flatten().collect()], 4096);
+        }
+        // Stress, not in the default table: 10 000 clutter objects, 4096² atlases.
+        "f-clutter-4k" => return (clutter(&mut rng, 10_000), 4096),
         _ => panic!("unknown input {name}"),
     };
     (groups, 2048)
@@ -205,6 +220,92 @@ fn drive<A: Dynamic>(groups: &[Vec<Rect>], edge: u32) -> Result<Packing, TooBig>
         atlases: atlases
             .iter()
             .map(|&(_, w, h)| (trim(w), trim(h)))
+            .collect(),
+        places,
+    })
+}
+
+/// guillotiere with atlases that start at √(remaining area / 0.85) square and grow by 1/4 up to
+/// `edge` when a group does not fit (so that trimming has something to trim).
+fn guillotiere_grow(groups: &[Vec<Rect>], edge: u32) -> Result<Packing, TooBig> {
+    use guillotiere07::{AtlasAllocator, size2};
+    let mut remaining = vec![0u64; groups.len() + 1];
+    for (g, group) in groups.iter().enumerate().rev() {
+        remaining[g] =
+            remaining[g + 1] + group.iter().map(|r| r.w as u64 * r.h as u64).sum::<u64>();
+    }
+    let attempt =
+        |a: &mut AtlasAllocator, group: &[Rect], order: &[usize]| -> Option<Vec<(u32, u32)>> {
+            let mut xy = vec![(0, 0); group.len()];
+            let mut ids = Vec::new();
+            for &i in order {
+                match a.allocate(size2(group[i].w as i32, group[i].h as i32)) {
+                    Some(al) => {
+                        xy[i] = (al.rectangle.min.x as u32, al.rectangle.min.y as u32);
+                        ids.push(al.id);
+                    }
+                    None => {
+                        for id in ids {
+                            a.deallocate(id);
+                        }
+                        return None;
+                    }
+                }
+            }
+            Some(xy)
+        };
+    let mut atlases: Vec<(AtlasAllocator, u32, u32, u32)> = Vec::new(); // allocator, side, used w, h
+    let mut places = Vec::new();
+    for (gi, group) in groups.iter().enumerate() {
+        let order = by_height(group);
+        let mut found = None;
+        'atlases: for (ai, (a, side, _, _)) in atlases.iter_mut().enumerate() {
+            loop {
+                if let Some(xy) = attempt(a, group, &order) {
+                    found = Some((ai, xy));
+                    break 'atlases;
+                }
+                if *side >= edge {
+                    break;
+                }
+                *side = (*side + *side / 4).div_ceil(4).saturating_mul(4).min(edge);
+                a.grow(size2(*side as i32, *side as i32));
+            }
+        }
+        let (ai, xy) = match found {
+            Some(f) => f,
+            None => {
+                let big = group.iter().map(|r| r.w.max(r.h)).max().unwrap_or(1);
+                let mut side = (((remaining[gi] as f64 / 0.85).sqrt().ceil() as u32).div_ceil(4)
+                    * 4)
+                .max(big)
+                .min(edge);
+                let mut a = AtlasAllocator::new(size2(side as i32, side as i32));
+                let xy = loop {
+                    if let Some(xy) = attempt(&mut a, group, &order) {
+                        break xy;
+                    }
+                    if side >= edge {
+                        return Err(TooBig { group: gi });
+                    }
+                    side = (side + side / 4).div_ceil(4).saturating_mul(4).min(edge);
+                    a.grow(size2(side as i32, side as i32));
+                };
+                atlases.push((a, side, 0, 0));
+                (atlases.len() - 1, xy)
+            }
+        };
+        let (_, _, uw, uh) = &mut atlases[ai];
+        for (r, &(x, y)) in group.iter().zip(&xy) {
+            *uw = (*uw).max(x + r.w);
+            *uh = (*uh).max(y + r.h);
+        }
+        places.push(xy.iter().map(|&(x, y)| Place { atlas: ai, x, y }).collect());
+    }
+    Ok(Packing {
+        atlases: atlases
+            .iter()
+            .map(|&(_, _, w, h)| (trim(w), trim(h)))
             .collect(),
         places,
     })
@@ -362,27 +463,11 @@ fn rectangle_pack(groups: &[Vec<Rect>], edge: u32) -> Result<Packing, TooBig> {
 fn run(packer: &str, groups: &[Vec<Rect>], edge: u32) -> Result<Packing, TooBig> {
     match packer {
         "skyline" => pack::pack(groups, edge),
-        v if v.starts_with("sky:") => {
-            // sky:[s][w][f] = sorted groups, min-waste, several fills
-            let flags = &v[4..];
-            let opts = pack::Opts {
-                sort_groups: flags.contains('s'),
-                min_waste: flags.contains('w'),
-                waste_map: flags.contains('m'),
-                fills: if let Some((_, f)) = flags.split_once('@') {
-                    vec![f.parse().unwrap()]
-                } else if flags.contains('f') {
-                    vec![1.0, 0.95, 0.9, 0.85, 0.8, 0.75, 0.7, 0.65, 0.6]
-                } else {
-                    vec![0.85]
-                },
-            };
-            pack::pack_with(groups, edge, &opts)
-        }
         "etagere-0.2" => drive::<Etagere02>(groups, edge),
         "etagere-0.3" => drive::<Etagere03>(groups, edge),
         "guillotiere-0.6" => drive::<Guillotiere06>(groups, edge),
         "guillotiere-0.7" => drive::<Guillotiere07>(groups, edge),
+        "guillotiere-0.7+grow" => guillotiere_grow(groups, edge),
         "crunch-0.5" => crunch_pack(groups, edge),
         "rectangle-pack-0.4" => rectangle_pack(groups, edge),
         _ => panic!("unknown packer {packer}"),
@@ -472,8 +557,68 @@ fn one(packer: &str, name: &str) {
     );
 }
 
+/// Efficiency of packers over seeds 1..=n of one input: mean, least, most, and atlas counts.
+fn seeds(packers: &[&str], name: &str, n: u64) {
+    println!("\n### {name}, seeds 1–{n}\n");
+    println!(
+        "| packer | efficiency mean | least | most | atlases (least–most) | atlases, all seeds |"
+    );
+    println!("| --- | ---: | ---: | ---: | --- | ---: |");
+    for packer in packers {
+        let mut effs = Vec::new();
+        let mut counts = Vec::new();
+        for seed in 1..=n {
+            let (groups, edge) = input_seeded(name, seed);
+            let p = run(packer, &groups, edge).expect("fits");
+            check(&groups, edge, &p);
+            let used: u64 = groups
+                .iter()
+                .flatten()
+                .map(|r| r.w as u64 * r.h as u64)
+                .sum();
+            let area: u64 = p.atlases.iter().map(|&(w, h)| w as u64 * h as u64).sum();
+            effs.push(used as f64 / area as f64);
+            counts.push(p.atlases.len());
+        }
+        let mean = effs.iter().sum::<f64>() / effs.len() as f64;
+        let (lo, hi) = (
+            effs.iter().cloned().fold(1.0, f64::min),
+            effs.iter().cloned().fold(0.0, f64::max),
+        );
+        println!(
+            "| {packer} | {:.1} % | {:.1} % | {:.1} % | {}–{} | {} |",
+            mean * 100.0,
+            lo * 100.0,
+            hi * 100.0,
+            counts.iter().min().unwrap(),
+            counts.iter().max().unwrap(),
+            counts.iter().sum::<usize>()
+        );
+    }
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().collect();
+    if args.len() == 3 && args[1] == "info" {
+        let (groups, edge) = input(&args[2]);
+        let n: usize = groups.iter().map(Vec::len).sum();
+        let area: u64 = groups
+            .iter()
+            .flatten()
+            .map(|r| r.w as u64 * r.h as u64)
+            .sum();
+        println!(
+            "{} groups, {n} rectangles, {:.2} Mtexel, max_edge {edge}",
+            groups.len(),
+            area as f64 / 1e6
+        );
+        return;
+    }
+    if args.len() == 5 && args[1] == "seeds" {
+        let packers: Vec<&str> = args[2].split(',').collect();
+        seeds(&packers, &args[3], args[4].parse().unwrap());
+        return;
+    }
     if args.len() == 3 {
         one(&args[1], &args[2]);
         return;
