@@ -3,8 +3,8 @@
 //! Input: a destination path and the bytes. Output: the file, written to a temporary file in the
 //! same directory (`.<name>.luxbake-<pid>-<n>.tmp`), flushed to disk and renamed over the
 //! destination. Invariant: on any error no temporary file is left behind and the destination is
-//! untouched. [`write_atomic_all`] stages several files before renaming any of them, so the
-//! common failures (no permission, disk full) leave none of them changed.
+//! untouched. [`write_atomic_all`] and [`Batch`] stage several files before renaming any of them,
+//! so the common failures (no permission, disk full) leave none of them changed.
 
 use crate::{Error, Result};
 use std::fs::{self, File, OpenOptions};
@@ -21,37 +21,61 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
 /// If staging fails nothing changes; if a rename fails (rare: same directory, same filesystem),
 /// the files renamed so far by this call are removed when they did not exist before.
 pub fn write_atomic_all(files: &[(&Path, &[u8])]) -> Result<()> {
-    let mut staged: Vec<(PathBuf, &Path)> = Vec::with_capacity(files.len());
+    let mut batch = Batch::default();
     for (path, bytes) in files {
-        match stage(path, bytes) {
-            Ok(tmp) => staged.push((tmp, path)),
-            Err(e) => {
-                for (tmp, _) in &staged {
+        batch.stage(path, bytes)?;
+    }
+    batch.commit()
+}
+
+/// Files staged one by one (so their bytes need not all be held at once) and renamed together
+/// by [`Batch::commit`]; dropped uncommitted (an error on the way), it removes its temporaries.
+#[derive(Debug, Default)]
+pub struct Batch {
+    /// (temporary, destination), in the order they will be renamed.
+    staged: Vec<(PathBuf, PathBuf)>,
+}
+
+impl Batch {
+    /// Write `bytes` to a temporary file beside `path`, to be renamed over it by `commit`.
+    pub fn stage(&mut self, path: &Path, bytes: &[u8]) -> Result<()> {
+        let tmp = stage(path, bytes)?;
+        self.staged.push((tmp, path.to_path_buf()));
+        Ok(())
+    }
+
+    /// Rename every staged file over its destination, in staging order. If a rename fails, the
+    /// destinations renamed so far that did not exist before are removed again.
+    pub fn commit(mut self) -> Result<()> {
+        let staged = std::mem::take(&mut self.staged);
+        let existed: Vec<bool> = staged.iter().map(|(_, p)| p.exists()).collect();
+        for i in 0..staged.len() {
+            let (tmp, path) = &staged[i];
+            if let Err(e) = fs::rename(tmp, path) {
+                for (tmp, _) in &staged[i..] {
                     let _ = fs::remove_file(tmp);
                 }
-                return Err(e);
-            }
-        }
-    }
-    let existed: Vec<bool> = staged.iter().map(|(_, p)| p.exists()).collect();
-    for i in 0..staged.len() {
-        let (tmp, path) = &staged[i];
-        if let Err(e) = fs::rename(tmp, path) {
-            for (tmp, _) in &staged[i..] {
-                let _ = fs::remove_file(tmp);
-            }
-            for (j, (_, done)) in staged[..i].iter().enumerate() {
-                if !existed[j] {
-                    let _ = fs::remove_file(done);
+                for (j, (_, done)) in staged[..i].iter().enumerate() {
+                    if !existed[j] {
+                        let _ = fs::remove_file(done);
+                    }
                 }
+                return Err(Error::output(
+                    path,
+                    format!("cannot rename temporary file: {e}"),
+                ));
             }
-            return Err(Error::output(
-                *path,
-                format!("cannot rename temporary file: {e}"),
-            ));
+        }
+        Ok(())
+    }
+}
+
+impl Drop for Batch {
+    fn drop(&mut self) {
+        for (tmp, _) in &self.staged {
+            let _ = fs::remove_file(tmp);
         }
     }
-    Ok(())
 }
 
 /// Write `bytes` to a new temporary file beside `path`; returns the temporary file's path.
@@ -123,6 +147,18 @@ mod tests {
         let bad = dir.join("missing-dir").join("b.gltf");
         let err = write_atomic_all(&[(&good, b"x"), (&bad, b"y")]).unwrap_err();
         assert!(matches!(err, Error::Output { .. }), "{err}");
+        assert_eq!(fs::read_dir(&dir).unwrap().count(), 0);
+        fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn dropped_batch_removes_its_temporaries() {
+        let dir = scratch("drop");
+        let mut batch = Batch::default();
+        batch.stage(&dir.join("a.exr"), b"a").unwrap();
+        batch.stage(&dir.join("b.exr"), b"b").unwrap();
+        assert_eq!(fs::read_dir(&dir).unwrap().count(), 2);
+        drop(batch);
         assert_eq!(fs::read_dir(&dir).unwrap().count(), 0);
         fs::remove_dir_all(&dir).unwrap();
     }

@@ -1,6 +1,7 @@
 //! Assembling the glTF document: the root JSON object and its binary buffer.
 //!
-//! Input: the [`Scene`], the [`BakeResult`] (surfaces and probes) and the [`ExportOptions`].
+//! Input: the [`Scene`], the [`BakeResult`] (surfaces, probes, lightmaps), the [`ExportOptions`]
+//! and each lightmap atlas's EXR URI.
 //! Output: a [`Document`]:
 //! the root JSON (without `buffers`, whose URI depends on the container) and the buffer bytes.
 //! Invariants: fields are inserted in one fixed order and arrays follow scene order, so equal
@@ -9,7 +10,8 @@
 //! `extensionsRequired` is never written (Blender refuses files requiring extensions it does not
 //! know, such as `EXT_lights_ies` and `LUXBAKE_luminaire`).
 
-use super::{ExportOptions, buffer::Binary, luminaires, material, mesh, nodes, probes};
+use super::lightmap_material::Variants;
+use super::{ExportOptions, buffer::Binary, lightmaps, luminaires, material, mesh, nodes, probes};
 use crate::{Result, result::BakeResult, scene::Scene};
 use serde_json::{Map, Value, json};
 use std::collections::{BTreeMap, BTreeSet};
@@ -23,9 +25,14 @@ pub struct Document {
     pub bin: Vec<u8>,
 }
 
-/// Build the document for `scene` baked as `result`.
-pub fn build(scene: &Scene, result: &BakeResult, options: &ExportOptions) -> Result<Document> {
-    assemble(scene, result, options, true)
+/// Build the document for `scene` baked as `result`; `lightmap_uris[k]` is atlas k's EXR file.
+pub fn build(
+    scene: &Scene,
+    result: &BakeResult,
+    options: &ExportOptions,
+    lightmap_uris: &[String],
+) -> Result<Document> {
+    assemble(scene, result, options, Some(lightmap_uris))
 }
 
 /// Build the document of `scene` as an input: the geometry of `result` without the baked
@@ -35,20 +42,35 @@ pub fn build_input(
     result: &BakeResult,
     options: &ExportOptions,
 ) -> Result<Document> {
-    assemble(scene, result, options, false)
+    assemble(scene, result, options, None)
 }
 
+/// `lightmap_uris`: `None` for an input scene (no baked values, no lightmaps).
 fn assemble(
     scene: &Scene,
     result: &BakeResult,
     options: &ExportOptions,
-    baked: bool,
+    lightmap_uris: Option<&[String]>,
 ) -> Result<Document> {
+    let baked = lightmap_uris.is_some();
     let mut binary = Binary::default();
-    let meshes = mesh::build(scene, result, &mut binary, baked)?;
-    let (textures, images, samplers) = material::textures(scene, &mut binary);
+    let variants = Variants::plan(scene, result, baked, scene.materials.len())?;
+    let meshes = mesh::build(scene, result, &mut binary, baked, &variants)?;
+    let (mut textures, mut images, mut samplers) = material::textures(scene, &mut binary);
+    let atlases = lightmaps::add(
+        result.lightmaps.as_ref().filter(|_| baked),
+        &result.summary,
+        lightmap_uris.unwrap_or_default(),
+        &mut binary,
+        lightmaps::Arrays {
+            textures: &mut textures,
+            images: &mut images,
+            samplers: &mut samplers,
+        },
+    )?;
     let profiles = luminaires::profiles(scene, &mut binary);
     let mut materials = material::materials(scene, &meshes.back_baked, options, &profiles);
+    materials.extend(variants.materials(scene, &meshes.back_baked, options, &profiles, &atlases));
     let mut nodes = nodes::nodes(scene, &meshes.node_mesh, &profiles.node_extensions(scene));
     let mut scenes = vec![nodes::scene(scene, baked.then_some(&result.summary))];
     let mut mesh_json = meshes.json;

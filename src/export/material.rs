@@ -39,6 +39,15 @@ pub fn materials(
         .collect()
 }
 
+/// Material `m` written lit (PBR, as `--keep-lit-materials` writes it), whatever the options.
+pub fn lit(m: &Material, back_baked: bool, profiles: &Profiles) -> Value {
+    let options = ExportOptions {
+        unlit: false,
+        probe_glyphs: None,
+    };
+    material(m, back_baked, &options, profiles)
+}
+
 /// The material's `LUXBAKE_material` object with `emission.profile` pointing into the output.
 fn luxbake_extension(m: &Material, profiles: &Profiles) -> Option<Value> {
     let mut ext = m.display.luxbake_extension.clone()?;

@@ -10,9 +10,13 @@
 //! (with min/max), NORMAL, TEXCOORD_0/1 when present, COLOR_0 (float VEC3), `_ILLUMINANCE` (lx),
 //! `_ILLUMINANCE_DIRECT` (lx) and `_LUMINANCE` (cd/m²), float SCALAR; indices u16 or u32; mode
 //! TRIANGLES. An unbaked scene ([`super::write_scene`]) gets POSITION, NORMAL and TEXCOORD_n only.
+//! A lightmapped surface (`lightmap: Some(k)`) is written with its material's variant for atlas
+//! k ([`Variants`]), its layout `uv1` as TEXCOORD_1 (and as TEXCOORD_0 too when it has no other
+//! UVs: sets must start at 0) and no COLOR_0 (a viewer would multiply the lightmap by it).
 
 use super::buffer::Binary;
 use super::geometry::{LocalFrame, LocalPrimitive, to_local};
+use super::lightmap_material::Variants;
 use crate::{
     Error, Result,
     result::{BakeResult, BakedSurface, Side},
@@ -63,6 +67,7 @@ pub fn build(
     result: &BakeResult,
     binary: &mut Binary,
     with_values: bool,
+    variants: &Variants,
 ) -> Result<Meshes> {
     let sides = index_results(scene, result)?;
     let mut meshes = Meshes {
@@ -101,7 +106,29 @@ pub fn build(
                 }
                 let what = format!("{} ({:?} side)", surface.source_path, baked.side);
                 let local = to_local(baked, &frame, &what)?;
-                primitives.push(primitive(&local, surface.material, binary, with_values));
+                let lightmapped = match baked.lightmap.filter(|_| with_values) {
+                    None => None,
+                    Some(k) => {
+                        if local.uv1.is_none() {
+                            return Err(Error::Bake(format!(
+                                "{what}: laid out in lightmap {k} without TEXCOORD_1"
+                            )));
+                        }
+                        let variant = variants.get(surface.material, k).ok_or_else(|| {
+                            Error::Bake(format!("{what}: no material for lightmap {k}"))
+                        })?;
+                        Some(variant)
+                    }
+                };
+                let material = lightmapped.unwrap_or(surface.material);
+                let lightmapped = lightmapped.is_some();
+                primitives.push(primitive(
+                    &local,
+                    material,
+                    binary,
+                    with_values,
+                    lightmapped,
+                ));
             }
         }
         if primitives.is_empty() {
@@ -118,18 +145,29 @@ pub fn build(
     Ok(meshes)
 }
 
-fn primitive(p: &LocalPrimitive, material: usize, binary: &mut Binary, values: bool) -> Value {
+/// One primitive, with the baked values if `values`; a `lightmapped` one without COLOR_0.
+fn primitive(
+    p: &LocalPrimitive,
+    material: usize,
+    binary: &mut Binary,
+    values: bool,
+    lightmapped: bool,
+) -> Value {
     let mut attributes = Map::new();
     attributes.insert("POSITION".into(), json!(binary.vec3(&p.positions, true)));
     attributes.insert("NORMAL".into(), json!(binary.vec3(&p.normals, false)));
-    if let Some(uv) = &p.uv0 {
-        attributes.insert("TEXCOORD_0".into(), json!(binary.vec2(uv)));
+    let uv0 = p.uv0.as_ref().map(|uv| binary.vec2(uv));
+    let uv1 = p.uv1.as_ref().map(|uv| binary.vec2(uv));
+    if let Some(uv) = uv0.or(uv1.filter(|_| lightmapped)) {
+        attributes.insert("TEXCOORD_0".into(), json!(uv));
     }
-    if let Some(uv) = &p.uv1 {
-        attributes.insert("TEXCOORD_1".into(), json!(binary.vec2(uv)));
+    if let Some(uv) = uv1 {
+        attributes.insert("TEXCOORD_1".into(), json!(uv));
     }
     if values {
-        attributes.insert("COLOR_0".into(), json!(binary.vec3(&p.color, false)));
+        if !lightmapped {
+            attributes.insert("COLOR_0".into(), json!(binary.vec3(&p.color, false)));
+        }
         attributes.insert("_ILLUMINANCE".into(), json!(binary.scalar(&p.illuminance)));
         attributes.insert(
             "_ILLUMINANCE_DIRECT".into(),

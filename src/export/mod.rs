@@ -2,23 +2,29 @@
 //! an unbaked scene (one built in code) the same way, as an input.
 //!
 //! Input: the [`Scene`], its [`BakeResult`] and [`ExportOptions`]. Output: the file(s) at the
-//! requested path. Invariants: the output is byte-deterministic (same inputs, same bytes); it is
-//! written atomically (the `.bin` first, then the `.gltf`), and nothing is written when any check
-//! fails (unknown extension, missing directory, an output that would replace an input file,
-//! inconsistent bake results). Layout of the output (one concern per module):
+//! requested path, and with lightmaps one EXR file per atlas beside it
+//! (`<stem>.lightmap<k>.exr`). Invariants: the output is byte-deterministic (same inputs, same
+//! bytes); it is written atomically (every file staged first, then renamed: the EXR files, the
+//! `.bin`, the `.gltf`/`.glb` last), and nothing is written when any check fails (unknown
+//! extension, missing directory, an output that would replace an input file, inconsistent bake
+//! results). Layout of the output (one concern per module):
 //! [`target`] (paths and the input-overwrite guard), [`document`] (the root JSON) built from
 //! [`mesh`] (+ [`geometry`], [`buffer`]), [`material`], [`nodes`], [`luminaires`] (profiles and
-//! luminaire extensions), [`probes`] (probe nodes and their results, + [`glyphs`]) and
-//! [`extras`], packed by
-//! [`container`] and written by [`atomic`].
+//! luminaire extensions), [`probes`] (probe nodes and their results, + [`glyphs`]),
+//! [`lightmaps`] (display textures, + [`display`]; EXR files, [`exr`]; material variants,
+//! [`lightmap_material`]) and [`extras`], packed by [`container`] and written by [`atomic`].
 
 pub mod atomic;
 mod buffer;
 mod container;
+mod display;
 mod document;
+mod exr;
 mod extras;
 pub(crate) mod geometry;
 mod glyphs;
+mod lightmap_material;
+mod lightmaps;
 mod luminaires;
 mod material;
 mod mesh;
@@ -29,7 +35,7 @@ mod target;
 
 pub use glyphs::scale as glyph_scale;
 
-use crate::{Result, result::BakeResult, scene::Scene};
+use crate::{Error, Result, result::BakeResult, scene::Scene};
 use std::path::Path;
 use target::{Format, Target};
 
@@ -52,12 +58,12 @@ impl Default for ExportOptions {
 }
 
 /// Check, before any work, that `path` is a writable output for `scene`: a `.gltf` or `.glb`
-/// name in an existing folder that would not replace any file the import read. `extra` are other
-/// files the caller will write (e.g. a summary); they are checked the same way and may not
-/// coincide with the glTF output files.
+/// name in an existing folder that would not replace any file the import read (nor would any
+/// lightmap EXR file it may get). `extra` are other files the caller will write (e.g. a
+/// summary); they are checked the same way and may not coincide with the output files.
 pub fn check(path: &Path, scene: &Scene, extra: &[&Path]) -> Result<()> {
     let target = Target::for_path(path)?;
-    target.check_with(scene, true, extra)
+    target.check_with(scene, true, None, extra)
 }
 
 /// Write `scene` with the baked `result` to `path` (`.gltf` or `.glb`, by extension), atomically.
@@ -76,19 +82,24 @@ pub struct Prepared<'p> {
     path: &'p Path,
     target: Target,
     doc: document::Document,
+    result: &'p BakeResult,
 }
 
 impl<'p> Prepared<'p> {
     pub fn new(
         path: &'p Path,
         scene: &Scene,
-        result: &BakeResult,
+        result: &'p BakeResult,
         options: &ExportOptions,
     ) -> Result<Self> {
+        let target = Target::for_path(path)?;
+        let atlases = result.lightmaps.as_ref().map_or(0, |l| l.atlases.len());
+        let uris: Vec<String> = (0..atlases).map(|k| target.lightmap(k).1).collect();
         Ok(Prepared {
             path,
-            target: Target::for_path(path)?,
-            doc: document::build(scene, result, options)?,
+            doc: document::build(scene, result, options, &uris)?,
+            target,
+            result,
         })
     }
 
@@ -97,8 +108,9 @@ impl<'p> Prepared<'p> {
         container::glb(&self.doc, self.path)
     }
 
+    /// Write the output files (the EXR files are encoded here, one at a time).
     pub fn write(self, scene: &Scene) -> Result<()> {
-        write_doc(self.path, self.target, scene, &self.doc)
+        write_doc(self.path, self.target, scene, &self.doc, Some(self.result))
     }
 }
 
@@ -114,21 +126,38 @@ pub fn write_scene(path: &Path, scene: &Scene) -> Result<()> {
         probe_glyphs: None,
     };
     let doc = document::build_input(scene, &result, &options)?;
-    write_doc(path, target, scene, &doc)
+    write_doc(path, target, scene, &doc, None)
 }
 
-fn write_doc(path: &Path, target: Target, scene: &Scene, doc: &document::Document) -> Result<()> {
+/// Stage every file (the lightmaps of `baked`, if any, first), then rename them all.
+fn write_doc(
+    path: &Path,
+    target: Target,
+    scene: &Scene,
+    doc: &document::Document,
+    baked: Option<&BakeResult>,
+) -> Result<()> {
     let has_binary = !doc.bin.is_empty();
-    target.check_not_input(scene, has_binary)?;
-    match target.format {
-        Format::Glb => atomic::write_atomic(&target.main, &container::glb(doc, path)?),
-        Format::Gltf => {
-            let json = container::gltf(doc, &target.bin_uri);
-            if has_binary {
-                atomic::write_atomic_all(&[(&target.bin, &doc.bin), (&target.main, &json)])
-            } else {
-                atomic::write_atomic(&target.main, &json)
-            }
+    let lightmaps = baked.and_then(|b| b.lightmaps.as_ref().map(|l| (l, &b.summary)));
+    let atlases = lightmaps.map_or(0, |(l, _)| l.atlases.len());
+    target.check_not_input(scene, has_binary, atlases)?;
+    let mut batch = atomic::Batch::default();
+    if let Some((l, summary)) = lightmaps {
+        for (k, atlas) in l.atlases.iter().enumerate() {
+            let file = target.lightmap(k).0;
+            let header = lightmaps::exr_header(k, l, summary);
+            let bytes = exr::encode(atlas, &header).map_err(|m| Error::output(&file, m))?;
+            batch.stage(&file, &bytes)?;
         }
     }
+    match target.format {
+        Format::Glb => batch.stage(&target.main, &container::glb(doc, path)?)?,
+        Format::Gltf => {
+            if has_binary {
+                batch.stage(&target.bin, &doc.bin)?;
+            }
+            batch.stage(&target.main, &container::gltf(doc, &target.bin_uri))?;
+        }
+    }
+    batch.commit()
 }

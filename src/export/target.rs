@@ -1,5 +1,6 @@
 //! Where the output goes: the container format chosen by the extension, the side buffer's path,
-//! and the guard that refuses to overwrite any file the scene was read from.
+//! the lightmaps' EXR files (`<stem>.lightmap<k>.exr` beside the output, `.gltf` or `.glb`), and
+//! the guard that refuses to overwrite any file the scene was read from.
 //!
 //! Input: the requested output path and the [`Scene`]'s `source_file` / `input_files`.
 //! Output: a [`Target`]. Invariants: the format is decided by the extension alone
@@ -28,6 +29,8 @@ pub struct Target {
     pub bin: PathBuf,
     /// The side buffer's relative URI as written in `buffers[0].uri` (percent-encoded file name).
     pub bin_uri: String,
+    /// The output's file stem (`lit` for `lit.gltf`).
+    stem: String,
 }
 
 impl Target {
@@ -58,36 +61,88 @@ impl Target {
             main: path.to_path_buf(),
             bin: path.with_file_name(&bin_name),
             bin_uri: percent_encode(&bin_name),
+            stem: stem.to_string(),
         })
     }
 
-    /// The files that will be written when the output has `has_binary` data.
-    pub fn files(&self, has_binary: bool) -> Vec<&Path> {
-        match (self.format, has_binary) {
-            (Format::Gltf, true) => vec![&self.bin, &self.main],
-            _ => vec![&self.main],
+    /// Atlas `k`'s EXR file beside the output, and its relative URI (percent-encoded name).
+    pub fn lightmap(&self, k: usize) -> (PathBuf, String) {
+        let name = format!("{}.lightmap{k}.exr", self.stem);
+        (self.main.with_file_name(&name), percent_encode(&name))
+    }
+
+    /// Whether `name` is the name some atlas's EXR file would have.
+    fn is_lightmap_name(&self, name: &std::ffi::OsStr) -> bool {
+        let Some(rest) = name
+            .to_str()
+            .and_then(|n| n.strip_prefix(self.stem.as_str()))
+            .and_then(|n| n.strip_prefix(".lightmap"))
+            .and_then(|n| n.strip_suffix(".exr"))
+        else {
+            return false;
+        };
+        !rest.is_empty() && rest.bytes().all(|b| b.is_ascii_digit())
+    }
+
+    /// The files that will be written when the output has `has_binary` data and `lightmaps`
+    /// atlases, in the order they are renamed into place (the main file last).
+    pub fn files(&self, has_binary: bool, lightmaps: usize) -> Vec<PathBuf> {
+        let mut files: Vec<PathBuf> = (0..lightmaps).map(|k| self.lightmap(k).0).collect();
+        if self.format == Format::Gltf && has_binary {
+            files.push(self.bin.clone());
         }
+        files.push(self.main.clone());
+        files
     }
 
     /// Refuse (before writing anything) when an output file would replace one of the scene's
     /// input files, or when the output directory does not exist.
-    pub fn check_not_input(&self, scene: &Scene, has_binary: bool) -> Result<()> {
-        self.check_with(scene, has_binary, &[])
+    pub fn check_not_input(&self, scene: &Scene, has_binary: bool, lightmaps: usize) -> Result<()> {
+        self.check_with(scene, has_binary, Some(lightmaps), &[])
     }
 
     /// Like [`Target::check_not_input`], also for `extra` files the caller will write (a summary):
-    /// none may be an input, a glTF output, or each other, and their folders must exist.
-    pub fn check_with(&self, scene: &Scene, has_binary: bool, extra: &[&Path]) -> Result<()> {
+    /// none may be an input, a glTF output, or each other, and their folders must exist. With
+    /// `lightmaps` unknown (`None`: checked before the bake), no input or extra file may have
+    /// the name of any atlas's EXR file.
+    pub fn check_with(
+        &self,
+        scene: &Scene,
+        has_binary: bool,
+        lightmaps: Option<usize>,
+        extra: &[&Path],
+    ) -> Result<()> {
         let mut inputs: Vec<PathBuf> = scene.input_files.iter().map(|p| canonical(p)).collect();
         if !scene.source_file.as_os_str().is_empty() {
             inputs.push(canonical(&scene.source_file));
         }
+        if lightmaps.is_none() {
+            let dir = resolve_output(&self.main)?;
+            let dir = dir.parent().unwrap_or(&dir);
+            let clash = inputs.iter().cloned().chain(
+                extra
+                    .iter()
+                    .map(|p| resolve_output(p))
+                    .collect::<Result<Vec<_>>>()?,
+            );
+            for file in clash {
+                if file.parent() == Some(dir)
+                    && file.file_name().is_some_and(|n| self.is_lightmap_name(n))
+                {
+                    return Err(Error::output(
+                        &file,
+                        "a lightmap of the output would be written to this file (an input, or \
+                         another output); choose another output name",
+                    ));
+                }
+            }
+        }
         // The main file first, so a clash is reported on the name the user typed.
-        let mut files = self.files(has_binary);
+        let mut files = self.files(has_binary, lightmaps.unwrap_or(0));
         files.reverse();
-        files.extend_from_slice(extra);
+        files.extend(extra.iter().map(|p| p.to_path_buf()));
         let mut written: Vec<PathBuf> = Vec::new();
-        for file in files {
+        for file in &files {
             let resolved = resolve_output(file)?;
             if inputs.contains(&resolved) {
                 return Err(Error::output(
@@ -172,6 +227,22 @@ mod tests {
     #[test]
     fn missing_directory_is_refused() {
         let t = Target::for_path(Path::new("/nonexistent-luxbake-dir/x.glb")).unwrap();
-        assert!(t.check_not_input(&Scene::default(), true).is_err());
+        assert!(t.check_not_input(&Scene::default(), true, 0).is_err());
+    }
+
+    #[test]
+    fn lightmap_names() {
+        let t = Target::for_path(Path::new("out/room lit.glb")).unwrap();
+        let (path, uri) = t.lightmap(12);
+        assert_eq!(path, Path::new("out/room lit.lightmap12.exr"));
+        assert_eq!(uri, "room%20lit.lightmap12.exr");
+        for (name, is) in [
+            ("room lit.lightmap0.exr", true),
+            ("room lit.lightmap.exr", false),
+            ("room lit.lightmap1a.exr", false),
+            ("room.lightmap0.exr", false),
+        ] {
+            assert_eq!(t.is_lightmap_name(name.as_ref()), is, "{name}");
+        }
     }
 }

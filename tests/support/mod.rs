@@ -8,6 +8,7 @@ pub mod bakes;
 pub mod cli;
 pub mod fixture;
 pub mod gltf_read;
+pub mod lightmapped;
 pub mod tools;
 
 use std::path::{Path, PathBuf};

@@ -135,21 +135,30 @@ pub fn have_blender() -> bool {
 
 /// Import `path` with Blender's glTF importer; the JSON printed by `tests/tools/blender_import.py`.
 pub fn blender_import(path: &Path) -> Value {
+    blender_script("blender_import.py", path)
+}
+
+/// Load the image `path` in Blender; the JSON printed by `tests/tools/blender_image.py`.
+pub fn blender_image(path: &Path) -> Value {
+    blender_script("blender_image.py", path)
+}
+
+fn blender_script(script: &str, path: &Path) -> Value {
     let python = bpy_python().expect("no Python with bpy; call have_blender() first");
     let out = Command::new(&python)
-        .arg(tools_dir().join("blender_import.py"))
+        .arg(tools_dir().join(script))
         .arg(path)
         .output()
         .unwrap_or_else(|e| panic!("cannot run {}: {e}", python.display()));
     assert!(
         out.status.success(),
-        "blender_import.py failed on {}:\n{}",
+        "{script} failed on {}:\n{}",
         path.display(),
         String::from_utf8_lossy(&out.stderr)
     );
     serde_json::from_slice(&out.stdout).unwrap_or_else(|e| {
         panic!(
-            "blender_import.py printed no JSON ({e}):\n{}",
+            "{script} printed no JSON ({e}):\n{}",
             String::from_utf8_lossy(&out.stdout)
         )
     })

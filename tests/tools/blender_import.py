@@ -9,9 +9,14 @@ receives one JSON object (Blender's own log lines are sent to stderr):
    "scene": {"name", "properties"},                 # scene custom properties (glTF scene extras)
    "objects": [{"name", "type", "parent", "properties"}],  # every object, sorted by name
    "meshes": [{"name", "mesh", "vertex_count", "corner_count", "properties",
-               "attributes": [{"name", "domain", "data_type"}],
-               "values": {ATTRIBUTE: {...}}}]}      # for _ILLUMINANCE, _ILLUMINANCE_DIRECT,
+               "attributes": [{"name", "domain", "data_type"}], "uv_layers": [NAME],
+               "materials": [NAME],                 # the object's material slots
+               "values": {ATTRIBUTE: {...}}}],      # for _ILLUMINANCE, _ILLUMINANCE_DIRECT,
                                                     # _LUMINANCE and Color
+   "materials": [{"name", "textures": [{"image", "uv_map", "interpolation", "extension",
+                                        "feeds": [[NODE_TYPE, INPUT]]}]}]}
+A texture's "uv_map" is that of the UV Map node feeding its Vector input (null: none), and
+"feeds" the shader inputs its colour reaches (through any mixing nodes).
 Scalar attributes give {"domain", "count", "min", "max", "mean", "first": [...]}. The colour
 attribute (8-bit, corner domain) additionally gives per-vertex values: "vertex_linear" and
 "vertex_srgb" (Blender stores byte colours sRGB-encoded; "linear" is Blender's decoding of them).
@@ -94,8 +99,44 @@ def describe_mesh(obj, limit):
         "corner_count": len(mesh.loops),
         "properties": properties(obj),
         "attributes": attributes,
+        "uv_layers": [uv.name for uv in mesh.uv_layers],
+        "materials": [s.material.name for s in obj.material_slots if s.material],
         "values": values,
     }
+
+
+SHADERS = ("BSDF_PRINCIPLED", "EMISSION", "OUTPUT_MATERIAL")
+
+
+def feeds(node, depth=0):
+    """The shader inputs a node's outputs reach, through other nodes (at most 4 deep)."""
+    reached = []
+    for output in node.outputs:
+        for link in output.links:
+            if link.to_node.type in SHADERS or depth >= 4:
+                reached.append([link.to_node.type, link.to_socket.name])
+            else:
+                reached.extend(feeds(link.to_node, depth + 1))
+    return reached
+
+
+def describe_material(material):
+    textures = []
+    nodes = material.node_tree.nodes if material.node_tree else []
+    for node in sorted(nodes, key=lambda n: n.name):
+        if node.type != "TEX_IMAGE":
+            continue
+        uv = [l.from_node for l in node.inputs["Vector"].links]
+        textures.append(
+            {
+                "image": node.image.name if node.image else None,
+                "uv_map": uv[0].uv_map if uv and uv[0].type == "UVMAP" else None,
+                "interpolation": node.interpolation,
+                "extension": node.extension,
+                "feeds": feeds(node),
+            }
+        )
+    return {"name": material.name, "textures": textures}
 
 
 def main(argv):
@@ -132,6 +173,9 @@ def main(argv):
                 describe_mesh(o, limit)
                 for o in sorted(bpy.data.objects, key=lambda o: o.name)
                 if o.type == "MESH"
+            ],
+            "materials": [
+                describe_material(m) for m in sorted(bpy.data.materials, key=lambda m: m.name)
             ],
         }
     except Exception as error:  # report any failure as one clear line

@@ -1,0 +1,72 @@
+//! A lightmap atlas's display colours as the PNG a glTF viewer shows (the `png` crate).
+//!
+//! Input: an [`Atlas`]'s `display` (linear, each component in [0, 1]). Output: the bytes of an
+//! 8-bit RGB PNG of W × H pixels, first row = atlas row 0 (glTF's v = 0, the top), each component
+//! sRGB-encoded (IEC 61966-2-1, as glTF's colour textures are) and rounded to the nearest byte.
+//! Invariants: equal atlases give equal bytes; NaN shows as 0, values outside [0, 1] are clamped.
+
+use crate::result::Atlas;
+
+/// The PNG bytes of `atlas.display`; an error message when the atlas is inconsistent.
+pub fn png(atlas: &Atlas) -> Result<Vec<u8>, String> {
+    let n = atlas.width as usize * atlas.height as usize;
+    if n == 0 || atlas.display.len() != n {
+        return Err(format!(
+            "a {} × {} atlas has {} display colours",
+            atlas.width,
+            atlas.height,
+            atlas.display.len()
+        ));
+    }
+    let pixels: Vec<u8> = atlas.display.iter().flatten().map(|&c| srgb8(c)).collect();
+    let mut out = Vec::new();
+    let mut encoder = ::png::Encoder::new(&mut out, atlas.width, atlas.height);
+    encoder.set_color(::png::ColorType::Rgb);
+    encoder.set_depth(::png::BitDepth::Eight);
+    let fail = |e: ::png::EncodingError| format!("cannot encode the display PNG: {e}");
+    let mut writer = encoder.write_header().map_err(fail)?;
+    writer.write_image_data(&pixels).map_err(fail)?;
+    writer.finish().map_err(fail)?;
+    Ok(out)
+}
+
+/// A linear component as an 8-bit sRGB-encoded byte.
+pub fn srgb8(linear: f32) -> u8 {
+    let c = if linear.is_nan() {
+        0.0
+    } else {
+        f64::from(linear).clamp(0.0, 1.0)
+    };
+    let encoded = if c <= 0.003_130_8 {
+        12.92 * c
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
+    };
+    (encoded * 255.0).round() as u8
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn transfer_and_layout() {
+        assert_eq!(srgb8(0.0), 0);
+        assert_eq!(srgb8(1.0), 255);
+        assert_eq!(srgb8(f32::NAN), 0);
+        assert_eq!(srgb8(2.0), 255);
+        // 0.5 linear is 0.7354 encoded: 187.5 → 188.
+        assert_eq!(srgb8(0.5), 188);
+        assert_eq!(srgb8(0.002), 7); // the linear segment: 0.02584 × 255 = 6.59
+
+        let mut atlas = Atlas::new(2, 1);
+        atlas.display = vec![[1.0, 0.0, 0.0], [0.0, 0.0, 0.5]];
+        let bytes = png(&atlas).unwrap();
+        let decoder = ::png::Decoder::new(std::io::Cursor::new(bytes));
+        let mut reader = decoder.read_info().unwrap();
+        let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+        let info = reader.next_frame(&mut buf).unwrap();
+        assert_eq!((info.width, info.height), (2, 1));
+        assert_eq!(&buf[..6], &[255, 0, 0, 0, 0, 188]);
+    }
+}
