@@ -131,6 +131,10 @@ pub struct LightmapSettings {
     pub texel_size: Option<f64>,
     /// Largest atlas edge in texels.
     pub max_size: u32,
+    /// Inter-reflected light interpolated where a check gather misses by at most this fraction
+    /// of the illuminance; `None`: the quality's; 0 gathers at every texel (benchmarks).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tolerance: Option<f64>,
 }
 
 impl Default for LightmapSettings {
@@ -138,6 +142,7 @@ impl Default for LightmapSettings {
         LightmapSettings {
             texel_size: None,
             max_size: 2048,
+            tolerance: None,
         }
     }
 }
@@ -216,6 +221,13 @@ impl Settings {
             {
                 return Err(Error::Settings(format!(
                     "--texel-size must be a positive length in metres, got {t}"
+                )));
+            }
+            if let Some(t) = l.tolerance
+                && !(t.is_finite() && (0.0..1.0).contains(&t))
+            {
+                return Err(Error::Settings(format!(
+                    "--lightmap-tolerance must be in [0, 1), got {t}"
                 )));
             }
             if !(16..=16384).contains(&l.max_size) {

@@ -17,6 +17,7 @@ fn lightmapped(texel: f64) -> Settings {
         lightmaps: Some(LightmapSettings {
             texel_size: Some(texel),
             max_size: 2048,
+            tolerance: None,
         }),
         ..Settings::default()
     }

@@ -71,7 +71,7 @@ pub fn bake(scene: &Scene, settings: &Settings, progress: &dyn Progress) -> Resu
             let options = crate::lightmap::Options {
                 texel_size: texel_size(&l, settings.quality, summary.patch_size, &solution),
                 max_size: l.max_size,
-                tolerance: settings.quality.lightmap_tolerance(),
+                tolerance: l.tolerance.unwrap_or(settings.quality.lightmap_tolerance()),
             };
             let color = |e: DVec3, m: DVec3, material: usize| {
                 display::color(e, m, &scene.materials[material], scale)

@@ -53,7 +53,7 @@ pub struct BakeArgs {
     #[arg(long)]
     keep_lit_materials: bool,
     /// Also bake lightmaps: per atlas an OpenEXR file beside the output (R, G, B luminance in
-    /// cd/m², illuminance and illuminanceDirect in lx, area in m²) and a display PNG in it,
+    /// cd/m², illuminance and illuminanceDirect in lx, footprint in m²) and a display PNG in it,
     /// laid out on TEXCOORD_1.
     #[arg(long)]
     lightmaps: bool,
@@ -74,6 +74,10 @@ pub struct BakeArgs {
         requires = "lightmaps"
     )]
     lightmap_size: u32,
+    /// Fraction of the illuminance by which interpolated inter-reflected light may miss a check
+    /// gather (default per quality: 0.03, 0.01, 0); 0 gathers at every texel.
+    #[arg(long, value_name = "FRACTION", requires = "lightmaps", hide = true)]
+    lightmap_tolerance: Option<f64>,
     /// Up axis of an OBJ input (glTF is always +Y up).
     #[arg(long, value_enum, default_value_t = UpArg::Y)]
     obj_up: UpArg,
@@ -145,6 +149,7 @@ fn settings(args: &BakeArgs) -> Result<Settings> {
         lightmaps: args.lightmaps.then_some(LightmapSettings {
             texel_size: args.texel_size,
             max_size: args.lightmap_size,
+            tolerance: args.lightmap_tolerance,
         }),
         ..Settings::default()
     };

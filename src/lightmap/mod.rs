@@ -20,6 +20,7 @@ pub mod charts;
 mod fill;
 pub mod pack;
 pub mod raster;
+mod reflected;
 mod texels;
 
 use crate::progress::Progress;

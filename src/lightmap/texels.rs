@@ -12,6 +12,7 @@
 //! gathered. Before reading, a sample is pushed off any surface within a hundredth of a texel
 //! along its plane, and out of a solid when most short rays along the plane meet back faces.
 
+use super::reflected::At;
 use super::{Display, Options, Sampled};
 use crate::progress::Progress;
 use crate::result::{Atlas, BakedSurface};
@@ -19,7 +20,6 @@ use crate::scene::luma;
 use crate::solution::{Planes, Receiver, Receivers, Solution, receivers};
 use glam::DVec3;
 use rayon::prelude::*;
-use std::collections::BTreeMap;
 
 /// The texels (a subset of them, by index) as receivers.
 struct Points<'a> {
@@ -94,51 +94,20 @@ pub fn light(
     let direct: Vec<DVec3> = receivers::map(&direct_set, progress, |_, r| {
         s.lights().at(mesh, s.occluder(), r)[0]
     });
-    // Interpolated inter-reflected light from the vertices' gathers.
-    let vertex_indirect = |surface: usize, v: u32| -> DVec3 {
-        let g = &mesh.groups[surface];
-        let o = origins[surface][v as usize] as usize;
-        match o < g.receivers.len() {
-            true => s.vertex(g.receivers.start + o).indirect,
-            false => DVec3::ZERO,
-        }
-    };
-    let mut indirect: Vec<DVec3> = lit
-        .iter()
+    let at: Vec<At> = (lit.iter())
         .map(|&i| {
             let t = &samples[i];
-            let x = t.sample.expect("lit");
-            let tri = surfaces[t.surface as usize].triangles[x.triangle as usize];
-            let l = placed[i].2;
-            (0..3)
-                .map(|j| vertex_indirect(t.surface as usize, tri[j]) * l[j])
-                .sum()
-        })
-        .collect();
-    // Vertices on a contact's outline read light off it (see `patches`): the triangles they
-    // belong to are gathered texel by texel rather than interpolated.
-    let outline = |surface: u32, triangle: u32| -> bool {
-        let g = &mesh.groups[surface as usize];
-        let tri = surfaces[surface as usize].triangles[triangle as usize];
-        tri.iter().any(|&v| {
-            let k = origins[surface as usize][v as usize] as usize;
-            k < g.receivers.len() && {
-                let r = &mesh.receivers[g.receivers.start + k];
-                (r.point - r.position).length() > 0.01 * o.texel_size
+            At {
+                surface: t.surface,
+                triangle: t.sample.expect("lit").triangle,
+                bary: placed[i].2,
+                point: placed[i].0,
+                normal: placed[i].1,
             }
         })
-    };
-    let gathered = check_and_gather(
-        s,
-        samples,
-        &lit,
-        &points,
-        &direct,
-        &mut indirect,
-        o,
-        &outline,
-        progress,
-    );
+        .collect();
+    let (indirect, gathered) =
+        super::reflected::at_texels(s, surfaces, origins, &at, &direct, o, progress);
     for (k, &i) in lit.iter().enumerate() {
         let t = &samples[i];
         let g = &mesh.groups[t.surface as usize];
@@ -164,95 +133,6 @@ pub fn light(
             display(DVec3::ZERO, DVec3::ZERO, g.material);
     }
     gathered
-}
-
-/// Triangles with fewer texels are interpolated unchecked (their vertices are that close).
-const MIN_CHECKED: usize = 8;
-
-/// Gather at each triangle's middle texel; where the interpolation misses it by more than the
-/// tolerance, gather at every texel of that triangle. Returns the texels gathered.
-#[allow(clippy::too_many_arguments)]
-fn check_and_gather(
-    s: &Solution,
-    samples: &[Sampled],
-    lit: &[usize],
-    points: &[(DVec3, DVec3)],
-    direct: &[DVec3],
-    indirect: &mut [DVec3],
-    o: &Options,
-    outline: &dyn Fn(u32, u32) -> bool,
-    progress: &dyn Progress,
-) -> usize {
-    // Texels (positions in `lit`) of each (surface, triangle), in texel order.
-    let mut of: BTreeMap<(u32, u32), Vec<usize>> = BTreeMap::new();
-    for (k, &i) in lit.iter().enumerate() {
-        let t = &samples[i];
-        of.entry((t.surface, t.sample.expect("lit").triangle))
-            .or_default()
-            .push(k);
-    }
-    let gather_at = |ks: &[usize]| -> Vec<DVec3> {
-        let set: Vec<usize> = ks.iter().map(|&k| lit[k]).collect();
-        let pts = Points {
-            points,
-            subset: Some(&set),
-        };
-        receivers::map(&pts, progress, |_, r| {
-            s.indirect_at(r.point, r.planes.as_slice()[0])
-        })
-    };
-    let mut full: Vec<usize> = Vec::new();
-    if o.tolerance <= 0.0 {
-        full = (0..lit.len()).collect();
-    } else {
-        // The middle texel of each triangle with more than one: nearest the centroid.
-        let mut middles_of = Vec::new();
-        for ((surface, t), ks) in &of {
-            if outline(*surface, *t) {
-                full.extend(ks);
-            } else if ks.len() >= MIN_CHECKED {
-                middles_of.push(ks);
-            }
-        }
-        let middles: Vec<(usize, &Vec<usize>)> = middles_of
-            .into_iter()
-            .map(|ks| {
-                let mid = *ks
-                    .iter()
-                    .min_by(|&&a, &&b| {
-                        let d = |k: usize| {
-                            let l = samples[lit[k]].sample.expect("lit").bary;
-                            l.iter().map(|x| (x - 1.0 / 3.0).powi(2)).sum::<f64>()
-                        };
-                        d(a).total_cmp(&d(b))
-                    })
-                    .expect("non-empty");
-                (mid, ks)
-            })
-            .collect();
-        let probe: Vec<usize> = middles.iter().map(|(m, _)| *m).collect();
-        let values = gather_at(&probe);
-        for ((mid, ks), g) in middles.iter().zip(values) {
-            let total = luma(direct[*mid] + g).max(1e-300);
-            let miss = (luma(g) - luma(indirect[*mid])).abs();
-            indirect[*mid] = g;
-            if miss > o.tolerance * total {
-                full.extend(ks.iter().filter(|k| *k != mid));
-            }
-        }
-        full.sort_unstable();
-        let checked = probe.len();
-        let values = gather_at(&full);
-        for (k, g) in full.iter().zip(values) {
-            indirect[*k] = g;
-        }
-        return checked + full.len();
-    }
-    let values = gather_at(&full);
-    for (k, g) in full.iter().zip(values) {
-        indirect[*k] = g;
-    }
-    full.len()
 }
 
 /// Whether the surface really goes on from `near` (on a chart's edge, normal `n`) to `far` (a

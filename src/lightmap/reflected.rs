@@ -1,0 +1,306 @@
+//! Inter-reflected light at texels: interpolated from a sparse set of gathers, refined where an
+//! error estimate asks for it.
+//!
+//! Input: the solved scene, the re-indexed surfaces and each texel's triangle and barycentric
+//! point. Output: the inter-reflected illuminance at every texel (lx, RGB) and the number of
+//! gathers made.
+//!
+//! Each triangle starts as one linear piece with its vertices' values (the solve's own gathers;
+//! a vertex on a contact's outline, whose solve value is read off the outline, is gathered at
+//! the vertex itself). A piece holding at least [`MIN_CHECKED`] texels is checked by one gather
+//! at its centroid: where the linear value misses it by more than the tolerance (a fraction of
+//! the total illuminance there), the piece is split into four at its edge midpoints, each
+//! midpoint gathered, and the pieces checked in turn; a failing piece of few texels is gathered
+//! texel by texel. A piece never crosses its triangle, so interpolation never crosses a contact
+//! or a chart edge. Gathers run level by level in a fixed order, in parallel.
+
+use super::Options;
+use crate::progress::Progress;
+use crate::result::BakedSurface;
+use crate::scene::luma;
+use crate::solution::{Planes, Receiver, Receivers, Solution, receivers};
+use glam::DVec3;
+use std::collections::{BTreeMap, HashMap};
+
+/// Pieces with fewer texels are interpolated unchecked.
+pub const MIN_CHECKED: usize = 6;
+/// A failing piece with at most this many texels is gathered texel by texel.
+const GATHER_ALL: usize = 4;
+/// Splits at most this deep.
+const MAX_DEPTH: usize = 6;
+
+/// Points to gather at: (point, normal).
+struct Points<'a>(&'a [(DVec3, DVec3)]);
+
+impl Receivers for Points<'_> {
+    fn len(&self) -> usize {
+        self.0.len()
+    }
+
+    fn receiver(&self, i: usize) -> Receiver {
+        Receiver {
+            point: self.0[i].0,
+            planes: Planes::one(self.0[i].1),
+        }
+    }
+}
+
+/// A linear piece of a triangle: its corners (barycentric in the triangle), values there, and
+/// its texels (index into `lit`, barycentric in the piece).
+struct Piece {
+    surface: u32,
+    triangle: u32,
+    corners: [[f64; 3]; 3],
+    values: [DVec3; 3],
+    texels: Vec<(usize, [f64; 3])>,
+    depth: usize,
+}
+
+/// Where a texel reads: its triangle and barycentric coordinates there, and the point and
+/// normal it reads at (the point may have been moved off a nearby surface).
+pub struct At {
+    pub surface: u32,
+    pub triangle: u32,
+    pub bary: [f64; 3],
+    pub point: DVec3,
+    pub normal: DVec3,
+}
+
+#[allow(clippy::too_many_arguments)]
+pub fn at_texels(
+    s: &Solution,
+    surfaces: &[BakedSurface],
+    origins: &[Vec<u32>],
+    at: &[At],
+    direct: &[DVec3],
+    o: &Options,
+    progress: &dyn Progress,
+) -> (Vec<DVec3>, usize) {
+    let mesh = s.mesh();
+    let gather = |pts: &[(DVec3, DVec3)]| -> Vec<DVec3> {
+        receivers::map(&Points(pts), progress, |_, r| {
+            s.indirect_at(r.point, r.planes.as_slice()[0])
+        })
+    };
+    let world = |surface: u32, triangle: u32, l: [f64; 3]| -> (DVec3, DVec3) {
+        let b = &surfaces[surface as usize];
+        let tri = b.triangles[triangle as usize];
+        let (mut p, mut n, mut c) = (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO);
+        for j in 0..3 {
+            p += b.positions[tri[j] as usize] * l[j];
+            n += b.normals[tri[j] as usize] * l[j];
+            c += b.positions[tri[j] as usize] / 3.0;
+        }
+        // A midpoint on the triangle's edge may lie on a contact's outline: read a hair inside.
+        let inward = c - p;
+        let step = (0.01 * o.texel_size).min(0.5 * inward.length());
+        (
+            p + inward.normalize_or_zero() * step,
+            n.normalize_or(b.normals[tri[0] as usize]),
+        )
+    };
+    let mut out = vec![DVec3::ZERO; at.len()];
+    let mut gathers = 0;
+    if o.tolerance <= 0.0 {
+        let pts: Vec<_> = at.iter().map(|a| (a.point, a.normal)).collect();
+        return (gather(&pts), at.len());
+    }
+    // The solve's value at each vertex, or where it was read off an outline, a gather at the
+    // vertex itself (a hair inside, toward where the solve read).
+    let mut outline: BTreeMap<(u32, u32), (DVec3, DVec3)> = BTreeMap::new();
+    let mut by_triangle: BTreeMap<(u32, u32), Vec<(usize, [f64; 3])>> = BTreeMap::new();
+    for (k, a) in at.iter().enumerate() {
+        by_triangle
+            .entry((a.surface, a.triangle))
+            .or_default()
+            .push((k, a.bary));
+    }
+    let solved = |surface: u32, v: u32| -> Result<DVec3, (DVec3, DVec3)> {
+        let g = &mesh.groups[surface as usize];
+        let b = &surfaces[surface as usize];
+        let k = origins[surface as usize][v as usize] as usize;
+        if k >= g.receivers.len() {
+            return Ok(DVec3::ZERO);
+        }
+        let r = &mesh.receivers[g.receivers.start + k];
+        let nudge = r.point - r.position;
+        match nudge.length() > 0.01 * o.texel_size {
+            false => Ok(s.vertex(g.receivers.start + k).indirect),
+            true => {
+                let p = b.positions[v as usize] + nudge.normalize() * 0.01 * o.texel_size;
+                Err((p, b.normals[v as usize]))
+            }
+        }
+    };
+    for &(surface, triangle) in by_triangle.keys() {
+        for v in surfaces[surface as usize].triangles[triangle as usize] {
+            if let Err(p) = solved(surface, v) {
+                outline.insert((surface, v), p);
+            }
+        }
+    }
+    let pts: Vec<_> = outline.values().copied().collect();
+    let values: HashMap<(u32, u32), DVec3> = outline.keys().copied().zip(gather(&pts)).collect();
+    gathers += pts.len();
+    let mut pieces: Vec<Piece> = by_triangle
+        .into_iter()
+        .map(|((surface, triangle), texels)| {
+            let tri = surfaces[surface as usize].triangles[triangle as usize];
+            Piece {
+                surface,
+                triangle,
+                corners: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+                values: tri.map(|v| solved(surface, v).unwrap_or_else(|_| values[&(surface, v)])),
+                texels,
+                depth: 0,
+            }
+        })
+        .collect();
+    let interpolate = |p: &Piece, out: &mut [DVec3]| {
+        for (k, l) in &p.texels {
+            out[*k] = p.values[0] * l[0] + p.values[1] * l[1] + p.values[2] * l[2];
+        }
+    };
+    while !pieces.is_empty() {
+        let (small, checked): (Vec<Piece>, Vec<Piece>) = pieces
+            .into_iter()
+            .partition(|p| p.texels.len() < MIN_CHECKED);
+        for p in &small {
+            interpolate(p, &mut out);
+        }
+        let centroid = |p: &Piece| -> [f64; 3] {
+            let c = p.corners;
+            [0, 1, 2].map(|j| (c[0][j] + c[1][j] + c[2][j]) / 3.0)
+        };
+        let pts: Vec<_> = (checked.iter())
+            .map(|p| world(p.surface, p.triangle, centroid(p)))
+            .collect();
+        gathers += pts.len();
+        let mut failed = Vec::new();
+        let mut texelwise = Vec::new();
+
+        for (p, g) in checked.into_iter().zip(gather(&pts)) {
+            let linear = (p.values[0] + p.values[1] + p.values[2]) / 3.0;
+            let d =
+                p.texels.iter().map(|(k, _)| luma(direct[*k])).sum::<f64>() / p.texels.len() as f64;
+            let miss = (luma(g) - luma(linear)).abs();
+
+            if miss <= o.tolerance * (luma(g) + d) {
+                interpolate(&p, &mut out);
+            } else if p.texels.len() <= GATHER_ALL || p.depth >= MAX_DEPTH {
+                texelwise.extend(p.texels.iter().map(|(k, _)| *k));
+            } else {
+                failed.push(p);
+            }
+        }
+        let pts: Vec<_> = texelwise
+            .iter()
+            .map(|&k| (at[k].point, at[k].normal))
+            .collect();
+        gathers += pts.len();
+        for (k, g) in texelwise.iter().zip(gather(&pts)) {
+            out[*k] = g;
+        }
+        // Split the failing pieces at their edge midpoints (AB, BC, CA).
+        let mid = |a: [f64; 3], b: [f64; 3]| [0, 1, 2].map(|j| (a[j] + b[j]) / 2.0);
+        let pts: Vec<_> = (failed.iter())
+            .flat_map(|p| {
+                let c = p.corners;
+                [mid(c[0], c[1]), mid(c[1], c[2]), mid(c[2], c[0])]
+                    .map(|m| world(p.surface, p.triangle, m))
+            })
+            .collect();
+        gathers += pts.len();
+        let mids = gather(&pts);
+        pieces = Vec::new();
+        for (p, m) in failed.into_iter().zip(mids.chunks(3)) {
+            pieces.extend(split(p, [m[0], m[1], m[2]]));
+        }
+    }
+    (out, gathers)
+}
+
+/// The four pieces of `p` cut at its edge midpoints (values `m` at AB, BC, CA), its texels
+/// handed to the piece holding them (barycentric coordinates carried over).
+fn split(p: Piece, m: [DVec3; 3]) -> [Piece; 4] {
+    let [a, b, c] = p.corners;
+    let mid = |x: [f64; 3], y: [f64; 3]| [0, 1, 2].map(|j| (x[j] + y[j]) / 2.0);
+    let (ab, bc, ca) = (mid(a, b), mid(b, c), mid(c, a));
+    let [va, vb, vc] = p.values;
+    let [mab, mbc, mca] = m;
+    let piece = |corners, values| Piece {
+        surface: p.surface,
+        triangle: p.triangle,
+        corners,
+        values,
+        texels: Vec::new(),
+        depth: p.depth + 1,
+    };
+    let mut out = [
+        piece([a, ab, ca], [va, mab, mca]),
+        piece([ab, b, bc], [mab, vb, mbc]),
+        piece([ca, bc, c], [mca, mbc, vc]),
+        piece([bc, ca, ab], [mbc, mca, mab]),
+    ];
+    for (k, l) in p.texels {
+        let (child, local) = if l[0] >= 0.5 {
+            (0, [2.0 * l[0] - 1.0, 2.0 * l[1], 2.0 * l[2]])
+        } else if l[1] >= 0.5 {
+            (1, [2.0 * l[0], 2.0 * l[1] - 1.0, 2.0 * l[2]])
+        } else if l[2] >= 0.5 {
+            (2, [2.0 * l[0], 2.0 * l[1], 2.0 * l[2] - 1.0])
+        } else {
+            (3, [1.0 - 2.0 * l[0], 1.0 - 2.0 * l[1], 1.0 - 2.0 * l[2]])
+        };
+        out[child].texels.push((k, local));
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn split_pieces_reproduce_a_linear_field_and_keep_every_texel() {
+        // Texels at many points of the triangle; a field linear in the barycentrics.
+        let field = |l: [f64; 3]| DVec3::new(3.0 * l[0] + 5.0 * l[1] - 2.0 * l[2], 1.0, 0.0);
+        let mut texels = Vec::new();
+        for i in 0..=10 {
+            for j in 0..=(10 - i) {
+                let l = [i as f64 / 10.0, j as f64 / 10.0, (10 - i - j) as f64 / 10.0];
+                texels.push((texels.len(), l));
+            }
+        }
+        let n = texels.len();
+        let want: Vec<DVec3> = texels.iter().map(|(_, l)| field(*l)).collect();
+        let p = Piece {
+            surface: 0,
+            triangle: 0,
+            corners: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+            values: [
+                field([1.0, 0.0, 0.0]),
+                field([0.0, 1.0, 0.0]),
+                field([0.0, 0.0, 1.0]),
+            ],
+            texels,
+            depth: 0,
+        };
+        let mid = |a: [f64; 3], b: [f64; 3]| field([0, 1, 2].map(|j| (a[j] + b[j]) / 2.0));
+        let m = [
+            mid([1.0, 0.0, 0.0], [0.0, 1.0, 0.0]),
+            mid([0.0, 1.0, 0.0], [0.0, 0.0, 1.0]),
+            mid([0.0, 0.0, 1.0], [1.0, 0.0, 0.0]),
+        ];
+        let mut seen = 0;
+        for c in split(p, m) {
+            for (k, l) in &c.texels {
+                seen += 1;
+                assert!(l.iter().all(|x| *x >= -1e-12 && *x <= 1.0 + 1e-12));
+                let v = c.values[0] * l[0] + c.values[1] * l[1] + c.values[2] * l[2];
+                assert!((v - want[*k]).length() < 1e-12);
+            }
+        }
+        assert_eq!(seen, n);
+    }
+}
