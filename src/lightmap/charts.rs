@@ -7,8 +7,8 @@
 //!
 //! A surface whose input `TEXCOORD_1` is a usable layout (inside [0, 1], its charts apart by two
 //! texels at the resolution its area asks for, no triangle over another) keeps it: one chart, the
-//! unit square scaled. Otherwise: coplanar connected pieces of at least 16 texels are one chart
-//! each (a floor, a wall), projected on their plane with world-aligned axes (floors: +X right, +Z
+//! unit square scaled. Otherwise: coplanar connected pieces (normals within 2°) of at least 16
+//! texels are one chart each (a floor, a wall), projected on their plane with world-aligned axes (floors: +X right, +Z
 //! down the image; walls: horizontal right, −Y down, glTF +Y up); what is left (curved clutter)
 //! grows into charts from the largest triangle while normals stay within 50° of the seed's,
 //! projected on the seed's plane (area distortion at most 1/cos 50°). Connectivity is by
@@ -59,8 +59,8 @@ impl SurfaceCharts {
 const MIN_PLANAR_TEXELS: f64 = 16.0;
 /// Normals of one clutter chart stay within this of the seed's (cos 50°).
 const CLUTTER_COS: f64 = 0.6428;
-/// Coplanar: normals within 0.5°.
-const PLANAR_COS: f64 = 0.99996;
+/// Coplanar: normals within 2° of the seed's (exporters' quads are often a little bent).
+const PLANAR_COS: f64 = 0.99939;
 
 /// The charts of `s`, whose first `open` triangles receive light, at texel edge `t` (m).
 pub fn of(s: &BakedSurface, open: usize, t: f64) -> SurfaceCharts {
@@ -84,12 +84,7 @@ pub fn of(s: &BakedSurface, open: usize, t: f64) -> SurfaceCharts {
             continue;
         }
         let n = geo.normal[seed];
-        let d = n.dot(geo.centroid(seed));
-        let tol = 1e-6 * geo.scale;
-        let planar = geo.grow(seed, &chart_of, |i| {
-            geo.normal[i].dot(n) > PLANAR_COS
-                && geo.corners(i).iter().all(|p| (n.dot(*p) - d).abs() < tol)
-        });
+        let planar = geo.grow(seed, &chart_of, |i| geo.normal[i].dot(n) > PLANAR_COS);
         let area: f64 = planar.iter().map(|&i| geo.area[i]).sum();
         let members = if area >= MIN_PLANAR_TEXELS * t * t {
             planar
@@ -122,17 +117,24 @@ struct Geometry<'a> {
     area: Vec<f64>,
     /// Per triangle, per edge: the neighbours across it.
     neighbours: Vec<Vec<u32>>,
-    scale: f64,
 }
 
 impl<'a> Geometry<'a> {
     fn new(s: &'a BakedSurface, tris: &'a [[u32; 3]]) -> Self {
         let positions = &s.positions;
-        let mut ids: HashMap<[u64; 3], u32> = HashMap::new();
+        let (lo, hi) = positions.iter().fold(
+            (DVec3::splat(f64::MAX), DVec3::splat(f64::MIN)),
+            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+        );
+        let scale = (hi - lo).length().max(1e-9);
+        // Welded on a grid of 10⁻⁷ of the surface's size: refinement computes a shared edge's
+        // points from each triangle's own corners, a few ulps apart.
+        let grid = 1e-7 * scale;
+        let mut ids: HashMap<[i64; 3], u32> = HashMap::new();
         let weld: Vec<u32> = positions
             .iter()
             .map(|p| {
-                let key = p.to_array().map(f64::to_bits);
+                let key = ((*p - lo) / grid).round().to_array().map(|x| x as i64);
                 let next = ids.len() as u32;
                 *ids.entry(key).or_insert(next)
             })
@@ -169,27 +171,17 @@ impl<'a> Geometry<'a> {
                 }
             }
         }
-        let (lo, hi) = positions.iter().fold(
-            (DVec3::splat(f64::MAX), DVec3::splat(f64::MIN)),
-            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-        );
         Geometry {
             positions,
             tris,
             normal,
             area,
             neighbours,
-            scale: (hi - lo).length().max(1e-9),
         }
     }
 
     fn corners(&self, i: usize) -> [DVec3; 3] {
         self.tris[i].map(|v| self.positions[v as usize])
-    }
-
-    fn centroid(&self, i: usize) -> DVec3 {
-        let [a, b, c] = self.corners(i);
-        (a + b + c) / 3.0
     }
 
     /// Triangles reachable from `seed` across shared edges through triangles not yet charted

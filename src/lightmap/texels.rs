@@ -144,7 +144,7 @@ fn really_there(s: &Solution, near: DVec3, far: DVec3, n: DVec3, texel: f64) -> 
     let occ = s.occluder();
     let lift = (0.01 * texel).max(10.0 * occ.epsilon);
     let under = occ.closest(far + n * lift, -n);
-    if !under.is_some_and(|h| h.distance < 2.0 * lift && h.normal.dot(n) > 0.9999) {
+    if !under.is_some_and(|h| h.distance < 2.0 * lift && h.normal.dot(n) > 0.9994) {
         return false;
     }
     let along = far - near;
