@@ -10,7 +10,8 @@
 //! 4. `solve` — the balanced patch operator and GMRES: reflected exitance of every patch;
 //! 5. `energy` — emitted = absorbed + escaped, each measured;
 //! 6. `probes` — cubic illuminance at every probe, read from the [`Solution`];
-//! 7. `output` — vertex values and display colours shaped for the exporter.
+//! 7. `output` — vertex values and display colours shaped for the exporter;
+//! 8. `lightmap` (with `--lightmaps`) — the surfaces laid out in atlases, every texel lit.
 //!
 //! Stage times and ray counts go to the run summary ([`RunSummary`]). Invariant: nothing here
 //! depends on the thread count (parallel maps over fixed chunks, ordered reductions), so the same
