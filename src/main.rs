@@ -29,7 +29,7 @@ enum Command {
     Luminaire(cli::luminaire::LuminaireArgs),
     /// Print the lighting report of a baked output (per material, per node, working plane).
     Report(cli::report::ReportArgs),
-    /// Compare two bakes: vertex by vertex, by node/material means or by probes (exit 0 within
+    /// Compare two bakes: vertex or lightmap texel by texel, by node/material means or by probes (exit 0 within
     /// tolerance, 1 not, 2 not comparable).
     Diff(cli::diff::DiffArgs),
     /// Write a scene built in code as an input glTF (e.g. the benchmark's open-plan office).

@@ -1,11 +1,12 @@
 //! What a finished luxbake output holds, in world space: its nodes and materials, the baked
-//! primitives with their per-vertex values, the probes, the working plane and the run summary.
+//! primitives with their per-vertex values (and, when lightmapped, their atlas, layout and
+//! texels), the lightmap atlases, the probes, the working plane and the run summary.
 //! Whichever way it arrives (read from a file, or as the exporter would write a bake in
 //! memory), a consumer sees the same values.
 
 use crate::summary::RunSummary;
 use crate::{Error, Result};
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 use serde_json::Value;
 use std::path::PathBuf;
 
@@ -23,6 +24,9 @@ pub struct BakedOutput {
     pub probes: Vec<ProbeNode>,
     /// The working-plane probes, when the bake measured at least one.
     pub working_plane: Option<PlaneInput>,
+    /// The lightmap atlases the materials name (`LUXBAKE_lightmap`), in order of their `atlas`
+    /// number; empty for a bake without lightmaps.
+    pub lightmaps: Vec<Lightmap>,
     /// The run summary as stored (the scene's `extras.luxbake`), read typed by
     /// [`BakedOutput::run_summary`] only where it is needed: comparing two bakes needs none, so
     /// bakes of other versions still compare.
@@ -42,6 +46,8 @@ pub struct MaterialInfo {
     pub name: Option<String>,
     /// Photometric reflectance: Y of the linear RGB reflectance the bake used.
     pub reflectance: f64,
+    /// For a lightmapped variant (`extras.luxbake.variantOf`): the material it was made from.
+    pub variant_of: Option<usize>,
 }
 
 /// One baked primitive in world space (m, +Y up); values per vertex.
@@ -58,6 +64,62 @@ pub struct Primitive {
     pub illuminance_direct: Vec<f32>,
     /// cd/m².
     pub luminance: Vec<f32>,
+    /// Its lightmap, when its material has `LUXBAKE_lightmap`.
+    pub lightmap: Option<LightmapUse>,
+}
+
+/// How a primitive is laid out in a lightmap.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LightmapUse {
+    /// Index into [`BakedOutput::lightmaps`].
+    pub lightmap: usize,
+    /// The layout (`TEXCOORD_<texCoord>`), per vertex.
+    pub uv: Vec<DVec2>,
+    /// The texels it stands on, in texel order: those its UV triangles cover with some area (a
+    /// triangle without UV area, such as a covered part's, stands on the texel holding it).
+    pub texels: Vec<Texel>,
+}
+
+/// One texel of a primitive.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Texel {
+    /// Row-major index in its atlas (row 0 at the top).
+    pub index: u32,
+    /// The triangle of the primitive with the most area in it.
+    pub triangle: u32,
+}
+
+/// One lightmap atlas: the channels of its EXR file, row-major from the top row; texel (col,
+/// row) is centred at UV ((col + 0.5)/W, (row + 0.5)/H).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Lightmap {
+    /// Its `atlas` number.
+    pub atlas: usize,
+    /// The EXR file, relative to the output.
+    pub uri: String,
+    pub width: u32,
+    pub height: u32,
+    /// Texel edge of the layout (m).
+    pub texel_size: f64,
+    /// Where it is described (`/materials/N/extensions/LUXBAKE_lightmap` of the first material
+    /// naming it).
+    pub at: String,
+    /// Luminance leaving the surface, linear RGB (cd/m²).
+    pub luminance: Vec<[f32; 3]>,
+    /// lx.
+    pub illuminance: Vec<f32>,
+    /// lx.
+    pub illuminance_direct: Vec<f32>,
+    /// m² of surface each texel stands for; 0 for padding.
+    pub footprint: Vec<f32>,
+}
+
+impl Lightmap {
+    /// Photometric luminance Y of texel `k` (cd/m²): 0.2126 R + 0.7152 G + 0.0722 B.
+    pub fn luminance_y(&self, k: usize) -> f64 {
+        let [r, g, b] = self.luminance[k].map(f64::from);
+        crate::scene::luma(DVec3::new(r, g, b))
+    }
 }
 
 /// A node with probe results (`extras.luxbake.faces`).

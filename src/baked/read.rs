@@ -15,20 +15,26 @@
 //! - the working plane: the children of the scene root node `probes` → child `working_plane`,
 //!   each probe node carrying `extras.luxbake.faces["+y"]`, `facesDirect["+y"]` and
 //!   `facesIndirect["+y"]` (lx);
-//! - the run summary as stored (read typed by whoever needs it: `BakedOutput::run_summary`).
+//! - the run summary as stored (read typed by whoever needs it: `BakedOutput::run_summary`);
+//! - the lightmap atlases its materials name ([`super::lightmaps`]) and, per primitive whose
+//!   material names one, its layout (`TEXCOORD_<texCoord>`) and the texels it stands on
+//!   ([`super::texels`]); a lightmapped variant's `extras.luxbake.variantOf`.
 //!
 //! A file with no `_ILLUMINANCE` anywhere is not a luxbake output: an error saying so.
 
+use super::lightmaps::{self, Layouts};
 use super::model::{
-    BakedOutput, MaterialInfo, NodeInfo, PlaneInput, PlanePoint, Primitive, ProbeNode, parents,
+    BakedOutput, LightmapUse, MaterialInfo, NodeInfo, PlaneInput, PlanePoint, Primitive, ProbeNode,
+    parents,
 };
+use super::texels::{Scratch, rasterise};
 use crate::export::{ExportOptions, Prepared};
 use crate::import::{GltfFile, GltfPrimitive};
 use crate::probes::FACE_NAMES;
-use crate::result::BakeResult;
+use crate::result::{BakeResult, Lightmaps};
 use crate::scene::{Node, Scene, luma};
 use crate::{Error, Result};
-use glam::{DMat4, DVec3};
+use glam::{DMat4, DVec2, DVec3};
 use serde_json::Value;
 use std::path::Path;
 
@@ -45,12 +51,20 @@ pub fn read(path: &Path) -> Result<BakedOutput> {
             "not a luxbake output: bake writes .gltf or .glb files",
         ));
     }
-    from_file(&GltfFile::open(path)?)
+    from_file(&mut GltfFile::open(path)?, None)
 }
 
-/// Read an output held in memory as GLB bytes, named `name` in messages.
+/// Read an output held in memory as GLB bytes, named `name` in messages (one with lightmaps
+/// cannot be read so: its EXR files are not in memory; see [`from_prepared`]).
 pub fn from_glb(name: &Path, bytes: &[u8]) -> Result<BakedOutput> {
-    from_file(&GltfFile::from_bytes(name, bytes)?)
+    from_file(&mut GltfFile::from_bytes(name, bytes)?, None)
+}
+
+/// An output built but not yet written, named `name` in messages: its document as the `.glb`
+/// bytes, its lightmaps as the atlases its EXR files will be written from.
+pub fn from_prepared(name: &Path, prepared: &Prepared) -> Result<BakedOutput> {
+    let mut file = GltfFile::from_bytes(name, &prepared.glb()?)?;
+    from_file(&mut file, prepared.lightmaps())
 }
 
 /// `result` as its output would hold it, without writing anything (the exporter's bytes read
@@ -58,10 +72,12 @@ pub fn from_glb(name: &Path, bytes: &[u8]) -> Result<BakedOutput> {
 pub fn as_written(scene: &Scene, result: &BakeResult) -> Result<BakedOutput> {
     let name = Path::new("bake.glb");
     let prepared = Prepared::new(name, scene, result, &ExportOptions::default())?;
-    from_glb(name, &prepared.glb()?)
+    from_prepared(name, &prepared)
 }
 
-fn from_file(file: &GltfFile) -> Result<BakedOutput> {
+fn from_file(file: &mut GltfFile, memory: Option<&Lightmaps>) -> Result<BakedOutput> {
+    let layouts = lightmaps::read(file, memory)?;
+    let file = &*file;
     let nodes = file.nodes();
     let parent = parents(nodes.iter().map(|n| &n.children), nodes.len());
     let node_infos = nodes
@@ -77,13 +93,20 @@ fn from_file(file: &GltfFile) -> Result<BakedOutput> {
     let reflectances: Vec<Option<f64>> = (0..names.len())
         .map(|i| reflectance(&json["materials"][i]["extras"]["luxbake"]["reflectance"]))
         .collect();
+    let variant_of = |i: usize| {
+        let v = json["materials"][i]["extras"]["luxbake"]["variantOf"].as_u64();
+        v.map(|v| v as usize).filter(|&v| v < names.len() && v != i)
+    };
     let probes = probe_nodes(file)?;
     let points = working_plane(file)?;
     let mut primitives = Vec::new();
+    let mut scratch: Vec<Scratch> = (layouts.lightmaps.iter())
+        .map(|l| Scratch::new(l.width, l.height))
+        .collect();
     for i in file.scene_nodes() {
         let world = nodes[i].world_from_local;
         for p in file.primitives(i) {
-            if let Some(prim) = primitive(file, &p, i, world)? {
+            if let Some(prim) = primitive(file, &p, i, world, &layouts, &mut scratch)? {
                 if reflectances.get(prim.material).copied().flatten().is_none() {
                     return Err(file.err(
                         format!("/materials/{}", prim.material),
@@ -101,12 +124,11 @@ fn from_file(file: &GltfFile) -> Result<BakedOutput> {
              first: bake IN -o OUT)",
         ));
     }
-    let materials = names
-        .into_iter()
-        .zip(&reflectances)
-        .map(|(name, r)| MaterialInfo {
-            name,
-            reflectance: r.unwrap_or(0.0),
+    let materials = (names.iter().enumerate())
+        .map(|(i, name)| MaterialInfo {
+            name: name.clone(),
+            reflectance: reflectances[i].unwrap_or(0.0),
+            variant_of: variant_of(i),
         })
         .collect();
     Ok(BakedOutput {
@@ -115,6 +137,7 @@ fn from_file(file: &GltfFile) -> Result<BakedOutput> {
         primitives,
         probes,
         working_plane: (!points.is_empty()).then_some(PlaneInput { points }),
+        lightmaps: layouts.lightmaps,
         summary: file
             .scene_extras()
             .map(|e| e["luxbake"].clone())
@@ -169,11 +192,14 @@ fn reflectance(v: &Value) -> Option<f64> {
 }
 
 /// A baked primitive, or `None` when it has no `_ILLUMINANCE` or is not made of triangles.
+/// `layouts`: the lightmaps and each material's; `scratch`: one per lightmap.
 fn primitive(
     file: &GltfFile,
     p: &GltfPrimitive,
     node: usize,
     world: DMat4,
+    layouts: &Layouts,
+    scratch: &mut [Scratch],
 ) -> Result<Option<Primitive>> {
     if !p.has("_ILLUMINANCE") || !p.is_triangles() {
         return Ok(None);
@@ -203,6 +229,20 @@ fn primitive(
     let material = p
         .material()
         .ok_or_else(|| file.err(&p.at, "a baked primitive without a material"))?;
+    let lightmap = match layouts.of_material.get(material).copied().flatten() {
+        Some((k, set)) => {
+            let uv: Vec<DVec2> = (p.read(&format!("TEXCOORD_{set}"), 2)?.chunks_exact(2))
+                .map(|q| DVec2::new(q[0], q[1]))
+                .collect();
+            let (w, h) = (layouts.lightmaps[k].width, layouts.lightmaps[k].height);
+            Some(LightmapUse {
+                lightmap: k,
+                texels: rasterise(&uv, &triangles, (w, h), &mut scratch[k]),
+                uv,
+            })
+        }
+        None => None,
+    };
     Ok(Some(Primitive {
         node,
         material,
@@ -211,6 +251,7 @@ fn primitive(
         illuminance,
         illuminance_direct,
         luminance,
+        lightmap,
     }))
 }
 

@@ -213,7 +213,7 @@ pub fn run(args: &BakeArgs) -> Result<()> {
     // target fails the run cleanly).
     let report_text = match &report_options {
         Some(o) => {
-            let baked = luxbake::baked::from_glb(output, &prepared.glb()?)?;
+            let baked = luxbake::baked::from_prepared(output, &prepared)?;
             let format = args.report.unwrap_or(FormatArg::Table);
             Some(super::report::render(&baked, o, format)?)
         }

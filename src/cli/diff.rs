@@ -1,6 +1,6 @@
-//! `bake diff A.gltf|.glb B.gltf|.glb [--mode vertices|means|probes] [--rtol R] [--atol A]
-//! [--floor F] [--worst N] [--json]`: compare two bakes (B is the reference; see
-//! `luxbake::diff`). Output: text or JSON on stdout. Exit code 0 when every value is within
+//! `bake diff A.gltf|.glb B.gltf|.glb [--mode vertices|texels|samples|means|probes]
+//! [--no-lightmaps] [--rtol R] [--atol A] [--floor F] [--worst N] [--json]`: compare two bakes (B
+//! is the reference; see `luxbake::diff`). Output: text or JSON on stdout. Exit code 0 when every value is within
 //! tolerance, 1 when not (the worst place on the last line of the text), 2 when the bakes cannot
 //! be compared (unreadable, not a luxbake output, topology that differs for the mode, bad
 //! options), with one line on stderr naming the file or the node.
@@ -12,8 +12,13 @@ use std::path::PathBuf;
 /// `--mode`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, ValueEnum)]
 pub enum ModeArg {
-    /// Vertex by vertex (same nodes, primitives, vertices) and probes.
+    /// Vertex by vertex (same nodes, primitives, vertices) and probes; when both bakes have
+    /// lightmaps, texel by texel (same layout) or at surface points.
     Vertices,
+    /// Lightmaps texel by texel (same nodes, primitives, vertices and lightmap layout).
+    Texels,
+    /// Lightmaps read at every vertex and triangle centroid (same nodes, primitives, vertices).
+    Samples,
     /// Area-weighted means per node and per material, and probes (topology may differ).
     Means,
     /// Probes only (meshes may differ in any way).
@@ -31,6 +36,10 @@ pub struct DiffArgs {
     /// compares each node's and material's area-weighted means; `probes` only the probes.
     #[arg(long, value_enum, default_value = "vertices")]
     mode: ModeArg,
+    /// Compare vertex values (and take means over vertices) even when both bakes have
+    /// lightmaps.
+    #[arg(long)]
+    no_lightmaps: bool,
     /// Relative tolerance: a value passes when |a − b| ≤ atol + rtol·max(|b|, floor).
     #[arg(
         long,
@@ -97,6 +106,8 @@ fn compare(args: &DiffArgs) -> Result<diff::Diff, String> {
     let (a, b) = (load(&args.a)?, load(&args.b)?);
     let mode = match args.mode {
         ModeArg::Vertices => Mode::Vertices,
+        ModeArg::Texels => Mode::Texels,
+        ModeArg::Samples => Mode::Samples,
         ModeArg::Means => Mode::Means,
         ModeArg::Probes => Mode::Probes,
     };
@@ -106,11 +117,15 @@ fn compare(args: &DiffArgs) -> Result<diff::Diff, String> {
         atol: args.atol,
         floor: args.floor,
         worst: args.worst,
+        lightmaps: !args.no_lightmaps,
     };
     let names = (args.a.display().to_string(), args.b.display().to_string());
     diff::compare(&a, &b, &options, (&names.0, &names.1)).map_err(|m| {
         let hint = match mode {
-            Mode::Vertices => "; --mode means compares bakes of different topology",
+            Mode::Vertices | Mode::Samples => "; --mode means compares bakes of different topology",
+            Mode::Texels => {
+                "; --mode samples compares other lightmap layouts, --mode means other topologies"
+            }
             Mode::Means => "; --mode probes compares the probes alone",
             Mode::Probes => "",
         };

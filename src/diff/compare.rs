@@ -1,14 +1,17 @@
 //! [`compare`]: the values of each quantity pushed in a fixed order (nodes in A's order, their
-//! primitives and vertices; then materials; probes in A's order, faces `+x … -z`), tested against
-//! the tolerance, summarised per node, per material and overall; the worst places resolved to
-//! names and positions at the end.
+//! primitives and vertices, texels or sample points ([`super::surfaces`]); then materials;
+//! probes in A's order, faces `+x … -z`), tested against the tolerance, summarised per node, per
+//! material and overall; the worst places resolved to names and positions at the end.
 
+use super::lightmaps::{explain, plan};
 use super::matching::{Matched, match_outputs};
 use super::stats::{Candidate, Check, Columns, Loc, Tolerance, Worst, percentile};
+use super::surfaces;
 use super::{BakedOutput, Diff, Mismatch, Mode, Options, Place, Quantity, QuantityDiff};
+use crate::baked::Texel;
 use crate::probes::FACE_NAMES;
 use crate::report::Row;
-use crate::report::rows::{Filter, row};
+use crate::report::rows::{Filter, row_from};
 use glam::DVec3;
 
 /// The default floor: 1 % of the nearest-rank 99th percentile of |b| of B's vertex
@@ -30,9 +33,9 @@ struct Means {
     centroid: DVec3,
 }
 
-fn means(input: &BakedOutput, prims: &[usize]) -> Means {
+fn means(input: &BakedOutput, prims: &[usize], texels: bool) -> Means {
     let members: Vec<_> = prims.iter().map(|&k| &input.primitives[k]).collect();
-    let values = row(input, "", &members, &Filter::All)
+    let values = row_from(input, "", &members, &Filter::All, texels)
         .map_or([0.0; 3], |r: Row| [r.e_avg, r.e_direct_avg, r.l_avg]);
     let (mut area, mut sum) = (0.0, DVec3::ZERO);
     for p in &members {
@@ -53,11 +56,11 @@ struct GroupMeans {
     materials: Vec<Option<(Means, Means)>>,
 }
 
-fn group_means(a: &BakedOutput, b: &BakedOutput, m: &Matched) -> GroupMeans {
+fn group_means(a: &BakedOutput, b: &BakedOutput, m: &Matched, texels: bool) -> GroupMeans {
     let nodes = m
         .nodes
         .iter()
-        .map(|p| (means(a, &p.prims_a), means(b, &p.prims_b)))
+        .map(|p| (means(a, &p.prims_a, texels), means(b, &p.prims_b, texels)))
         .collect();
     let members = |input: &BakedOutput, group_of: &[usize], g: usize| -> Vec<usize> {
         (0..input.primitives.len())
@@ -70,7 +73,7 @@ fn group_means(a: &BakedOutput, b: &BakedOutput, m: &Matched) -> GroupMeans {
                 members(a, &m.material_of_a, g),
                 members(b, &m.material_of_b, g),
             );
-            (!pb.is_empty()).then(|| (means(a, &pa), means(b, &pb)))
+            (!pb.is_empty()).then(|| (means(a, &pa, texels), means(b, &pb, texels)))
         })
         .collect();
     GroupMeans { nodes, materials }
@@ -84,10 +87,12 @@ pub fn compare(
     options: &Options,
     names: (&str, &str),
 ) -> Result<Diff, Mismatch> {
-    let m = match_outputs(a, b, options.mode)?;
+    let m = match_outputs(a, b, options.mode).map_err(|e| explain(e, a, b, options.mode))?;
+    let plan = plan(a, b, &m, options)?;
+    let mode = plan.mode;
     let floor = options.floor.unwrap_or_else(|| default_floor(b));
     let (ra, rb) = (&a, &b);
-    let means = (options.mode == Mode::Means).then(|| group_means(ra, rb, &m));
+    let means = (mode == Mode::Means).then(|| group_means(ra, rb, &m, plan.texel_means));
     let node_names: Vec<String> = m.nodes.iter().map(|p| p.name.clone()).collect();
     let probe_names: Vec<String> = m.probes.iter().map(|p| p.name.clone()).collect();
 
@@ -124,21 +129,13 @@ pub fn compare(
                     }
                 }
             }
-            _ if options.mode == Mode::Vertices => {
-                for (k, np) in m.nodes.iter().enumerate() {
-                    for (j, (&ia, &ib)) in np.prims_a.iter().zip(&np.prims_b).enumerate() {
-                        let (pa, pb) = (&ra.primitives[ia], &rb.primitives[ib]);
-                        cols.run(Some(k), Some(m.material_of_b[pb.material]));
-                        for (v, (&x, &y)) in q.values(pa).iter().zip(q.values(pb)).enumerate() {
-                            let loc = Loc::Vertex {
-                                pair: k,
-                                primitive: j,
-                                vertex: v,
-                            };
-                            push(&mut cols, loc, x.into(), y.into());
-                        }
-                    }
-                }
+            _ if mode.by_vertex() => {
+                let each = match mode {
+                    Mode::Texels => surfaces::texels,
+                    Mode::Samples => surfaces::samples,
+                    _ => surfaces::vertices,
+                };
+                each(q, ra, rb, &m, &mut cols, &mut push);
             }
             _ => {
                 if let Some(gm) = &means {
@@ -191,7 +188,8 @@ pub fn compare(
     Ok(Diff {
         a: names.0.to_owned(),
         b: names.1.to_owned(),
-        mode: options.mode,
+        mode,
+        lightmaps: plan.note,
         rtol: options.rtol,
         atol: options.atol,
         floor,
@@ -235,6 +233,9 @@ fn place(
         material: None,
         primitive: None,
         vertex: None,
+        triangle: None,
+        atlas: None,
+        texel: None,
         face: None,
         position: [0.0; 3],
         a: c.a,
@@ -257,6 +258,57 @@ fn place(
             p.primitive = Some(primitive);
             p.vertex = Some(vertex);
             p.position = prim.positions[vertex].to_array();
+        }
+        Loc::Texel {
+            pair,
+            primitive,
+            texel,
+        } => {
+            let prim = &rb.primitives[m.nodes[pair].prims_b[primitive]];
+            p.kind = "texel";
+            p.node = Some(m.nodes[pair].name.clone());
+            p.material = Some(m.materials[m.material_of_b[prim.material]].clone());
+            p.primitive = Some(primitive);
+            if let Some(layout) = &prim.lightmap {
+                let lm = &b.lightmaps[layout.lightmap];
+                p.atlas = Some(lm.atlas);
+                p.texel = Some(lm.col_row(texel));
+                let triangle = (layout.texels.binary_search_by_key(&texel, |t| t.index))
+                    .map_or(0, |i| layout.texels[i].triangle);
+                let t = Texel {
+                    index: texel,
+                    triangle,
+                };
+                p.position = prim.texel_point(lm, t).to_array();
+            }
+        }
+        Loc::AtlasTexel { lightmap, texel } => {
+            let lm = &b.lightmaps[lightmap];
+            p.kind = "texel";
+            p.atlas = Some(lm.atlas);
+            p.texel = Some(lm.col_row(texel));
+            p.position = [f64::NAN; 3];
+        }
+        Loc::Sample {
+            pair,
+            primitive,
+            point,
+        } => {
+            let prim = &rb.primitives[m.nodes[pair].prims_b[primitive]];
+            p.kind = "sample";
+            p.node = Some(m.nodes[pair].name.clone());
+            p.material = Some(m.materials[m.material_of_b[prim.material]].clone());
+            p.primitive = Some(primitive);
+            let n = prim.positions.len();
+            if point < n {
+                p.vertex = Some(point);
+                p.position = prim.positions[point].to_array();
+            } else {
+                let tri = prim.triangles[point - n];
+                p.triangle = Some(point - n);
+                let sum: DVec3 = tri.iter().map(|&v| prim.positions[v as usize]).sum();
+                p.position = (sum / 3.0).to_array();
+            }
         }
         Loc::Probe { pair, face } => {
             let pp = &m.probes[pair];

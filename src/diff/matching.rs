@@ -6,14 +6,17 @@
 //!
 //! - **Nodes** with baked primitives (vertices and means modes) by their path of names from the
 //!   root plus occurrence: the k-th node of A with a path goes with the k-th of B with it.
-//! - **Primitives** (vertices mode) by order within the node; **vertices** by index, their world
-//!   positions within 10⁻⁶ × the scene size (the box diagonal over both files).
+//! - **Primitives** (vertices, texels and samples modes) by order within the node; **vertices**
+//!   by index, their world positions within 10⁻⁶ × the scene size (the box diagonal over both
+//!   files); in vertices mode, when only one bake has lightmaps and indices do not pair, by
+//!   place ([`super::by_position`]).
 //! - **Materials**: vertices mode groups by B's material names; means mode needs the same set of
 //!   material names on baked primitives in both files.
 //! - **Probes** (every mode) by node path and occurrence, positions within the same tolerance.
 //!
 //! Everything is linear in the size of the outputs (hash maps on paths, one pass over vertices).
 
+use super::by_position::pair_vertices;
 use super::{BakedOutput, Mismatch, Mode};
 use glam::DVec3;
 use std::collections::{HashMap, HashSet};
@@ -23,6 +26,9 @@ pub(super) struct NodePair {
     pub name: String,
     pub prims_a: Vec<usize>,
     pub prims_b: Vec<usize>,
+    /// Empty: vertices pair by index; else per primitive, A's vertex for each of B's (vertices
+    /// paired by place: [`super::by_position`]).
+    pub by_position: Vec<Vec<u32>>,
 }
 
 /// One matched pair of probe nodes (indices into the probe lists).
@@ -154,10 +160,19 @@ pub(super) fn match_outputs(
     let mut material_of_a = vec![usize::MAX; ra.materials.len()];
     let nodes = match mode {
         Mode::Probes => Vec::new(),
-        Mode::Vertices | Mode::Means => {
-            let nodes = match_nodes(ra, rb, &paths_a, &paths_b)?;
-            if mode == Mode::Vertices {
-                match_vertices(ra, rb, &nodes, tolerance)?;
+        Mode::Vertices | Mode::Texels | Mode::Samples | Mode::Means => {
+            let mut nodes = match_nodes(ra, rb, &paths_a, &paths_b)?;
+            if mode.by_vertex() {
+                let by_index = match_vertices(ra, rb, &nodes, tolerance);
+                // Lightmaps in one bake only: its vertices were laid out anew; pair by place.
+                let one_sided = has_lightmaps(ra) != has_lightmaps(rb);
+                match by_index {
+                    Err(_) if mode == Mode::Vertices && one_sided => {
+                        match_primitive_counts(ra, rb, &nodes)?;
+                        pair_by_position(ra, rb, &mut nodes, tolerance)?;
+                    }
+                    other => other?,
+                }
             } else {
                 material_of_a = match_materials(ra, rb, &materials, &material_of_b)?;
             }
@@ -204,6 +219,7 @@ fn match_nodes(
             name,
             prims_a: prims_a[na].clone(),
             prims_b: prims_b[nb].clone(),
+            by_position: Vec::new(),
         });
     }
     let keys_a_set: HashSet<&(String, usize)> = keys_a.iter().collect();
@@ -220,6 +236,60 @@ fn match_nodes(
         }));
     }
     Ok(pairs)
+}
+
+/// Whether any baked primitive of `o` is lightmapped.
+pub(super) fn has_lightmaps(o: &BakedOutput) -> bool {
+    o.primitives.iter().any(|p| p.lightmap.is_some())
+}
+
+/// The same number of baked primitives in each node pair.
+fn match_primitive_counts(
+    ra: &BakedOutput,
+    rb: &BakedOutput,
+    pairs: &[NodePair],
+) -> Result<(), Mismatch> {
+    for pair in pairs {
+        let (pa, pb) = (&pair.prims_a, &pair.prims_b);
+        if pa.len() != pb.len() {
+            let (na, nb) = (ra.primitives[pa[0]].node, rb.primitives[pb[0]].node);
+            return Err(Mismatch(format!(
+                "node {} (/nodes/{na} in A, /nodes/{nb} in B): {} baked primitives vs {}",
+                pair.name,
+                pa.len(),
+                pb.len()
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Fill `by_position` of every node pair (see [`super::by_position`]).
+fn pair_by_position(
+    ra: &BakedOutput,
+    rb: &BakedOutput,
+    pairs: &mut [NodePair],
+    tolerance: f64,
+) -> Result<(), Mismatch> {
+    for pair in pairs.iter_mut() {
+        let mut maps = Vec::with_capacity(pair.prims_b.len());
+        for (j, (&ia, &ib)) in pair.prims_a.iter().zip(&pair.prims_b).enumerate() {
+            let (pa, pb) = (&ra.primitives[ia], &rb.primitives[ib]);
+            let map = pair_vertices(pa, pb, tolerance).map_err(|(v, q)| {
+                Mismatch(format!(
+                    "node {} (/nodes/{} in A, /nodes/{} in B) primitive {j} vertex {v}: no \
+                     vertex of A within {tolerance:.3e} m of {} in B",
+                    pair.name,
+                    pa.node,
+                    pb.node,
+                    fmt_point(q)
+                ))
+            })?;
+            maps.push(map);
+        }
+        pair.by_position = maps;
+    }
+    Ok(())
 }
 
 /// Same primitive and vertex counts, vertices at the same places.

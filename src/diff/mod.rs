@@ -7,10 +7,18 @@
 //!
 //! Modes:
 //! - [`Mode::Vertices`] (default): `_ILLUMINANCE`, `_ILLUMINANCE_DIRECT` and `_LUMINANCE` vertex
-//!   by vertex (same nodes, primitives, vertex counts and positions), plus probes;
+//!   by vertex (same nodes, primitives, vertex counts and positions), plus probes; when both
+//!   bakes have lightmaps (and [`Options::lightmaps`]) it becomes [`Mode::Texels`] for the same
+//!   layout, else [`Mode::Samples`] ([`lightmaps`]);
+//! - [`Mode::Texels`]: the lightmaps' `illuminance`, `illuminanceDirect` and luminance Y texel by
+//!   texel, over the texels with a footprint in either bake (the same matching, the same atlas
+//!   sizes, each matched primitive's TEXCOORD_1 within 10⁻⁶), plus probes;
+//! - [`Mode::Samples`]: the same three read bilinearly from each bake's lightmap at its own
+//!   TEXCOORD_1, at every matched vertex and triangle centroid (the same matching), plus probes;
 //! - [`Mode::Means`]: for bakes of different topology (another patch size): each baked node's and
 //!   each material's area-weighted mean of the three attributes (the report's E avg, direct avg,
-//!   L avg: [`crate::report::rows::row`]), one value per node and per material, plus probes;
+//!   L avg: [`crate::report::rows::row`]; from texels when both bakes have lightmaps), one value
+//!   per node and per material, plus probes;
 //! - [`Mode::Probes`]: probes only; meshes may differ in any way.
 //!
 //! Probes (nodes with `extras.luxbake.faces`) are compared face by face in every mode
@@ -27,9 +35,12 @@
 //! hashing order, no threads); the work is linear in the number of values apart from the final
 //! sort of the worst places.
 
+mod by_position;
 mod compare;
+mod lightmaps;
 pub mod matching;
 mod stats;
+mod surfaces;
 pub mod text;
 
 pub use compare::{compare, default_floor};
@@ -44,6 +55,8 @@ use std::f64::consts::PI;
 pub enum Mode {
     #[default]
     Vertices,
+    Texels,
+    Samples,
     Means,
     Probes,
 }
@@ -53,9 +66,19 @@ impl Mode {
     pub fn describe(self) -> &'static str {
         match self {
             Mode::Vertices => "vertex by vertex",
+            Mode::Texels => "lightmap texel by texel",
+            Mode::Samples => {
+                "at surface points (vertices and triangle centroids, each bake's lightmap read \
+                 bilinearly at its own TEXCOORD_1)"
+            }
             Mode::Means => "by area-weighted means per node and per material",
             Mode::Probes => "by probes only",
         }
+    }
+
+    /// Whether the mode pairs nodes, primitives and vertices one to one.
+    pub fn by_vertex(self) -> bool {
+        matches!(self, Mode::Vertices | Mode::Texels | Mode::Samples)
     }
 }
 
@@ -71,6 +94,9 @@ pub struct Options {
     pub floor: Option<f64>,
     /// How many worst places to list.
     pub worst: usize,
+    /// Compare lightmaps when both bakes have them (vertices mode becomes texels or samples;
+    /// means are taken over texels).
+    pub lightmaps: bool,
 }
 
 impl Default for Options {
@@ -81,6 +107,7 @@ impl Default for Options {
             atol: 0.0,
             floor: None,
             worst: 10,
+            lightmaps: true,
         }
     }
 }
@@ -142,6 +169,16 @@ impl Quantity {
         }
     }
 
+    /// The name in the text output when `mode` compares lightmaps (the EXR channel).
+    pub fn label_in(self, mode: Mode) -> &'static str {
+        match (mode, self) {
+            (Mode::Texels | Mode::Samples, Quantity::Illuminance) => "illuminance",
+            (Mode::Texels | Mode::Samples, Quantity::IlluminanceDirect) => "illuminanceDirect",
+            (Mode::Texels | Mode::Samples, Quantity::Luminance) => "luminance Y",
+            _ => self.label(),
+        }
+    }
+
     pub fn unit(self) -> &'static str {
         match self {
             Quantity::Luminance => "cd/m²",
@@ -164,6 +201,16 @@ impl Quantity {
             Quantity::IlluminanceDirect => &p.illuminance_direct,
             Quantity::Luminance => &p.luminance,
             Quantity::ProbeFaces | Quantity::WorkingPlane => &[],
+        }
+    }
+
+    /// Texel `k`'s value (0 for probe quantities).
+    fn texel(self, lm: &crate::baked::Lightmap, k: usize) -> f64 {
+        match self {
+            Quantity::Illuminance => lm.illuminance[k].into(),
+            Quantity::IlluminanceDirect => lm.illuminance_direct[k].into(),
+            Quantity::Luminance => lm.luminance_y(k),
+            Quantity::ProbeFaces | Quantity::WorkingPlane => 0.0,
         }
     }
 }
@@ -213,19 +260,29 @@ pub struct QuantityDiff {
 #[serde(rename_all = "camelCase")]
 pub struct Place {
     pub quantity: &'static str,
-    /// `vertex`, `probe`, `nodeMean` or `materialMean`.
+    /// `vertex`, `texel`, `sample`, `probe`, `nodeMean` or `materialMean`.
     pub kind: &'static str,
     /// Node path (`null` for a material mean).
     pub node: Option<String>,
     /// Material name in B (vertex and material mean only).
     pub material: Option<String>,
-    /// Primitive of the node (vertex only).
+    /// Primitive of the node (vertex, texel and sample).
     pub primitive: Option<usize>,
-    /// Vertex index in the primitive (vertex only).
+    /// Vertex index in the primitive (vertex, and a sample at a vertex).
     pub vertex: Option<usize>,
+    /// Triangle index in the primitive (a sample at a triangle's centroid only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub triangle: Option<usize>,
+    /// Atlas number (texel only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub atlas: Option<usize>,
+    /// Column and row in the atlas, row 0 at the top (texel only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub texel: Option<[u32; 2]>,
     /// Probe face `+x` … `-z` (probe only).
     pub face: Option<&'static str>,
-    /// World position in B (m, +Y up); a mean's area-weighted centroid.
+    /// World position in B (m, +Y up): a texel's centre on its triangle; a mean's area-weighted
+    /// centroid.
     pub position: [f64; 3],
     pub a: f64,
     pub b: f64,
@@ -242,7 +299,11 @@ pub struct Place {
 pub struct Diff {
     pub a: String,
     pub b: String,
+    /// What was compared (`texels` or `samples` where vertices mode met two lightmapped bakes).
     pub mode: Mode,
+    /// How lightmaps were taken (absent from the JSON when neither bake has lightmaps).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub lightmaps: Option<String>,
     pub rtol: f64,
     /// lx.
     pub atol: f64,

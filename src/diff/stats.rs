@@ -84,6 +84,21 @@ pub(super) enum Loc {
         primitive: usize,
         vertex: usize,
     },
+    /// Node pair, primitive within the node, texel index in its atlas.
+    Texel {
+        pair: usize,
+        primitive: usize,
+        texel: u32,
+    },
+    /// A texel of atlas `lightmap` (index in B) no primitive of B stands on.
+    AtlasTexel { lightmap: usize, texel: u32 },
+    /// Node pair, primitive within the node, point: a vertex, or (vertex count + t) the centroid
+    /// of triangle t.
+    Sample {
+        pair: usize,
+        primitive: usize,
+        point: usize,
+    },
     /// Probe pair, face (0..6, `+x -x +y -y +z -z`).
     Probe { pair: usize, face: usize },
     /// The area-weighted mean of a node pair.

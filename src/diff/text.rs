@@ -98,9 +98,18 @@ fn header(first: &[&str]) -> Vec<String> {
 }
 
 /// Where a place is: `_ILLUMINANCE node floor primitive 0 vertex 17 at (x, y, z) m`,
-/// `probe probes/grid/p3 face +y at …`, `_ILLUMINANCE mean of node floor (centroid at …)`.
+/// `illuminance node floor primitive 0 atlas 0 texel (12, 40) at …`, `illuminance node floor
+/// primitive 0 triangle 3 centroid at …`, `probe probes/grid/p3 face +y at …`,
+/// `_ILLUMINANCE mean of node floor (centroid at …)`.
 pub fn place(p: &Place) -> String {
-    let q = Quantity::from_key(p.quantity).map_or(p.quantity, Quantity::label);
+    let q = Quantity::from_key(p.quantity).map_or(p.quantity, |q| {
+        let lightmap = matches!(p.kind, "texel" | "sample");
+        q.label_in(if lightmap {
+            Mode::Texels
+        } else {
+            Mode::Vertices
+        })
+    });
     let [x, y, z] = p.position;
     let at = format!("at ({}, {}, {}) m", num(x), num(y), num(z));
     let node = p.node.as_deref().unwrap_or("?");
@@ -110,6 +119,26 @@ pub fn place(p: &Place) -> String {
             p.primitive.unwrap_or(0),
             p.vertex.unwrap_or(0)
         ),
+        "texel" => {
+            let [c, r] = p.texel.unwrap_or_default();
+            let atlas = p.atlas.unwrap_or(0);
+            match p.primitive {
+                Some(k) => {
+                    format!("{q} node {node} primitive {k} atlas {atlas} texel ({c}, {r}) {at}")
+                }
+                None => format!("{q} atlas {atlas} texel ({c}, {r}) (on no primitive of B)"),
+            }
+        }
+        "sample" => {
+            let k = p.primitive.unwrap_or(0);
+            match (p.vertex, p.triangle) {
+                (Some(v), _) => format!("{q} node {node} primitive {k} vertex {v} {at}"),
+                (_, t) => format!(
+                    "{q} node {node} primitive {k} triangle {} centroid {at}",
+                    t.unwrap_or(0)
+                ),
+            }
+        }
         "probe" => format!("probe {node} face {} {at}", p.face.unwrap_or("?")),
         "nodeMean" => format!("{q} mean of node {node} (centroid {at})"),
         _ => format!(
@@ -144,11 +173,14 @@ pub fn render(d: &Diff) -> String {
     let mut out = String::new();
     let _ = writeln!(out, "A: {}\nB: {} (reference)", d.a, d.b);
     let note = match d.mode {
-        Mode::Vertices => "",
+        Mode::Vertices | Mode::Texels | Mode::Samples => "",
         Mode::Means => " (each value is one node's or one material's mean, not a vertex)",
         Mode::Probes => " (meshes not compared)",
     };
     let _ = writeln!(out, "compared {}{note}", d.mode.describe());
+    if let Some(l) = &d.lightmaps {
+        let _ = writeln!(out, "lightmaps: {l}");
+    }
     let floor_note = if d.floor_is_default {
         " (1 % of B's p99 _ILLUMINANCE)"
     } else {
@@ -156,10 +188,11 @@ pub fn render(d: &Diff) -> String {
     };
     let _ = writeln!(
         out,
-        "pass: |a − b| ≤ {} lx + {} · max(|b|, {} lx{floor_note}); _LUMINANCE: both lx terms / π\n",
+        "pass: |a − b| ≤ {} lx + {} · max(|b|, {} lx{floor_note}); {}: both lx terms / π\n",
         num(d.atol),
         num(d.rtol),
         num(d.floor),
+        Quantity::Luminance.label_in(d.mode),
     );
 
     let mut rows = vec![header(&["quantity", "unit"])];
@@ -167,7 +200,7 @@ pub fn render(d: &Diff) -> String {
         if q.overall.values == 0 {
             continue;
         }
-        let label = Quantity::from_key(q.quantity).map_or(q.quantity, Quantity::label);
+        let label = Quantity::from_key(q.quantity).map_or(q.quantity, |q| q.label_in(d.mode));
         let mut r = vec![label.to_string(), q.unit.to_string()];
         r.extend(stats_cells(&q.overall));
         rows.push(r);
@@ -183,7 +216,8 @@ pub fn render(d: &Diff) -> String {
             continue;
         }
         let means = if d.mode == Mode::Means { " mean" } else { "" };
-        let _ = writeln!(out, "\n_ILLUMINANCE{means} {title} (lx)");
+        let label = Quantity::Illuminance.label_in(d.mode);
+        let _ = writeln!(out, "\n{label}{means} {title} (lx)");
         let mut rows = vec![header(&[what])];
         for g in groups {
             let mut r = vec![g.name.clone()];
@@ -204,10 +238,19 @@ pub fn render(d: &Diff) -> String {
             .to_vec(),
         ];
         for p in &d.worst {
-            let label = Quantity::from_key(p.quantity).map_or(p.quantity, Quantity::label);
+            let label = Quantity::from_key(p.quantity).map_or(p.quantity, |q| q.label_in(d.mode));
             let [x, y, z] = p.position;
             let (node, at) = match p.kind {
                 "vertex" => (p.node.clone(), p.vertex.map(|v| v.to_string())),
+                "texel" => {
+                    let [c, r] = p.texel.unwrap_or_default();
+                    let atlas = p.atlas.unwrap_or(0);
+                    (p.node.clone(), Some(format!("texel {c},{r} atlas {atlas}")))
+                }
+                "sample" => match (p.vertex, p.triangle) {
+                    (Some(v), _) => (p.node.clone(), Some(format!("vertex {v}"))),
+                    (_, t) => (p.node.clone(), Some(format!("triangle {}", t.unwrap_or(0)))),
+                },
                 "probe" => (p.node.clone(), p.face.map(String::from)),
                 "nodeMean" => (p.node.clone(), Some("mean".into())),
                 _ => (

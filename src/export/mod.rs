@@ -103,6 +103,11 @@ impl<'p> Prepared<'p> {
         })
     }
 
+    /// The atlases the EXR files will be written from (`None` without lightmaps).
+    pub fn lightmaps(&self) -> Option<&crate::result::Lightmaps> {
+        self.result.lightmaps.as_ref()
+    }
+
     /// The output as one `.glb` file's bytes (the same document whatever the output's format).
     pub fn glb(&self) -> Result<Vec<u8>> {
         container::glb(&self.doc, self.path)

@@ -1,13 +1,16 @@
 //! Importers: glTF 2.0 (`.gltf`, `.glb`) and OBJ+MTL into the format-neutral [`Scene`].
-//! All file-format crates (`gltf`, `tobj`, image decoders, base64) are used only below this module.
+//! All file-format crates (`gltf`, `tobj`, image decoders, base64; `exr` for reading) are used only
+//! below this module.
 //!
 //! Input: a path and [`ImportOptions`]. Output: a [`Scene`] meeting the invariants documented in
 //! `crate::scene`, or an [`crate::Error::Input`] naming the file and the element (a JSON pointer
 //! for glTF). Every file read is listed, canonicalised, in `Scene::input_files`; no file outside
 //! the input file's folder is ever read. [`GltfFile`] opens a glTF with the same parser and the
-//! same confinement without making a scene of it: `crate::baked` reads finished bakes through it.
+//! same confinement without making a scene of it: `crate::baked` reads finished bakes through it,
+//! and their lightmap EXR files through [`exr`] (the `exr` crate's only reader).
 
 mod context;
+pub mod exr;
 mod geometry;
 mod glb;
 mod gltf;

@@ -1,7 +1,8 @@
 //! The report as CSV (RFC 4180 quoting, `\n` line ends): one table per section, separated by a blank line, each with a
 //! header row and a first column `section` (`byMaterial`, `byNode`, `workingPlane`, `targets`).
 //! Column names are the JSON report's field names; numbers are written in full (shortest
-//! round-trip decimal); a missing value is an empty field.
+//! round-trip decimal); a missing value is an empty field; a surface row's last column is its
+//! `source` (`texels`, `vertices`, `texelsAndVertices`).
 
 use super::{Report, Row};
 
@@ -71,6 +72,7 @@ fn surfaces(section: &str, rows: &[Row]) -> String {
         "eIndirectAvg",
         "uniformity",
         "lAvg",
+        "source",
     ]);
     for r in rows {
         out += &line(&[
@@ -85,9 +87,18 @@ fn surfaces(section: &str, rows: &[Row]) -> String {
             num(r.e_indirect_avg),
             num(r.uniformity),
             num(r.l_avg),
+            source(r),
         ]);
     }
     out
+}
+
+/// The row's source as in JSON (`texels`, `vertices`, `texelsAndVertices`).
+fn source(r: &Row) -> String {
+    serde_json::to_value(r.source)
+        .ok()
+        .and_then(|v| v.as_str().map(str::to_owned))
+        .unwrap_or_default()
 }
 
 fn num(x: f64) -> String {

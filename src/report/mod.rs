@@ -7,8 +7,10 @@
 //! Output: a [`Report`] with up to four sections:
 //! - surfaces **by material** and **by node** ([`rows`]): area, area-weighted reflectance,
 //!   average / minimum / maximum illuminance, average direct and indirect, uniformity
-//!   U₀ = E_min/E_avg, average luminance (averages are area integrals of the piecewise-linear
-//!   vertex values; minima and maxima over vertices);
+//!   U₀ = E_min/E_avg, average luminance: from the lightmap texels of a lightmapped primitive
+//!   (footprint-weighted averages, minima and maxima over texels with a footprint), from the
+//!   vertices of another (area integrals of the piecewise-linear values, minima and maxima over
+//!   vertices); each row says which (`source`), each section's title too;
 //! - the **working plane** (the `+y` face of the bake's working-plane probes): points, average,
 //!   minimum, maximum, U₀, direct and indirect averages, height and spacing;
 //! - **targets** ([`targets`]), only when given: target, achieved average, ratio.
@@ -17,10 +19,11 @@
 
 mod csv;
 pub mod rows;
+mod sums;
 pub mod targets;
 mod text;
 
-pub use rows::{Filter, PlaneRow, Row};
+pub use rows::{Filter, PlaneRow, Row, Source};
 pub use targets::{TargetRow, Targets};
 
 use crate::Result;

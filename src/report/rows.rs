@@ -1,14 +1,16 @@
 //! Surface rows: area, reflectance and illuminance figures over a group of baked primitives, and
 //! the working plane's figures over its probes.
 //!
-//! Averages are area integrals of the piecewise-linear vertex values divided by the area (each
-//! vertex of a triangle weighs a third of its area); minimum and maximum are over the vertices
-//! of the triangles taken. Sums run in a fixed order (primitives in output order, probe values
-//! sorted), so equal inputs give equal bits.
+//! A lightmapped primitive's figures come from its texels (footprint-weighted), another's from
+//! its vertices (area integrals of the piecewise-linear values): see [`super::sums`]; a row says
+//! which ([`Source`]). Sums run in a fixed order (primitives in output order, texels in atlas
+//! order, probe values sorted), so equal inputs give equal bits.
 
+pub use super::sums::{Filter, Source};
+
+use super::sums::Sums;
 use crate::baked::{BakedOutput, PlaneInput, PlanePoint, Primitive};
 use crate::probes::ProbeGrid;
-use glam::DVec3;
 
 /// One surface group's figures.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
@@ -29,14 +31,8 @@ pub struct Row {
     pub uniformity: f64,
     /// cd/m².
     pub l_avg: f64,
-}
-
-/// Which triangles a row takes.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Filter {
-    All,
-    /// Only faces whose normal is within ~8° of this direction (e.g. +Y: upward faces).
-    Facing(DVec3),
+    /// What the figures were taken from.
+    pub source: Source,
 }
 
 /// The working plane's figures (lx unless stated).
@@ -68,15 +64,23 @@ pub fn by_node(input: &BakedOutput, filter: &Filter) -> Vec<Row> {
     )
 }
 
-/// One row per material with baked primitives, in material order.
+/// One row per material with baked primitives, in material order (a lightmapped variant counts
+/// as the material it was made from).
 pub fn by_material(input: &BakedOutput, filter: &Filter) -> Vec<Row> {
     groups(
         input.materials.len(),
-        |p| p.material,
+        |p| original(input, p.material),
         input,
         filter,
         |i| input.material_name(i),
     )
+}
+
+/// The material a lightmapped variant was made from, or `m` itself.
+pub fn original(input: &BakedOutput, m: usize) -> usize {
+    (input.materials.get(m))
+        .and_then(|info| info.variant_of)
+        .unwrap_or(m)
 }
 
 fn groups(
@@ -99,51 +103,50 @@ fn groups(
         .collect()
 }
 
-/// The figures over `prims` (None when no triangle with area passes the filter).
+/// The source of several rows together (`None` for no rows).
+pub fn source_of(rows: &[Row]) -> Option<Source> {
+    let first = rows.first()?.source;
+    Some(if rows.iter().all(|r| r.source == first) {
+        first
+    } else {
+        Source::TexelsAndVertices
+    })
+}
+
+/// The figures over `prims` (None when nothing with area passes the filter), from texels where
+/// a primitive has them.
 pub fn row(input: &BakedOutput, name: &str, prims: &[&Primitive], filter: &Filter) -> Option<Row> {
-    let (mut area, mut rho, mut e, mut ed, mut l) = (0.0, 0.0, 0.0, 0.0, 0.0);
-    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    row_from(input, name, prims, filter, true)
+}
+
+/// [`row`], from texels only when `texels` (else from vertices throughout).
+pub fn row_from(
+    input: &BakedOutput,
+    name: &str,
+    prims: &[&Primitive],
+    filter: &Filter,
+    texels: bool,
+) -> Option<Row> {
+    let mut s = Sums::default();
     for p in prims {
-        let reflectance = input
-            .materials
-            .get(p.material)
-            .map_or(0.0, |m| m.reflectance);
-        for t in &p.triangles {
-            let [a, b, c] = t.map(|v| p.positions[v as usize]);
-            let cross = (b - a).cross(c - a);
-            let w = cross.length() / 2.0;
-            if w <= 0.0 {
-                continue;
-            }
-            if let Filter::Facing(d) = filter
-                && cross.normalize().dot(d.normalize()) < 0.99
-            {
-                continue;
-            }
-            area += w;
-            rho += w * reflectance;
-            for &v in t {
-                let v = v as usize;
-                let (ev, edv) = (p.illuminance[v] as f64, p.illuminance_direct[v] as f64);
-                e += w / 3.0 * ev;
-                ed += w / 3.0 * edv;
-                l += w / 3.0 * p.luminance[v] as f64;
-                lo = lo.min(ev);
-                hi = hi.max(ev);
-            }
-        }
+        s.add(input, p, filter, texels);
     }
-    (area > 0.0).then(|| Row {
-        name: name.to_string(),
-        area,
-        reflectance: rho / area,
-        e_avg: e / area,
-        e_min: lo,
-        e_max: hi,
-        e_direct_avg: ed / area,
-        e_indirect_avg: (e - ed) / area,
-        uniformity: ratio(lo, e / area),
-        l_avg: l / area,
+    let area = s.area;
+    (area > 0.0).then(|| {
+        let (lo, hi) = (s.lo.unwrap_or(0.0), s.hi.unwrap_or(0.0));
+        Row {
+            name: name.to_string(),
+            area,
+            reflectance: s.rho / area,
+            e_avg: s.e / area,
+            e_min: lo,
+            e_max: hi,
+            e_direct_avg: s.ed / area,
+            e_indirect_avg: (s.e - s.ed) / area,
+            uniformity: ratio(lo, s.e / area),
+            l_avg: s.l / area,
+            source: s.source(),
+        }
     })
 }
 

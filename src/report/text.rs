@@ -1,13 +1,15 @@
 //! The report for people: an aligned plain-text table (terminal) or Markdown. Illuminances in
 //! whole lx, areas to 0.01 m², reflectance and U₀ to two decimals, luminance to 0.1 cd/m²;
-//! a missing value shows as `—`.
+//! a missing value shows as `—`. A surface section's title says what its figures come from
+//! (`Surfaces by node (from lightmap texels)`).
 
+use super::rows::source_of;
 use super::{PlaneRow, Report, Row, TargetRow};
 
 /// One section: a title, column headers (the first column left-aligned, the others right) and
 /// rows of cells.
 struct Section {
-    title: &'static str,
+    title: String,
     headers: Vec<&'static str>,
     cells: Vec<Vec<String>>,
 }
@@ -40,6 +42,10 @@ pub(super) fn render(report: &Report, markdown: bool) -> String {
 }
 
 fn surfaces(title: &'static str, what: &'static str, rows: &[Row]) -> Section {
+    let title = match source_of(rows) {
+        Some(s) => format!("{title} (from {})", s.describe()),
+        None => title.to_string(),
+    };
     Section {
         title,
         headers: vec![
@@ -77,7 +83,7 @@ fn surfaces(title: &'static str, what: &'static str, rows: &[Row]) -> Section {
 fn plane(p: &PlaneRow) -> Section {
     let metres = |m: Option<f64>| m.map_or("—".into(), |m| format!("{m:.2}"));
     Section {
-        title: "Working plane",
+        title: "Working plane".into(),
         headers: vec![
             "height m",
             "spacing m",
@@ -105,7 +111,7 @@ fn plane(p: &PlaneRow) -> Section {
 
 fn targets(rows: &[TargetRow]) -> Section {
     Section {
-        title: "Targets",
+        title: "Targets".into(),
         headers: vec!["target", "E target lx", "E avg lx", "ratio"],
         cells: rows
             .iter()

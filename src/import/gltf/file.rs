@@ -10,6 +10,7 @@ use super::document::{self, Parsed};
 use super::nodes::{self, Hierarchy};
 use super::{accessor, buffers, mesh};
 use crate::import::context::Ctx;
+use crate::import::resources::read_uri;
 use crate::scene::Node;
 use crate::{Error, Result};
 use ::gltf::mesh::{Mode, Semantic};
@@ -67,6 +68,12 @@ impl GltfFile {
 
     pub fn path(&self) -> &Path {
         &self.ctx.file
+    }
+
+    /// The bytes a `uri` of the element at `at` refers to (`data:` or a file inside the file's
+    /// folder, as every import reads them); `what` names it in messages.
+    pub fn resource(&mut self, uri: &str, at: &str, what: &str) -> Result<Vec<u8>> {
+        read_uri(&mut self.ctx, uri, at, what)
     }
 
     /// The whole JSON document.
@@ -128,10 +135,12 @@ impl Primitive<'_> {
         )
     }
 
-    /// The accessor of an attribute named as in the file (`POSITION`, `_ILLUMINANCE`).
+    /// The accessor of an attribute named as in the file (`POSITION`, `TEXCOORD_1`,
+    /// `_ILLUMINANCE`).
     fn attribute(&self, name: &str) -> Option<::gltf::Accessor<'_>> {
         let semantic = match name {
             "POSITION" => Semantic::Positions,
+            _ if name.starts_with("TEXCOORD_") => Semantic::TexCoords(name[9..].parse().ok()?),
             custom => Semantic::Extras(custom.strip_prefix('_')?.into()),
         };
         self.prim.get(&semantic)
