@@ -49,6 +49,7 @@ fn settings(texel: Option<f64>) -> Settings {
         lightmaps: texel.map(|t| LightmapSettings {
             texel_size: Some(t),
             max_size: 2048,
+            tolerance: None,
         }),
         ..Settings::default()
     }

@@ -43,6 +43,7 @@ fn settings(patch: f64, texel: f64) -> Settings {
         lightmaps: Some(LightmapSettings {
             texel_size: Some(texel),
             max_size: 2048,
+            tolerance: None,
         }),
         ..Settings::default()
     }
