@@ -11,7 +11,7 @@
 //! its edges are clipped, so the work is the texel count plus the edges' length.
 
 use super::model::{Lightmap, Primitive, Texel};
-use crate::lightmap::raster::barycentric;
+use crate::lightmap::raster::{area, barycentric, clip};
 use glam::{DVec2, DVec3};
 
 /// Per texel of an atlas, the best triangle so far: (area in it, triangle); reused between the
@@ -126,39 +126,6 @@ fn span(q: &[DVec2; 3], y: f64) -> Option<(f64, f64)> {
         out = Some(out.map_or((x, x), |(l, r)| (l.min(x), r.max(x))));
     }
     out
-}
-
-/// The part of convex polygon `poly` on one side of the line `axis = bound` (`below`: the side
-/// where the coordinate is at most `bound`).
-fn clip(poly: &[DVec2], axis: usize, bound: f64, below: bool) -> Vec<DVec2> {
-    let inside = |p: &DVec2| {
-        let v = p[axis];
-        if below { v <= bound } else { v >= bound }
-    };
-    let mut out = Vec::with_capacity(poly.len() + 2);
-    for i in 0..poly.len() {
-        let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
-        let (ia, ib) = (inside(&a), inside(&b));
-        if ia {
-            out.push(a);
-        }
-        if ia != ib {
-            let s = (bound - a[axis]) / (b[axis] - a[axis]);
-            out.push(a + (b - a) * s);
-        }
-    }
-    out
-}
-
-/// Area of a simple polygon.
-fn area(poly: &[DVec2]) -> f64 {
-    if poly.len() < 3 {
-        return 0.0;
-    }
-    let twice: f64 = (0..poly.len())
-        .map(|i| poly[i].perp_dot(poly[(i + 1) % poly.len()]))
-        .sum();
-    twice.abs() / 2.0
 }
 
 impl Lightmap {

@@ -76,42 +76,53 @@ fn inset(bary: [f64; 3]) -> [f64; 3] {
     bary.map(|l| l * (1.0 - H) + H / 3.0)
 }
 
-/// The polygon of `t` inside the square [x0, x0 + 1] × [y0, y0 + 1]; its area.
+/// The area of triangle `t` inside the square [x0, x0 + 1] × [y0, y0 + 1].
 fn clipped_area(t: &[DVec2; 3], x0: f64, y0: f64) -> f64 {
     let mut poly: Vec<DVec2> = t.to_vec();
-    // (axis, bound, keep below)
     for (axis, bound, below) in [
         (0, x0, false),
         (0, x0 + 1.0, true),
         (1, y0, false),
         (1, y0 + 1.0, true),
     ] {
-        let inside = |p: &DVec2| {
-            let v = if axis == 0 { p.x } else { p.y };
-            if below { v <= bound } else { v >= bound }
-        };
-        let mut out = Vec::with_capacity(poly.len() + 2);
-        for i in 0..poly.len() {
-            let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
-            let (ia, ib) = (inside(&a), inside(&b));
-            if ia {
-                out.push(a);
-            }
-            if ia != ib {
-                let (va, vb) = if axis == 0 { (a.x, b.x) } else { (a.y, b.y) };
-                let s = (bound - va) / (vb - va);
-                out.push(a + (b - a) * s);
-            }
-        }
-        poly = out;
+        poly = clip(&poly, axis, bound, below);
         if poly.len() < 3 {
             return 0.0;
         }
     }
-    let mut twice = 0.0;
+    area(&poly)
+}
+
+/// The part of convex polygon `poly` on one side of the line `axis = bound` (`below`: the side
+/// where the coordinate is at most `bound`).
+pub fn clip(poly: &[DVec2], axis: usize, bound: f64, below: bool) -> Vec<DVec2> {
+    let inside = |p: &DVec2| {
+        let v = p[axis];
+        if below { v <= bound } else { v >= bound }
+    };
+    let mut out = Vec::with_capacity(poly.len() + 2);
     for i in 0..poly.len() {
-        twice += poly[i].perp_dot(poly[(i + 1) % poly.len()]);
+        let (a, b) = (poly[i], poly[(i + 1) % poly.len()]);
+        let (ia, ib) = (inside(&a), inside(&b));
+        if ia {
+            out.push(a);
+        }
+        if ia != ib {
+            let s = (bound - a[axis]) / (b[axis] - a[axis]);
+            out.push(a + (b - a) * s);
+        }
     }
+    out
+}
+
+/// Area of a simple polygon.
+pub fn area(poly: &[DVec2]) -> f64 {
+    if poly.len() < 3 {
+        return 0.0;
+    }
+    let twice: f64 = (0..poly.len())
+        .map(|i| poly[i].perp_dot(poly[(i + 1) % poly.len()]))
+        .sum();
     twice.abs() / 2.0
 }
 

@@ -29,8 +29,8 @@ const GATHER_ALL: usize = 4;
 /// Splits at most this deep.
 const MAX_DEPTH: usize = 6;
 
-/// Points to gather at: (point, normal).
-struct Points<'a>(&'a [(DVec3, DVec3)]);
+/// Points to read light at, each with one plane: (point, unit normal).
+pub struct Points<'a>(pub &'a [(DVec3, DVec3)]);
 
 impl Receivers for Points<'_> {
     fn len(&self) -> usize {

@@ -12,35 +12,14 @@
 //! gathered. Before reading, a sample is pushed off any surface within a hundredth of a texel
 //! along its plane, and out of a solid when most short rays along the plane meet back faces.
 
-use super::reflected::At;
+use super::reflected::{At, Points};
 use super::{Display, Options, Sampled};
 use crate::progress::Progress;
 use crate::result::{Atlas, BakedSurface};
 use crate::scene::luma;
-use crate::solution::{Planes, Receiver, Receivers, Solution, receivers};
+use crate::solution::{Solution, receivers};
 use glam::DVec3;
 use rayon::prelude::*;
-
-/// The texels (a subset of them, by index) as receivers.
-struct Points<'a> {
-    points: &'a [(DVec3, DVec3)],
-    subset: Option<&'a [usize]>,
-}
-
-impl Receivers for Points<'_> {
-    fn len(&self) -> usize {
-        self.subset.map_or(self.points.len(), |s| s.len())
-    }
-
-    fn receiver(&self, i: usize) -> Receiver {
-        let k = self.subset.map_or(i, |s| s[i]);
-        let (point, normal) = self.points[k];
-        Receiver {
-            point,
-            planes: Planes::one(normal),
-        }
-    }
-}
 
 /// Light every sampled texel; returns how many were gathered rather than interpolated.
 #[allow(clippy::too_many_arguments)]
@@ -86,12 +65,8 @@ pub fn light(
             None => (DVec3::ZERO, DVec3::Y, [1.0, 0.0, 0.0]),
         })
         .collect();
-    let points: Vec<(DVec3, DVec3)> = placed.iter().map(|(p, n, _)| (*p, *n)).collect();
-    let direct_set = Points {
-        points: &points,
-        subset: Some(&lit),
-    };
-    let direct: Vec<DVec3> = receivers::map(&direct_set, progress, |_, r| {
+    let points: Vec<(DVec3, DVec3)> = lit.iter().map(|&i| (placed[i].0, placed[i].1)).collect();
+    let direct: Vec<DVec3> = receivers::map(&Points(&points), progress, |_, r| {
         s.lights().at(mesh, s.occluder(), r)[0]
     });
     let at: Vec<At> = (lit.iter())
