@@ -45,6 +45,9 @@ impl Receivers for Points<'_> {
     }
 }
 
+/// A texel of a piece: its index and barycentric coordinates in the piece.
+type Local = (usize, [f64; 3]);
+
 /// A linear piece of a triangle: its corners (barycentric in the triangle), values there, and
 /// its texels (index into `lit`, barycentric in the piece).
 struct Piece {
@@ -52,7 +55,7 @@ struct Piece {
     triangle: u32,
     corners: [[f64; 3]; 3],
     values: [DVec3; 3],
-    texels: Vec<(usize, [f64; 3])>,
+    texels: Vec<Local>,
     depth: usize,
 }
 
@@ -108,7 +111,7 @@ pub fn at_texels(
     // The solve's value at each vertex, or where it was read off an outline, a gather at the
     // vertex itself (a hair inside, toward where the solve read).
     let mut outline: BTreeMap<(u32, u32), (DVec3, DVec3)> = BTreeMap::new();
-    let mut by_triangle: BTreeMap<(u32, u32), Vec<(usize, [f64; 3])>> = BTreeMap::new();
+    let mut by_triangle: BTreeMap<(u32, u32), Vec<Local>> = BTreeMap::new();
     for (k, a) in at.iter().enumerate() {
         by_triangle
             .entry((a.surface, a.triangle))
