@@ -32,10 +32,11 @@ pub(super) struct Check {
 }
 
 impl Tolerance {
+    /// A non-finite value on either side fails, even against the same value on the other.
     pub fn check(&self, a: f64, b: f64) -> Check {
-        let d = (a - b).abs();
-        let abs = if d.is_finite() { d } else { f64::INFINITY };
-        let scale = b.abs().max(self.floor);
+        let finite = a.is_finite() && b.is_finite();
+        let abs = if finite { (a - b).abs() } else { f64::INFINITY };
+        let scale = if finite { b.abs().max(self.floor) } else { 1.0 };
         let tolerance = self.atol + self.rtol * scale;
         let ratio = if tolerance > 0.0 {
             abs / tolerance
@@ -48,7 +49,7 @@ impl Tolerance {
             abs,
             rel: abs / scale,
             tolerance,
-            pass: abs <= tolerance,
+            pass: finite && abs <= tolerance,
             ratio,
         }
     }
@@ -290,6 +291,18 @@ mod tests {
         assert_eq!((c.rel, c.tolerance, c.pass), (0.005, 2.5, true));
         let c = t.check(f64::NAN, 1.0);
         assert!(c.abs.is_infinite() && !c.pass);
+        // Infinity in B made the tolerance infinite and passed (issue 25); on both sides too.
+        for (a, b) in [
+            (5.0, f64::INFINITY),
+            (f64::INFINITY, f64::INFINITY),
+            (1.0, f64::NAN),
+        ] {
+            let c = t.check(a, b);
+            assert!(
+                !c.pass && c.abs.is_infinite() && c.ratio.is_infinite(),
+                "{a} {b}: {c:?}"
+            );
+        }
     }
 
     #[test]

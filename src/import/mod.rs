@@ -9,6 +9,7 @@
 //! same confinement without making a scene of it: `crate::baked` reads finished bakes through it,
 //! and their lightmap EXR files through [`exr`] (the `exr` crate's only reader).
 
+mod checks;
 mod context;
 pub mod exr;
 mod geometry;
@@ -20,6 +21,7 @@ mod obj;
 mod obj_mtl;
 mod resources;
 
+pub use checks::{MAX_COORDINATE, MAX_PHOTOMETRIC};
 pub use gltf::file::{GltfFile, Primitive as GltfPrimitive};
 
 use crate::{Error, Result, scene::Scene};
@@ -47,7 +49,7 @@ pub fn load(path: &Path, options: &ImportOptions) -> Result<Scene> {
         .extension()
         .and_then(|e| e.to_str())
         .map(str::to_ascii_lowercase);
-    match extension.as_deref() {
+    let mut scene = match extension.as_deref() {
         Some("gltf" | "glb") => {
             let mut ctx = context::Ctx::new(path)?;
             let bytes = ctx.read_input()?;
@@ -63,5 +65,7 @@ pub fn load(path: &Path, options: &ImportOptions) -> Result<Scene> {
             "",
             "unsupported file type: luxbake reads .gltf, .glb and .obj files",
         )),
-    }
+    }?;
+    checks::finish(&mut scene)?;
+    Ok(scene)
 }

@@ -74,12 +74,24 @@ pub enum OpeningShape {
     Round,
 }
 
+/// Largest photometric amount accepted anywhere in cd, cd/m², lm or lx: a million times the
+/// brightest lamps made; larger ones overflow a bake's sums or come from a wrong unit.
+pub const MAX_PHOTOMETRIC: f64 = 1e12;
+
 /// A parse failure: 1-based line number (0 when it concerns the whole file) and the message.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
-#[error("line {line}: {message}")]
+#[error("{}{message}", line_prefix(*.line))]
 pub struct ParseError {
     pub line: usize,
     pub message: String,
+}
+
+fn line_prefix(line: usize) -> String {
+    if line > 0 {
+        format!("line {line}: ")
+    } else {
+        String::new()
+    }
 }
 
 /// An IES `TILT=INCLUDE` table as read. The candela values were multiplied by `applied_factor`,
@@ -155,6 +167,18 @@ impl Photometry {
             Format::Eulumdat => ldt::parse(&text)?,
         };
         let flux = flux::integrate(&parsed.grid);
+        let (peak, _, _) = parsed.grid.peak();
+        for (value, what) in [(peak, "peak intensity (cd)"), (flux, "luminous flux (lm)")] {
+            if !(value.is_finite() && value <= MAX_PHOTOMETRIC) {
+                return Err(ParseError {
+                    line: 0,
+                    message: format!(
+                        "the {what} after the file's multipliers is {value:e}, not a finite \
+                         amount ≤ {MAX_PHOTOMETRIC:e}; check the candela multiplier"
+                    ),
+                });
+            }
+        }
         Ok(Photometry {
             format,
             info: parsed.info,

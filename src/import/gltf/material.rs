@@ -67,6 +67,7 @@ fn material(
         Some(v) => Some(luxbake_ext::parse(v).map_err(|msg| ctx.err(&ext_at, msg))?),
         None => None,
     };
+    check_factors(ctx, raw, &at)?;
     let display = display(m, raw, &at, extension);
     let emission_profile = match ext.as_ref().and_then(|e| e.emission_profile) {
         None => None,
@@ -161,6 +162,58 @@ fn material(
         display,
         extras: raw::cloned(raw, &format!("{at}/extras")),
     })
+}
+
+/// The spec's ranges of the material's factors: an out-of-range value is an error naming it.
+fn check_factors(ctx: &Ctx, raw: &Value, at: &str) -> Result<()> {
+    let unit = |v: f64| (0.0..=1.0).contains(&v);
+    let ranges: [(String, &dyn Fn(f64) -> bool, &str); 7] = [
+        (
+            format!("{at}/pbrMetallicRoughness/baseColorFactor"),
+            &unit,
+            "in [0, 1]",
+        ),
+        (
+            format!("{at}/pbrMetallicRoughness/metallicFactor"),
+            &unit,
+            "in [0, 1]",
+        ),
+        (
+            format!("{at}/pbrMetallicRoughness/roughnessFactor"),
+            &unit,
+            "in [0, 1]",
+        ),
+        (
+            format!("{at}/emissiveFactor"),
+            &unit,
+            "in [0, 1] (brighter emission: KHR_materials_emissive_strength or \
+             LUXBAKE_material.emission)",
+        ),
+        (
+            format!("{at}/occlusionTexture/strength"),
+            &unit,
+            "in [0, 1]",
+        ),
+        (format!("{at}/alphaCutoff"), &|v| v >= 0.0, "≥ 0"),
+        (
+            format!("{at}/extensions/KHR_materials_emissive_strength/emissiveStrength"),
+            &|v| v >= 0.0 && v <= crate::import::MAX_PHOTOMETRIC,
+            "≥ 0 and at most 1e12",
+        ),
+    ];
+    for (pointer, ok, range) in ranges {
+        let values: Vec<&Value> = match raw.pointer(&pointer) {
+            None => continue,
+            Some(Value::Array(a)) => a.iter().collect(),
+            Some(v) => vec![v],
+        };
+        for v in values {
+            if !v.as_f64().is_some_and(|x| x.is_finite() && ok(x)) {
+                return Err(ctx.err(&pointer, format!("{v} is out of range: must be {range}")));
+            }
+        }
+    }
+    Ok(())
 }
 
 fn display(m: &::gltf::Material, raw: &Value, at: &str, ext: Option<Value>) -> DisplayMaterial {

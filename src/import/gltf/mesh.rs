@@ -132,6 +132,22 @@ fn surface(
         }
         None => (0..count as u32).collect(),
     };
+    if primitive.mode() == Mode::Triangles && indices.len() % 3 != 0 {
+        let (where_, what) = match primitive.indices() {
+            Some(a) => (
+                format!("{at}/indices"),
+                format!("accessor /accessors/{}", a.index()),
+            ),
+            None => (pos_at.clone(), "POSITION (not indexed)".to_owned()),
+        };
+        return Err(ctx.err(
+            where_,
+            format!(
+                "{what} has {} elements, not a multiple of 3 as TRIANGLES needs",
+                indices.len()
+            ),
+        ));
+    }
     let mut triangles = assemble(primitive.mode(), &indices);
     if world.determinant() < 0.0 {
         for t in &mut triangles {

@@ -1,0 +1,436 @@
+//! Careless and hostile input (issue 25): numbers that are not finite or overflow, geometry without
+//! area, values outside the spec's ranges and flags of the wrong type. Each gives a clear error
+//! naming the file, the element and the value (exit 1, nothing written), or a warning and a
+//! correct bake; `bake diff` fails on any non-finite value. The inputs are small variations of the
+//! valid scene of `support::cli` (a floor under an emissive panel).
+
+mod support;
+
+use serde_json::{Value, json};
+use std::ffi::OsStr;
+use std::path::{Path, PathBuf};
+use support::cli::{Mini, Run, bake, listing};
+use support::{bakes, scratch};
+
+/// A test's folders: `in/` for the input, `out/` (empty) for the output.
+fn folders(name: &str) -> (PathBuf, PathBuf) {
+    let dir = scratch(&format!("hostile-{name}"));
+    let (input, out) = (dir.join("in"), dir.join("out"));
+    std::fs::create_dir(&input).unwrap();
+    std::fs::create_dir(&out).unwrap();
+    (input, out)
+}
+
+/// The minimal scene with `edit` applied to its JSON, written as `in/name` (buffer as data URI).
+fn variant(input: &Path, name: &str, edit: impl FnOnce(&mut Value)) -> PathBuf {
+    let mut mini = Mini::new();
+    edit(&mut mini.json);
+    mini.write_gltf(input, name, None)
+}
+
+/// Bake `input` into `out/lit.gltf` (draft) with `extra` arguments.
+fn bake_into(input: &Path, out: &Path, extra: &[&str]) -> Run {
+    let output = out.join("lit.gltf");
+    let mut args = vec![
+        input.as_os_str(),
+        "-o".as_ref(),
+        output.as_os_str(),
+        "--quality".as_ref(),
+        "draft".as_ref(),
+    ];
+    args.extend(extra.iter().map(OsStr::new));
+    bake(args)
+}
+
+/// Exit code 1, one `error:` line holding every needle, nothing written to `out`.
+fn assert_refused(run: &Run, out: &Path, needles: &[&str]) {
+    assert_eq!(run.code, Some(1), "{run:?}");
+    assert!(
+        run.stderr.starts_with("error: ") && run.stderr.lines().count() == 1,
+        "stderr must be one `error:` line:\n{}",
+        run.stderr
+    );
+    for needle in needles {
+        assert!(
+            run.stderr.contains(needle),
+            "expected '{needle}' in: {}",
+            run.stderr
+        );
+    }
+    assert_eq!(
+        listing(out),
+        Vec::<String>::new(),
+        "output folder not empty"
+    );
+}
+
+/// Exit 0 and a `warning:` line holding every needle.
+fn assert_warned(run: &Run, needles: &[&str]) {
+    assert!(run.ok(), "{run:?}");
+    let found = run
+        .stderr
+        .lines()
+        .any(|l| l.contains("warning") && needles.iter().all(|n| l.contains(n)));
+    assert!(
+        found,
+        "expected a warning with {needles:?} in:\n{}",
+        run.stderr
+    );
+}
+
+/// A third mesh (node "extra", material 0) with the given positions and u16 indices, appended
+/// to the buffer as data of its own.
+fn add_mesh(mini: &mut Mini, positions: &[[f32; 3]], indices: &[u16], node: Value) {
+    let start = mini.bin.len();
+    mini.bin
+        .extend(positions.iter().flatten().flat_map(|v| v.to_le_bytes()));
+    let index_start = mini.bin.len();
+    mini.bin
+        .extend(indices.iter().flat_map(|i| i.to_le_bytes()));
+    while mini.bin.len() % 4 != 0 {
+        mini.bin.push(0);
+    }
+    let j = &mut mini.json;
+    let views = j["bufferViews"].as_array_mut().unwrap();
+    views.push(json!({"buffer": 0, "byteOffset": start, "byteLength": positions.len() * 12}));
+    views.push(json!({"buffer": 0, "byteOffset": index_start, "byteLength": indices.len() * 2}));
+    let (pv, iv) = (views.len() - 2, views.len() - 1);
+    let accessors = j["accessors"].as_array_mut().unwrap();
+    let fold = |f: fn(f32, f32) -> f32, init: f32| {
+        (0..3)
+            .map(|c| positions.iter().fold(init, |a, v| f(a, v[c])))
+            .collect::<Vec<f32>>()
+    };
+    accessors.push(json!({"bufferView": pv, "componentType": 5126, "count": positions.len(),
+        "type": "VEC3", "min": fold(f32::min, f32::INFINITY), "max": fold(f32::max, f32::NEG_INFINITY)}));
+    accessors.push(
+        json!({"bufferView": iv, "componentType": 5123, "count": indices.len(),
+        "type": "SCALAR"}),
+    );
+    let (pa, ia) = (accessors.len() - 2, accessors.len() - 1);
+    let meshes = j["meshes"].as_array_mut().unwrap();
+    meshes.push(
+        json!({"name": "extra", "primitives": [{"attributes": {"POSITION": pa},
+        "indices": ia, "material": 0}]}),
+    );
+    let mesh = meshes.len() - 1;
+    let mut node = node;
+    node["mesh"] = json!(mesh);
+    let nodes = j["nodes"].as_array_mut().unwrap();
+    nodes.push(node);
+    let n = nodes.len() - 1;
+    j["scenes"][0]["nodes"]
+        .as_array_mut()
+        .unwrap()
+        .push(json!(n));
+}
+
+const QUAD: [[f32; 3]; 4] = [
+    [-0.5, 0.5, -0.5],
+    [0.5, 0.5, -0.5],
+    [0.5, 0.5, 0.5],
+    [-0.5, 0.5, 0.5],
+];
+
+#[test]
+fn a_primitive_without_area_is_dropped_with_a_warning() {
+    let (input, out) = folders("zero-area");
+    // Two triangles on one line and one on a point: all without area.
+    let line = [
+        [0.0, 0.5, 0.0],
+        [0.2, 0.5, 0.0],
+        [0.4, 0.5, 0.0],
+        [0.1, 0.5, 0.0],
+    ];
+    let mut mini = Mini::new();
+    add_mesh(
+        &mut mini,
+        &line,
+        &[0, 1, 2, 3, 3, 3],
+        json!({"name": "extra"}),
+    );
+    let path = mini.write_gltf(&input, "flat.gltf", None);
+    let run = bake_into(&path, &out, &[]);
+    assert_warned(
+        &run,
+        &[
+            "flat.gltf",
+            "/meshes/2/primitives/0",
+            "extra",
+            "none of its 2 triangles",
+        ],
+    );
+    let doc: Value = serde_json::from_slice(&std::fs::read(out.join("lit.gltf")).unwrap()).unwrap();
+    assert!(doc["nodes"][2].get("mesh").is_none(), "{}", doc["nodes"][2]);
+    assert!(doc["nodes"][0].get("mesh").is_some());
+
+    // Some triangles of a primitive without area: those are dropped, the rest baked.
+    let (input, out) = folders("some-zero-area");
+    let mut mini = Mini::new();
+    add_mesh(
+        &mut mini,
+        &QUAD,
+        &[0, 1, 2, 0, 2, 3, 0, 0, 1],
+        json!({"name": "extra"}),
+    );
+    let path = mini.write_gltf(&input, "some.gltf", None);
+    let run = bake_into(&path, &out, &[]);
+    assert_warned(
+        &run,
+        &[
+            "some.gltf",
+            "/meshes/2/primitives/0",
+            "1 of its 3 triangles",
+        ],
+    );
+    let doc: Value = serde_json::from_slice(&std::fs::read(out.join("lit.gltf")).unwrap()).unwrap();
+    assert!(doc["nodes"][2].get("mesh").is_some(), "{}", doc["nodes"][2]);
+}
+
+#[test]
+fn a_node_scaled_to_zero_is_dropped_and_a_scene_left_empty_is_an_error() {
+    let (input, out) = folders("scale-zero");
+    let mut mini = Mini::new();
+    add_mesh(
+        &mut mini,
+        &QUAD,
+        &[0, 1, 2, 0, 2, 3],
+        json!({"name": "flat", "scale": [1, 0, 1]}),
+    );
+    let path = mini.write_gltf(&input, "scaled.gltf", None);
+    let run = bake_into(&path, &out, &[]);
+    assert_warned(
+        &run,
+        &["scaled.gltf", "flat", "/nodes/2", "singular", "dropped"],
+    );
+
+    let (input, out) = folders("all-zero");
+    let path = variant(&input, "nothing.gltf", |j| {
+        j["nodes"][0]["scale"] = json!([0, 0, 0]);
+        j["nodes"][1]["scale"] = json!([0, 0, 0]);
+    });
+    let run = bake_into(&path, &out, &[]);
+    assert_refused(&run, &out, &["nothing.gltf", "nothing is left to bake"]);
+}
+
+#[test]
+fn a_triangle_list_whose_length_is_not_a_multiple_of_three_is_refused() {
+    let (input, out) = folders("index-count");
+    let path = variant(&input, "count.gltf", |j| {
+        j["accessors"][2]["count"] = json!(5)
+    });
+    let run = bake_into(&path, &out, &[]);
+    assert_refused(
+        &run,
+        &out,
+        &[
+            "count.gltf",
+            "/meshes/0/primitives/0/indices",
+            "/accessors/2",
+            "5 elements",
+        ],
+    );
+    // Not indexed: POSITION's count.
+    let (input, out) = folders("vertex-count");
+    let path = variant(&input, "count.gltf", |j| {
+        j["meshes"][0]["primitives"][0]
+            .as_object_mut()
+            .unwrap()
+            .remove("indices");
+    });
+    let run = bake_into(&path, &out, &[]);
+    assert_refused(
+        &run,
+        &out,
+        &["/meshes/0/primitives/0/attributes/POSITION", "4 elements"],
+    );
+}
+
+#[test]
+fn factors_outside_the_spec_ranges_are_refused() {
+    for (pointer, value, needle) in [
+        ("/materials/0/emissiveFactor", json!([2.0, 0.0, 0.0]), "2.0"),
+        (
+            "/materials/0/pbrMetallicRoughness/baseColorFactor",
+            json!([0.5, 0.5, 1.5, 1.0]),
+            "1.5",
+        ),
+        (
+            "/materials/0/pbrMetallicRoughness/roughnessFactor",
+            json!(-0.5),
+            "-0.5",
+        ),
+    ] {
+        let (input, out) = folders("factors");
+        let path = variant(&input, "factor.gltf", |j| {
+            let (parent, key) = pointer.rsplit_once('/').unwrap();
+            let parent = parent.strip_prefix("/materials/0").unwrap();
+            let m = &mut j["materials"][0];
+            let target = if parent.is_empty() {
+                m
+            } else {
+                &mut m[parent.trim_start_matches('/')]
+            };
+            target[key] = value.clone();
+        });
+        let run = bake_into(&path, &out, &[]);
+        assert_refused(&run, &out, &["factor.gltf", pointer, needle, "in [0, 1]"]);
+    }
+}
+
+#[test]
+fn a_probe_flag_of_the_wrong_type_is_refused() {
+    let (input, out) = folders("probe-yes");
+    let path = variant(&input, "probe.gltf", |j| {
+        j["nodes"][0]["extras"] = json!({"probe": "yes"});
+    });
+    let run = bake_into(&path, &out, &[]);
+    assert_refused(
+        &run,
+        &out,
+        &["probe.gltf", "/nodes/0/extras/probe", "\"yes\""],
+    );
+}
+
+#[test]
+fn positions_beyond_any_room_are_refused_and_far_probes_warned() {
+    let (input, out) = folders("probe-far");
+    let path = variant(&input, "far.gltf", |j| {
+        j["nodes"]
+            .as_array_mut()
+            .unwrap()
+            .push(json!({"name": "p", "translation": [1e30, 1.0, 0.0], "extras": {"probe": true}}));
+        j["scenes"][0]["nodes"]
+            .as_array_mut()
+            .unwrap()
+            .push(json!(2));
+    });
+    let run = bake_into(&path, &out, &[]);
+    assert_refused(&run, &out, &["far.gltf", "/nodes/2", "x = 1e30"]);
+
+    // Scaled into overflow: the floor's world positions are beyond any room.
+    let (input, out) = folders("scale-huge");
+    let path = variant(&input, "huge.gltf", |j| {
+        j["nodes"][0]["scale"] = json!([1e30, 1.0, 1.0]);
+    });
+    let run = bake_into(&path, &out, &[]);
+    assert_refused(
+        &run,
+        &out,
+        &["huge.gltf", "/meshes/0/primitives/0", "floor", "1e30"],
+    );
+
+    let (input, out) = folders("probe-outside");
+    let path = variant(&input, "outside.gltf", |j| {
+        j["nodes"].as_array_mut().unwrap().push(
+            json!({"name": "p", "translation": [100.0, 1.0, 0.0], "extras": {"probe": true}}),
+        );
+        j["scenes"][0]["nodes"]
+            .as_array_mut()
+            .unwrap()
+            .push(json!(2));
+    });
+    let run = bake_into(&path, &out, &[]);
+    assert_warned(
+        &run,
+        &["outside.gltf", "probe p", "outside the scene's geometry"],
+    );
+}
+
+#[test]
+fn emitters_beyond_any_lamp_are_refused() {
+    let cases: [(&str, Box<dyn Fn(&mut Value)>, &[&str]); 3] = [
+        (
+            "flux",
+            Box::new(|j| {
+                j["materials"][1]["extensions"]["LUXBAKE_material"]["emission"] =
+                    json!({"luminousFlux": 1e300})
+            }),
+            &["/materials/1", "luminous flux (lm) 1e300"],
+        ),
+        (
+            "luminance",
+            Box::new(|j| {
+                j["materials"][1]["extensions"]["LUXBAKE_material"]["emission"] =
+                    json!({"luminance": 1e13})
+            }),
+            &["/materials/1", "luminance (cd/m²) 1e13"],
+        ),
+        (
+            "light",
+            Box::new(|j| {
+                j["extensionsUsed"] = json!(["LUXBAKE_material", "KHR_lights_punctual"]);
+                j["extensions"] = json!({"KHR_lights_punctual": {"lights":
+                    [{"type": "point", "intensity": 1e30}]}});
+                j["nodes"][1]["extensions"] = json!({"KHR_lights_punctual": {"light": 0}});
+            }),
+            &["/extensions/KHR_lights_punctual/lights/0", "1e30 cd"],
+        ),
+    ];
+    for (name, edit, needles) in cases {
+        let (input, out) = folders(&format!("emitter-{name}"));
+        let path = variant(&input, "bright.gltf", |j| edit(j));
+        let run = bake_into(&path, &out, &[]);
+        let mut all = vec!["bright.gltf"];
+        all.extend_from_slice(needles);
+        assert_refused(&run, &out, &all);
+    }
+}
+
+/// A tiny IES LM-63-2002 file whose candela multiplier is `multiplier`.
+fn ies(multiplier: &str) -> String {
+    format!(
+        "IESNA:LM-63-2002\r\n[TEST] hostile\r\nTILT=NONE\r\n1 1000 {multiplier} 3 1 1 2 0.6 0.6 0\r\n\
+         1 1 10\r\n0 45 90\r\n0\r\n300 200 0\r\n"
+    )
+}
+
+#[test]
+fn overflowing_profiles_are_refused_by_bake_and_by_luminaire() {
+    let (input, out) = folders("ies-overflow");
+    std::fs::write(input.join("huge.ies"), ies("1e308")).unwrap();
+    let run = bake(["luminaire".as_ref(), input.join("huge.ies").as_os_str()]);
+    assert_eq!(run.code, Some(1), "{run:?}");
+    assert!(
+        run.stderr.contains("huge.ies") && run.stderr.contains("not a finite"),
+        "{run:?}"
+    );
+    assert!(!run.stdout.contains("inf"), "{run:?}");
+
+    // A finite profile times a glTF multiplier beyond any lamp.
+    std::fs::write(input.join("ok.ies"), ies("1")).unwrap();
+    let path = variant(&input, "lum.gltf", |j| {
+        j["extensionsUsed"] = json!(["LUXBAKE_material", "EXT_lights_ies"]);
+        j["extensions"] = json!({"EXT_lights_ies": {"lights": [{"uri": "ok.ies"}]}});
+        j["nodes"][1]["extensions"] = json!({"EXT_lights_ies": {"light": 0, "multiplier": 1e306}});
+    });
+    let run = bake_into(&path, &out, &[]);
+    assert_refused(&run, &out, &["lum.gltf", "/nodes/1", "multiplier 1e306"]);
+}
+
+#[test]
+fn diff_fails_on_infinity_on_either_side() {
+    let (input, out) = folders("diff-inf");
+    let path = variant(&input, "room.gltf", |_| {});
+    let (a, b) = (out.join("a"), out.join("b"));
+    for d in [&a, &b] {
+        std::fs::create_dir(d).unwrap();
+        let run = bake([
+            path.as_os_str(),
+            "-o".as_ref(),
+            d.join("lit.gltf").as_os_str(),
+            "--quality".as_ref(),
+            "draft".as_ref(),
+            "--quiet".as_ref(),
+        ]);
+        assert!(run.ok(), "{run:?}");
+    }
+    let (ga, gb) = (a.join("lit.gltf"), b.join("lit.gltf"));
+    assert_eq!(bakes::diff(&ga, &gb, &[]).code, Some(0));
+    bakes::edit(&gb, "floor", 0, 0, f32::INFINITY);
+    let run = bakes::diff(&ga, &gb, &[]);
+    assert_eq!(run.code, Some(1), "B holds +inf: {run:?}");
+    bakes::edit(&ga, "floor", 0, 0, f32::INFINITY);
+    let run = bakes::diff(&ga, &gb, &[]);
+    assert_eq!(run.code, Some(1), "both hold +inf: {run:?}");
+}
