@@ -434,3 +434,61 @@ fn diff_fails_on_infinity_on_either_side() {
     let run = bakes::diff(&ga, &gb, &[]);
     assert_eq!(run.code, Some(1), "both hold +inf: {run:?}");
 }
+
+#[test]
+fn quantized_and_sparse_positions_bake_like_plain_ones() {
+    // The floor's positions as normalised shorts (KHR_mesh_quantization) and as a sparse accessor
+    // without a bufferView: the same floor, the same light on it.
+    let (input, out) = folders("plain");
+    let plain = variant(&input, "plain.gltf", |_| {});
+    let run = bake_into(&plain, &out, &["--quiet"]);
+    assert!(run.ok(), "{run:?}");
+    let reference = bakes::node_mean(&out.join("lit.gltf"), "floor");
+    assert!(reference > 1.0, "{reference}");
+
+    let corners: [[i16; 3]; 4] = [
+        [-32767, 0, -32767],
+        [-32767, 0, 32767],
+        [32767, 0, 32767],
+        [32767, 0, -32767],
+    ];
+    let mut quantized = Mini::new();
+    let start = quantized.bin.len();
+    for c in corners {
+        quantized.bin.extend(c.iter().flat_map(|v| v.to_le_bytes()));
+        quantized.bin.extend([0, 0]); // each element padded to 4-byte alignment
+    }
+    let j = &mut quantized.json;
+    j["bufferViews"].as_array_mut().unwrap().push(
+        json!({"buffer": 0, "byteOffset": start, "byteLength": 32, "byteStride": 8, "target": 34962}),
+    );
+    j["accessors"][0] = json!({"bufferView": 4, "componentType": 5122, "normalized": true,
+        "count": 4, "type": "VEC3", "min": [-32767, 0, -32767], "max": [32767, 0, 32767]});
+    j["extensionsUsed"] = json!(["LUXBAKE_material", "KHR_mesh_quantization"]);
+    j["extensionsRequired"] = json!(["KHR_mesh_quantization"]);
+
+    let mut sparse = Mini::new();
+    let start = sparse.bin.len();
+    sparse.bin.extend([0u8, 1, 2, 3]);
+    let j = &mut sparse.json;
+    j["bufferViews"]
+        .as_array_mut()
+        .unwrap()
+        .push(json!({"buffer": 0, "byteOffset": start, "byteLength": 4}));
+    j["accessors"][0] = json!({"componentType": 5126, "count": 4, "type": "VEC3",
+        "min": [-1, 0, -1], "max": [1, 0, 1],
+        "sparse": {"count": 4, "indices": {"bufferView": 4, "componentType": 5121},
+                   "values": {"bufferView": 0}}});
+
+    for (name, mini) in [("quantized", quantized), ("sparse", sparse)] {
+        let (input, out) = folders(name);
+        let path = mini.write_gltf(&input, &format!("{name}.gltf"), None);
+        let run = bake_into(&path, &out, &["--quiet"]);
+        assert!(run.ok(), "{name}: {run:?}");
+        let mean = bakes::node_mean(&out.join("lit.gltf"), "floor");
+        assert!(
+            (mean - reference).abs() <= 1e-3 * reference,
+            "{name}: {mean} vs {reference}"
+        );
+    }
+}

@@ -17,6 +17,7 @@ const HANDLED_REQUIRED: &[&str] = &[
     "KHR_lights_punctual",
     "KHR_materials_emissive_strength",
     "KHR_materials_unlit",
+    KHR_MESH_QUANTIZATION,
     LUXBAKE_MATERIAL,
     EXT_LIGHTS_IES,
     LUXBAKE_LUMINAIRE,
@@ -28,8 +29,15 @@ pub(super) const LUXBAKE_MATERIAL: &str = "LUXBAKE_material";
 pub(super) const EXT_LIGHTS_IES: &str = "EXT_lights_ies";
 /// Our own luminaire extension, unknown to the `gltf` crate.
 pub(super) const LUXBAKE_LUMINAIRE: &str = "LUXBAKE_luminaire";
+/// Quantized vertex data: integer accessors, which `accessor` converts as the spec says.
+const KHR_MESH_QUANTIZATION: &str = "KHR_mesh_quantization";
 /// Extensions luxbake reads itself; the `gltf` crate must not see them as required.
-const READ_HERE: &[&str] = &[LUXBAKE_MATERIAL, EXT_LIGHTS_IES, LUXBAKE_LUMINAIRE];
+const READ_HERE: &[&str] = &[
+    LUXBAKE_MATERIAL,
+    EXT_LIGHTS_IES,
+    LUXBAKE_LUMINAIRE,
+    KHR_MESH_QUANTIZATION,
+];
 
 pub(super) struct Parsed {
     pub doc: ::gltf::Document,
@@ -103,7 +111,6 @@ fn check_required_extensions(ctx: &Ctx, raw: &Value) -> Result<()> {
         let why = match name {
             "KHR_draco_mesh_compression" => "its meshes are Draco-compressed",
             "EXT_meshopt_compression" => "its buffers are meshopt-compressed",
-            "KHR_mesh_quantization" => "its vertex data is quantized",
             "KHR_texture_basisu" | "EXT_texture_webp" | "EXT_texture_avif" => {
                 "its textures use an image format luxbake does not decode"
             }
