@@ -492,3 +492,41 @@ fn quantized_and_sparse_positions_bake_like_plain_ones() {
         );
     }
 }
+
+#[test]
+fn missing_materials_are_warned_about() {
+    // OBJ: a `usemtl` naming no material of the MTL file (the README promises a warning).
+    let (input, out) = folders("usemtl");
+    std::fs::write(input.join("room.mtl"), "newmtl floor\nKd 0.5 0.5 0.5\n").unwrap();
+    let obj = "mtllib room.mtl\nv 0 0 0\nv 1 0 0\nv 1 0 1\nv 0 1 0\nv 1 1 0\nv 1 1 1\n\
+               o floor\nusemtl floor\nf 1 3 2\no shelf\nusemtl flor\nf 4 5 6\n";
+    let path = input.join("room.obj");
+    std::fs::write(&path, obj).unwrap();
+    let run = bake_into(&path, &out, &[]);
+    assert_warned(
+        &run,
+        &[
+            "room.obj line 12",
+            "usemtl 'flor'",
+            "default reflectance 0.5",
+        ],
+    );
+
+    // glTF: a primitive without a material.
+    let (input, out) = folders("no-material");
+    let path = variant(&input, "bare.gltf", |j| {
+        j["meshes"][0]["primitives"][0]
+            .as_object_mut()
+            .unwrap()
+            .remove("material");
+    });
+    let run = bake_into(&path, &out, &[]);
+    assert_warned(
+        &run,
+        &[
+            "bare.gltf",
+            "1 primitive(s) have no material",
+            "/meshes/0/primitives/0",
+        ],
+    );
+}

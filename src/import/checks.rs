@@ -10,7 +10,7 @@
 //! warning. Invariants: a scene without dropped triangles is returned unchanged; the checks do
 //! not depend on the input format.
 
-use crate::scene::{EmissionAmount, LightKind, Scene, Surface};
+use crate::scene::{EmissionAmount, LightKind, ReflectanceSource, Scene, Surface};
 use crate::{Error, Result};
 use glam::DVec3;
 use serde_json::Value;
@@ -68,6 +68,7 @@ pub(crate) fn finish(scene: &mut Scene) -> Result<()> {
     }
     emitters(scene).map_err(|(at, m)| err(&at, m))?;
     drop_degenerate(scene)?;
+    warn_default_material(scene);
     warn_far_probes(scene);
     Ok(())
 }
@@ -302,6 +303,29 @@ fn compact(s: &mut Surface) {
         .into_iter()
         .map(|t| t.map(|i| remap[i as usize]))
         .collect();
+}
+
+/// One warning naming the primitives that have no material (they reflect the default 0.5).
+fn warn_default_material(scene: &mut Scene) {
+    let default = scene
+        .materials
+        .iter()
+        .position(|m| m.reflectance_source == ReflectanceSource::Default);
+    let Some(default) = default else { return };
+    let users: Vec<&str> = scene
+        .surfaces
+        .iter()
+        .filter(|s| s.material == default)
+        .map(|s| s.source_path.as_str())
+        .collect();
+    if let Some(first) = users.first() {
+        scene.warnings.push(format!(
+            "{}: {} primitive(s) have no material (first: {first}); they reflect the default \
+             0.5 and emit nothing",
+            scene.source_file.display(),
+            users.len()
+        ));
+    }
 }
 
 /// Warn about probe nodes outside the box of every surface (grown by a tenth of its size).

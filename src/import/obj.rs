@@ -55,6 +55,7 @@ pub(crate) fn load(ctx: &mut Ctx, bytes: &[u8], up: UpAxis) -> Result<Scene> {
         ctx.record(source.path.clone());
     }
     let tobj_materials = materials.unwrap_or_default();
+    warn_unknown_usemtl(ctx, bytes, &tobj_materials);
 
     let mut textures = ObjTextures::default();
     let mut scene_materials = Vec::with_capacity(tobj_materials.len() + 1);
@@ -252,4 +253,28 @@ fn merge_parts(ctx: &Ctx, parts: &[&tobj::Mesh], up: UpAxis, at: &str) -> Result
         }
     }
     Ok(mesh)
+}
+
+/// One warning per `usemtl` name that no loaded MTL file defines (tobj gives its faces no
+/// material, so they get the default one).
+fn warn_unknown_usemtl(ctx: &mut Ctx, bytes: &[u8], materials: &[tobj::Material]) {
+    let text = String::from_utf8_lossy(bytes);
+    let mut warned: Vec<&str> = Vec::new();
+    for (i, line) in text.lines().enumerate() {
+        let mut words = line.split_whitespace();
+        if words.next() != Some("usemtl") {
+            continue;
+        }
+        let name = words.next().unwrap_or("");
+        if materials.iter().any(|m| m.name == name) || warned.contains(&name) {
+            continue;
+        }
+        warned.push(name);
+        let file = ctx.file.display().to_string();
+        ctx.warn(format!(
+            "{file} line {}: usemtl '{name}' names no material of the MTL files it loads; its \
+             faces get the default reflectance 0.5",
+            i + 1
+        ));
+    }
 }
