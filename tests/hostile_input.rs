@@ -530,3 +530,17 @@ fn missing_materials_are_warned_about() {
         ],
     );
 }
+
+#[test]
+fn a_working_plane_target_without_a_working_plane_is_refused_before_baking() {
+    let (input, out) = folders("plane-target");
+    let path = variant(&input, "room.gltf", |_| {});
+    let targets = input.join("targets.json");
+    std::fs::write(&targets, r#"{"working_plane": 500}"#).unwrap();
+    let run = bake_into(&path, &out, &["--targets", targets.to_str().unwrap()]);
+    assert_refused(
+        &run,
+        &out,
+        &["targets.json", "working_plane", "--working-plane"],
+    );
+}

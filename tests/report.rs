@@ -226,9 +226,21 @@ fn every_format_is_well_formed() {
     let scene = room();
     let r = bake(&scene, &draft(), &Silent).unwrap();
     let input = luxbake::baked::as_written(&scene, &r).unwrap();
+    // A working-plane target for a bake without a working plane is an error, not a blank.
+    let plane_target = Targets::parse(Path::new("t.json"), r#"{"working_plane": 300}"#).unwrap();
+    let options = Options {
+        by: By::Both,
+        targets: Some(plane_target),
+    };
+    let err = report::build(&input, &options).unwrap_err().to_string();
+    assert!(
+        err.contains("t.json") && err.contains("no working plane"),
+        "{err}"
+    );
+
     let targets = Targets::parse(
         Path::new("t.json"),
-        r#"{"room/floor": 100, "material:white": 50, "room/wall_grey[-x]": 80, "working_plane": 300}"#,
+        r#"{"room/floor": 100, "material:white": 50, "room/wall_grey[-x]": 80}"#,
     )
     .unwrap();
     let options = Options {
@@ -237,8 +249,7 @@ fn every_format_is_well_formed() {
     };
     let rep = report::build(&input, &options).unwrap();
     let t = rep.targets.as_ref().unwrap();
-    assert_eq!(t.len(), 4);
-    assert_eq!(t[3].achieved, None, "no working plane in this bake");
+    assert_eq!(t.len(), 3);
 
     let json: Value = serde_json::from_str(&rep.render(Format::Json)).unwrap();
     assert_eq!(json["byMaterial"].as_array().unwrap().len(), 2);
@@ -246,7 +257,6 @@ fn every_format_is_well_formed() {
     assert!(json["byNode"][0]["eAvg"].as_f64().unwrap() > 0.0);
     assert!(json["workingPlane"].is_null());
     assert_eq!(json["targets"][1]["name"], "material:white");
-    assert!(json["targets"][3]["achieved"].is_null());
 
     let csv = rep.render(Format::Csv);
     let blocks: Vec<&str> = csv.trim_end().split("\n\n").collect();
@@ -383,6 +393,8 @@ fn cli_office_markdown_with_targets_to_a_file() {
         "markdown",
         "--targets",
         targets.to_str().unwrap(),
+        "--working-plane",
+        "0.75",
         "--report-out",
         out.to_str().unwrap(),
     ];

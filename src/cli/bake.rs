@@ -183,6 +183,12 @@ pub fn run(args: &BakeArgs) -> Result<()> {
             )
         })
         .transpose()?;
+    if let Some(t) = report_options.as_ref().and_then(|o| o.targets.as_ref())
+        && t.wants_working_plane()
+        && settings.working_plane.is_none()
+    {
+        return Err(t.no_working_plane().into());
+    }
     let extra: Vec<&Path> = args
         .summary_json
         .iter()

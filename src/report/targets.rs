@@ -2,7 +2,7 @@
 //! e.g. the seed paper's Table 1 for the office (`samples/office/targets.json`).
 //!
 //! Keys, in the file's order:
-//! - `working_plane`: the working plane's average (no value when the bake has no working plane);
+//! - `working_plane`: the working plane's average (an error when the bake has no working plane);
 //! - `PATH` or `node:PATH`: the node whose names joined by `/` from its root are PATH
 //!   (`desk_dark/top`); all nodes with that path together;
 //! - `material:NAME`: every surface with that material;
@@ -85,7 +85,7 @@ impl Targets {
             .map(|(key, target)| {
                 let target = *target;
                 let achieved = if key == "working_plane" {
-                    plane_avg
+                    Some(plane_avg.ok_or_else(|| self.no_working_plane())?)
                 } else {
                     Some(self.surface_average(input, key)?)
                 };
@@ -97,6 +97,21 @@ impl Targets {
                 })
             })
             .collect()
+    }
+
+    /// Whether a target needs the bake's working plane.
+    pub fn wants_working_plane(&self) -> bool {
+        self.entries.iter().any(|(k, _)| k == "working_plane")
+    }
+
+    /// The error for a `working_plane` target when the bake has none.
+    pub fn no_working_plane(&self) -> Error {
+        Error::input(
+            &self.file,
+            "",
+            "target 'working_plane': the bake has no working plane (bake with --working-plane \
+             HEIGHT, e.g. --working-plane 0.75)",
+        )
     }
 
     /// The average illuminance over the surfaces `key` names.
