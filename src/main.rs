@@ -1,6 +1,7 @@
 //! The `bake` command line. Raw arguments are turned into validated settings before any work;
-//! errors print as one line naming the file and the element, with a non-zero exit code; nothing
-//! is written unless everything succeeded. Subcommands live in `cli/`.
+//! errors print as one line naming the file and the element, with exit code 2 for usage errors
+//! (invalid arguments or option values) and 1 for everything else; nothing is written unless
+//! everything succeeded. Subcommands live in `cli/`.
 
 mod cli;
 
@@ -68,6 +69,15 @@ fn main() {
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");
-        std::process::exit(1);
+        std::process::exit(exit_code(&e));
     }
+}
+
+/// 2 for a usage error (an invalid option value: [`luxbake::Error::Settings`]), 1 for any other
+/// error (input, output, bake).
+fn exit_code(e: &anyhow::Error) -> i32 {
+    let usage = e
+        .chain()
+        .any(|c| matches!(c.downcast_ref(), Some(luxbake::Error::Settings(_))));
+    if usage { 2 } else { 1 }
 }

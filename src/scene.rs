@@ -19,7 +19,12 @@ use glam::{DMat4, DQuat, DVec2, DVec3};
 use serde_json::Value;
 use std::path::PathBuf;
 
+/// Largest world coordinate a scene may hold (m): 10 000 km, beyond any building; larger ones
+/// come from a wrong unit or a broken transform (the importers and the probe reader refuse them).
+pub const MAX_COORDINATE: f64 = 1e7;
+
 /// A whole input scene, resolved to world space.
+
 #[derive(Debug, Clone, Default)]
 pub struct Scene {
     /// The file the scene was read from (for messages and the output's provenance).

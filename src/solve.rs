@@ -63,7 +63,8 @@ pub fn gmres(
         if stats.relative_residual < tol {
             return (x, stats);
         }
-        if stats.iterations >= max_iterations {
+        // A residual that is not finite cannot improve: stop at once (the caller reports it).
+        if stats.iterations >= max_iterations || !stats.relative_residual.is_finite() {
             stats.converged = false;
             return (x, stats);
         }

@@ -544,3 +544,46 @@ fn a_working_plane_target_without_a_working_plane_is_refused_before_baking() {
         &["targets.json", "working_plane", "--working-plane"],
     );
 }
+
+#[test]
+fn a_large_energy_balance_error_is_loud() {
+    // A 100 cd point light 1 m over a 0.4 m square floor: almost all light escapes and the
+    // escape estimate's error leaves 0.34 % of the flux unaccounted for. Any balance error above
+    // 1e-3 must come with a warning (issue 25 saw 10 % printed without one).
+    let (input, out) = folders("balance");
+    let s = 0.2;
+    let mut mini = Mini::with_floor([[-s, 0.0, -s], [-s, 0.0, s], [s, 0.0, s], [s, 0.0, -s]]);
+    let j = &mut mini.json;
+    j["extensionsUsed"] = json!(["KHR_lights_punctual"]);
+    j["extensions"] =
+        json!({"KHR_lights_punctual": {"lights": [{"type": "point", "intensity": 100.0}]}});
+    j["nodes"][1] = json!({"name": "lamp", "translation": [0.013, 1.0, 0.007],
+        "extensions": {"KHR_lights_punctual": {"light": 0}}});
+    j["meshes"].as_array_mut().unwrap().truncate(1);
+    j["accessors"].as_array_mut().unwrap().truncate(3);
+    let path = mini.write_gltf(&input, "lamp.gltf", None);
+    let run = bake_into(&path, &out, &[]);
+    assert!(run.ok(), "{run:?}");
+    let printed: f64 = run
+        .stderr
+        .split("balance error ")
+        .last()
+        .and_then(|s| s.split(';').next())
+        .and_then(|s| s.trim().parse().ok())
+        .unwrap_or_else(|| panic!("no balance error in:\n{}", run.stderr));
+    assert!(
+        printed > 1e-3,
+        "this scene no longer has a large balance error ({printed:e}): pick one that does"
+    );
+    assert_warned(
+        &run,
+        &["energy balance error", "above 1e-3", "unaccounted for"],
+    );
+
+    // Below the threshold (the minimal scene at default quality, 5.7e-4): no warning.
+    let (input, out) = folders("balance-ok");
+    let path = variant(&input, "room.gltf", |_| {});
+    let output = out.join("lit.gltf");
+    let run = bake([path.as_os_str(), "-o".as_ref(), output.as_os_str()]);
+    assert!(run.ok() && !run.stderr.contains("warning"), "{run:?}");
+}

@@ -11,7 +11,8 @@
 //! hemisphere for light leaving surfaces that are not enclosed). Their difference is the balance error: it
 //! collects the solver's residual, the balancing tolerance and the error of the escape estimates
 //! (in a closed room the transport operator is balanced to conserve flux, see
-//! `transport::operator`).
+//! `transport::operator`). A relative error above [`WARN_BALANCE`] (10⁻³) is reported as a
+//! warning ([`warning`]).
 
 use super::direct::PatchFlux;
 use super::meshing::Meshed;
@@ -161,5 +162,53 @@ pub fn source_record(source: &DirectSource, scene: &Scene, received: f64) -> Sou
         emitted_lm: source.emitted_flux().unwrap_or(received),
         reached_surfaces_lm: received,
         luminaire,
+    }
+}
+
+/// A relative balance error above this is reported as a warning.
+pub const WARN_BALANCE: f64 = 1e-3;
+
+/// The warning for an energy balance error above [`WARN_BALANCE`] (or one that is not finite).
+pub fn warning(e: &EnergyBalance) -> Option<String> {
+    let r = e.balance_error_relative;
+    if r.is_finite() && r <= WARN_BALANCE {
+        return None;
+    }
+    let (lost, verb) = if e.balance_error_lm >= 0.0 {
+        (e.balance_error_lm, "unaccounted for")
+    } else {
+        (-e.balance_error_lm, "too many")
+    };
+    Some(format!(
+        "energy balance error {r:.1e} (above {WARN_BALANCE:.0e}): of {:.1} lm emitted, {:.1} lm \
+         absorbed and {:.1} lm escaped leave {lost:.1} lm {verb}; illuminances may be off by \
+         about that fraction (it collects the solver's residual, light lost where surfaces touch and \
+         the error of the escaped-light estimate; --quality high reduces it)",
+        e.emitted_lm, e.absorbed_lm, e.escaped_lm
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn warns_above_a_thousandth_and_on_non_finite_errors() {
+        let balance = |error: f64| EnergyBalance {
+            emitted_lm: 1000.0,
+            absorbed_lm: 1000.0 - error,
+            balance_error_lm: error,
+            balance_error_relative: error.abs() / 1000.0,
+            ..EnergyBalance::default()
+        };
+        assert_eq!(warning(&balance(0.9)), None);
+        let w = warning(&balance(100.0)).expect("10 % must warn");
+        assert!(
+            w.contains("1.0e-1") && w.contains("100.0 lm unaccounted for"),
+            "{w}"
+        );
+        let w = warning(&balance(-2.0)).expect("0.2 % too much must warn");
+        assert!(w.contains("2.0 lm too many"), "{w}");
+        assert!(warning(&balance(f64::NAN)).is_some());
     }
 }

@@ -141,6 +141,13 @@ pub fn solve<'a>(
     let radiosity = run.time(Stage::Solve, || {
         solve::stage(&meshed, rows, light_flux, params.tolerance)
     });
+    if !radiosity.stats.relative_residual.is_finite() {
+        return Err(crate::Error::Bake(format!(
+            "the solve produced non-finite values (residual {}): an emitted amount or a \
+             reflectance overflowed",
+            radiosity.stats.relative_residual
+        )));
+    }
     if !radiosity.stats.converged {
         progress.warn(&format!(
             "the solver stopped at {} iterations with relative residual {:.2e} (tolerance {:.0e})",
@@ -151,6 +158,9 @@ pub fn solve<'a>(
         energy::balance(&meshed, &occluder, &flux, &radiosity)
     });
     run.rays(RayStage::Energy, &occluder);
+    if let Some(w) = energy::warning(&energy) {
+        progress.warn(&w);
+    }
 
     let summary = summary_of(
         scene, settings, h, &meshed, &occluder, &flux, &radiosity, energy, &run,

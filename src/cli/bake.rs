@@ -127,7 +127,9 @@ fn settings(args: &BakeArgs) -> Result<Settings> {
         "auto" => Exposure::Auto,
         s => Exposure::White {
             lux: s.parse().map_err(|_| {
-                anyhow::anyhow!("--exposure must be 'auto' or an illuminance in lx, got '{s}'")
+                luxbake::Error::Settings(format!(
+                    "--exposure must be 'auto' or an illuminance in lx, got '{s}'"
+                ))
             })?,
         },
     };
@@ -161,7 +163,10 @@ fn settings(args: &BakeArgs) -> Result<Settings> {
 /// Run the bake (the input and output are present: clap requires them without a subcommand).
 pub fn run(args: &BakeArgs) -> Result<()> {
     let (Some(input), Some(output)) = (&args.input, &args.output) else {
-        anyhow::bail!("an input scene and -o OUTPUT are required (see bake --help)");
+        return Err(luxbake::Error::Settings(
+            "an input scene and -o OUTPUT are required (see bake --help)".into(),
+        )
+        .into());
     };
     let start = Instant::now();
     let settings = settings(args)?;

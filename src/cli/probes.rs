@@ -39,10 +39,10 @@ impl ProbeArgs {
     /// Fill the probe fields of `settings` (reads the `--probes` file).
     pub fn apply(&self, settings: &mut Settings) -> Result<()> {
         if self.probe_height.is_some() && self.probe_grid.is_none() {
-            return Err(anyhow!("--probe-height needs --probe-grid SPACING"));
+            return Err(usage("--probe-height needs --probe-grid SPACING"));
         }
         if self.working_plane_spacing.is_some() && self.working_plane.is_none() {
-            return Err(anyhow!("--working-plane-spacing needs --working-plane H"));
+            return Err(usage("--working-plane-spacing needs --working-plane H"));
         }
         settings.probe_grid = self.probe_grid.map(|spacing| ProbeGrid {
             spacing,
@@ -120,4 +120,8 @@ pub fn report(results: &[ProbeResult]) {
         results.len(),
         parts.join(", ")
     );
+}
+
+fn usage(message: &str) -> anyhow::Error {
+    luxbake::Error::Settings(message.into()).into()
 }

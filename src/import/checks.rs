@@ -15,9 +15,7 @@ use crate::{Error, Result};
 use glam::DVec3;
 use serde_json::Value;
 
-/// Largest world coordinate accepted (m): 10 000 km, beyond any building; larger ones come from a
-/// wrong unit or a broken transform.
-pub const MAX_COORDINATE: f64 = 1e7;
+pub use crate::scene::MAX_COORDINATE;
 /// Largest photometric amount accepted in cd, cd/m², lm or lx: a million times the brightest
 /// lamps made; larger ones overflow the solve's sums or come from a wrong unit.
 pub const MAX_PHOTOMETRIC: f64 = 1e12;

@@ -9,9 +9,10 @@
 //! when none of its fields is a number (so a mistyped first data row is still an error). A row without a name is named
 //! `probe_<line>`. Probes are aligned with the world axes ([`ProbeOrigin::File`] with the row's
 //! line). Errors: a row with fewer than three or more than four fields, a coordinate that is not a
-//! finite number, an empty quoted name, two probes with the same name, a file with no probe row.
+//! finite number within ±[`MAX_COORDINATE`] m, an empty quoted name, two probes with the same name, a file with no probe row.
 
 use super::{Probe, ProbeOrigin};
+use crate::scene::MAX_COORDINATE;
 use glam::{DMat3, DVec3};
 use std::collections::HashMap;
 
@@ -45,12 +46,17 @@ pub fn parse(text: &str) -> Result<Vec<Probe>, (usize, String)> {
         }
         let mut xyz = [0.0; 3];
         for (k, (axis, field)) in ["x", "y", "z"].iter().zip(&fields).enumerate() {
-            xyz[k] = number(field).ok_or_else(|| {
-                (
-                    line,
-                    format!("{axis} must be a finite number in metres, got '{field}'"),
-                )
-            })?;
+            xyz[k] = number(field)
+                .filter(|v| v.abs() <= MAX_COORDINATE)
+                .ok_or_else(|| {
+                    (
+                        line,
+                        format!(
+                            "{axis} must be a finite number of metres within ±{MAX_COORDINATE:e}, \
+                             got '{field}'"
+                        ),
+                    )
+                })?;
         }
         let name = match fields.get(3).map(|f| unquote(f)) {
             Some(n) if !n.is_empty() => n.to_string(),
