@@ -9,7 +9,7 @@
 //! patches; both sides of a double-sided material; the adaptive mesh is usually smaller), probes
 //! of `--probe-grid` and `--working-plane` from the scene's extent (+Y up: a grid over x and z),
 //! and peak memory at per-item sizes measured on the open-plan floors
-//! (`bench/results/openplan-scaling`: 4029 MiB at 1 020 313 patches).
+//! (see [`BYTES_PER_PATCH`]).
 //!
 //! Limits: by default what [`RAM_SHARE`] of the machine's memory (physical RAM, or the cgroup's
 //! limit if lower) holds at those sizes; `--max-patches` and `--max-probes` set others. When the
@@ -25,10 +25,11 @@ use crate::scene::Scene;
 use crate::settings::Settings;
 use glam::DVec3;
 
-/// Peak resident bytes per patch (links, tree, receivers, output) and of the rest of a run:
-/// the open-plan floors, 10⁵ and 10⁶ triangles at default quality: 535 MiB at 120 162 patches,
-/// 4029 MiB at 1 020 313 (4.07 kB a patch and 69 MiB besides).
-pub const BYTES_PER_PATCH: f64 = 4096.0;
+/// Peak resident bytes per *estimated* patch (links, tree, receivers, output) and of the rest of
+/// a run, at default quality with one thread: measured peak over the estimate, less the base,
+/// was 3.5 KiB (open-plan 10⁴), 5.2 KiB (10⁵), 5.6 KiB (office, uniform 0.1 m); the 10⁶ floor
+/// peaked at 4029 MiB for 1 020 313 patches. Rounded up so the estimate errs high.
+pub const BYTES_PER_PATCH: f64 = 6.0 * 1024.0;
 pub const BYTES_BASE: f64 = 64.0 * 1024.0 * 1024.0;
 /// Peak resident bytes per probe (the probe, its results, its output node): 24 kB measured
 /// with a 200 × 200 working plane on a 2 × 2 m floor, 33 kB with a 50 × 50 probe grid.

@@ -48,7 +48,7 @@ pub struct BakeArgs {
     #[arg(long)]
     threads: Option<usize>,
     /// Most patches the bake may make (default: what 3/4 of the machine's memory holds at
-    /// about 4 KiB a patch); the run is refused before meshing when the estimate is above.
+    /// about 6 KiB a patch); the run is refused before meshing when the estimate is above.
     #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
     max_patches: Option<u64>,
     /// Most probes (grid points included) the bake may measure (default: as for patches).
