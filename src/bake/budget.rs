@@ -26,13 +26,10 @@ use crate::settings::Settings;
 use glam::DVec3;
 
 /// Peak resident bytes per *estimated* patch (links, tree, receivers, output) and of the rest of
-/// a run, at default quality with one thread: measured peak over the estimate, less the base,
-/// was 3.5 KiB (open-plan 10⁴), 5.2 KiB (10⁵), 5.6 KiB (office, uniform 0.1 m); the 10⁶ floor
-/// peaked at 4029 MiB for 1 020 313 patches. Rounded up so the estimate errs high.
+/// a run, from measured peaks, rounded up so the estimate errs high (`bench/results/limits.md`).
 pub const BYTES_PER_PATCH: f64 = 6.0 * 1024.0;
 pub const BYTES_BASE: f64 = 64.0 * 1024.0 * 1024.0;
-/// Peak resident bytes per probe (the probe, its results, its output node): 24 kB measured
-/// with a 200 × 200 working plane on a 2 × 2 m floor, 33 kB with a 50 × 50 probe grid.
+/// Peak resident bytes per probe (the probe, its results, its output node), measured likewise.
 pub const BYTES_PER_PROBE: f64 = 32.0 * 1024.0;
 /// The share of the machine's memory the default limits allow a bake.
 pub const RAM_SHARE: f64 = 0.75;
