@@ -121,6 +121,11 @@ pub struct Settings {
     pub probe_glyphs: bool,
     /// Bake lightmap atlases too (`--lightmaps`).
     pub lightmaps: Option<LightmapSettings>,
+    /// Most patches a bake may make (`--max-patches`; `None`: what the machine's memory holds,
+    /// see `bake::budget`). Never affects the output of a bake it allows.
+    pub max_patches: Option<u64>,
+    /// Most probes (`--max-probes`; `None`: as for patches).
+    pub max_probes: Option<u64>,
 }
 
 /// What `--lightmaps` asks for.
@@ -165,6 +170,8 @@ impl Default for Settings {
             working_plane: None,
             probe_glyphs: false,
             lightmaps: None,
+            max_patches: None,
+            max_probes: None,
         }
     }
 }
@@ -240,6 +247,30 @@ impl Settings {
         if self.threads == Some(0) {
             return Err(Error::Settings("--threads must be at least 1".into()));
         }
+        for (name, n) in [
+            ("--max-patches", self.max_patches),
+            ("--max-probes", self.max_probes),
+        ] {
+            if n == Some(0) {
+                return Err(Error::Settings(format!("{name} must be at least 1")));
+            }
+        }
         Ok(())
+    }
+
+    /// Worker threads to start: `threads`, at most the machine's cores (more only queue and
+    /// cost memory), or all cores; with a warning when `threads` was clamped.
+    pub fn worker_threads(&self) -> (usize, Option<String>) {
+        let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+        match self.threads {
+            None => (cores, None),
+            Some(t) if t > cores => (
+                cores,
+                Some(format!(
+                    "--threads {t} is more than this machine's {cores} cores: using {cores}"
+                )),
+            ),
+            Some(t) => (t, None),
+        }
     }
 }

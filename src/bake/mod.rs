@@ -17,6 +17,7 @@
 //! depends on the thread count (parallel maps over fixed chunks, ordered reductions), so the same
 //! input and settings give the same bytes.
 
+pub mod budget;
 mod direct;
 mod display;
 mod energy;
@@ -103,7 +104,11 @@ pub fn solve<'a>(
 ) -> Result<Solved<'a>> {
     settings.validate()?;
     let params = settings.params();
-    let h = patch_size(scene, settings)?;
+    let budget = budget::check(scene, settings, patch_size(scene, settings)?)?;
+    if let Some(w) = &budget.warning {
+        progress.warn(w);
+    }
+    let h = budget.patch_size;
     let mut run = Run::default();
 
     progress.stage("meshing", 0);

@@ -188,10 +188,14 @@ impl BakedOutput {
             .unwrap_or_else(|| format!("node {i}"))
     }
 
-    /// The node's names joined by `/` from its root (`desk_dark/top`).
+    /// The node's names joined by `/` from its root (`desk_dark/top`): linear in its depth (at
+    /// most the node count, should the file's parents form a cycle).
     pub fn node_path(&self, mut i: usize) -> String {
         let mut names = vec![self.node_name(i)];
         while let Some(p) = self.nodes[i].parent {
+            if names.len() > self.nodes.len() {
+                break;
+            }
             names.push(self.node_name(p));
             i = p;
         }

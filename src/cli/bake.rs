@@ -43,9 +43,17 @@ pub struct BakeArgs {
     /// Far-field acceptance ratio, radius/distance (overrides the one of --quality).
     #[arg(long, value_name = "RATIO", hide = true, allow_negative_numbers = true)]
     far_field: Option<f64>,
-    /// Worker threads (default: all cores). The output does not depend on it.
+    /// Worker threads (default: all cores; more than the cores are clamped with a warning).
+    /// The output does not depend on it.
     #[arg(long)]
     threads: Option<usize>,
+    /// Most patches the bake may make (default: what 3/4 of the machine's memory holds at
+    /// about 6 KiB a patch); the run is refused before meshing when the estimate is above.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
+    max_patches: Option<u64>,
+    /// Most probes (grid points included) the bake may measure (default: as for patches).
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..))]
+    max_probes: Option<u64>,
     /// Display exposure: 'auto' or the illuminance in lx shown as white in COLOR_0.
     #[arg(long, default_value = "auto", allow_hyphen_values = true)]
     exposure: String,
@@ -144,6 +152,8 @@ fn settings(args: &BakeArgs) -> Result<Settings> {
         exposure,
         keep_lit_materials: args.keep_lit_materials,
         threads: args.threads,
+        max_patches: args.max_patches,
+        max_probes: args.max_probes,
         record_timings: args.timings_in_output,
         uniform_patches: args.uniform_patches,
         always_trace: args.always_trace,
@@ -205,9 +215,10 @@ pub fn run(args: &BakeArgs) -> Result<()> {
     for w in &scene.warnings {
         progress.warn(w);
     }
-    let threads = settings
-        .threads
-        .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()));
+    let (threads, clamped) = settings.worker_threads();
+    if let Some(w) = clamped {
+        progress.warn(&w);
+    }
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()

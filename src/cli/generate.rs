@@ -26,9 +26,9 @@ struct OpenplanArgs {
     /// Preset: about 10⁴, 10⁵ or 10⁶ triangles (13.5 × 10.1, 20 × 15, 60 × 45 m).
     #[arg(long, value_enum, default_value_t = SizeArg::Medium)]
     size: SizeArg,
-    /// Triangle target instead of the preset's (the floor grows with it).
-    #[arg(long, value_name = "N")]
-    triangles: Option<usize>,
+    /// Triangle target instead of the preset's (the floor grows with it), 1 to 10⁷.
+    #[arg(long, value_name = "N", value_parser = clap::value_parser!(u64).range(1..=MAX_TRIANGLES))]
+    triangles: Option<u64>,
     /// Seed of the small random variations (chair turns, missing chairs, colours).
     #[arg(long, default_value_t = luxbake::fixtures::openplan::DEFAULT_SEED)]
     seed: u64,
@@ -39,6 +39,10 @@ struct OpenplanArgs {
     #[arg(short, long)]
     quiet: bool,
 }
+
+/// The largest `--triangles`: a 10⁷-triangle floor bakes in 24 GiB (issue 29); 10⁸ would not
+/// even be written (its buffers alone are several GiB).
+const MAX_TRIANGLES: u64 = 10_000_000;
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
 enum SizeArg {
@@ -60,10 +64,9 @@ fn openplan(args: &OpenplanArgs) -> Result<()> {
         SizeArg::Medium => OpenPlan::medium(),
         SizeArg::Large => OpenPlan::large(),
     };
-    let target = args.triangles.unwrap_or(preset.target_triangles);
-    if target == 0 {
-        anyhow::bail!("--triangles must be at least 1");
-    }
+    let target = args
+        .triangles
+        .map_or(preset.target_triangles, |n| n as usize);
     let scene = open_plan(&OpenPlan::new(target, args.seed));
     luxbake::export::write_scene(&args.output, &scene)?;
     if !args.quiet {

@@ -53,48 +53,60 @@ pub(super) struct Matched {
     pub material_of_a: Vec<usize>,
 }
 
-/// Every node path (`a/b/c`), each computed once.
-fn all_paths(input: &BakedOutput) -> Vec<String> {
-    let mut paths: Vec<Option<String>> = vec![None; input.nodes.len()];
-    for start in 0..input.nodes.len() {
-        // Walk up to the first node with a known path (or a root), then fill in downwards.
-        let mut chain = vec![start];
-        while let Some(&i) = chain.last() {
-            match input.nodes[i].parent {
-                Some(p) if paths[i].is_none() && chain.len() <= input.nodes.len() => chain.push(p),
-                _ => break,
+/// Every node's path (`a/b/c`) in A and in B as an id: equal ids, equal paths. Paths are
+/// interned as (parent's id, name), so a 10⁵-deep chain costs 10⁵ entries, not its strings.
+fn path_ids(a: &BakedOutput, b: &BakedOutput) -> (Vec<u32>, Vec<u32>) {
+    let mut interned: HashMap<(u32, String), u32> = HashMap::new();
+    let mut ids = |input: &BakedOutput| {
+        let mut id: Vec<Option<u32>> = vec![None; input.nodes.len()];
+        for start in 0..input.nodes.len() {
+            // Walk up to the first node with a known id (or a root), then fill in downwards.
+            let mut chain = vec![start];
+            while let Some(&i) = chain.last() {
+                match input.nodes[i].parent {
+                    Some(p) if id[i].is_none() && chain.len() <= input.nodes.len() => chain.push(p),
+                    _ => break,
+                }
+            }
+            let mut above = u32::MAX;
+            for &i in chain.iter().rev() {
+                let here = match id[i] {
+                    Some(known) => known,
+                    None => {
+                        let next = interned.len() as u32;
+                        *interned.entry((above, input.node_name(i))).or_insert(next)
+                    }
+                };
+                id[i] = Some(here);
+                above = here;
             }
         }
-        let mut above: Option<String> = None;
-        for &i in chain.iter().rev() {
-            let p = match (&paths[i], &above) {
-                (Some(p), _) => p.clone(),
-                (None, Some(up)) => format!("{up}/{}", input.node_name(i)),
-                (None, None) => input.node_name(i),
-            };
-            paths[i] = Some(p.clone());
-            above = Some(p);
-        }
-    }
-    paths.into_iter().map(Option::unwrap_or_default).collect()
+        id.into_iter()
+            .map(Option::unwrap_or_default)
+            .collect::<Vec<u32>>()
+    };
+    let ids_a = ids(a);
+    (ids_a, ids(b))
 }
 
-/// Keys (path, occurrence) for a list of nodes, in order.
-fn keyed(paths: &[String], nodes: &[usize]) -> Vec<(String, usize)> {
-    let mut seen: HashMap<&str, usize> = HashMap::new();
+/// Keys (path id, occurrence) for a list of nodes, in order.
+fn keyed(paths: &[u32], nodes: &[usize]) -> Vec<(u32, usize)> {
+    let mut seen: HashMap<u32, usize> = HashMap::new();
     nodes
         .iter()
         .map(|&n| {
-            let k = seen.entry(paths[n].as_str()).or_insert(0);
+            let k = seen.entry(paths[n]).or_insert(0);
             *k += 1;
-            (paths[n].clone(), *k - 1)
+            (paths[n], *k - 1)
         })
         .collect()
 }
 
-fn display_name((path, k): &(String, usize)) -> String {
-    if *k == 0 {
-        path.clone()
+/// A node's path, with ` [k]` for the k-th node of that path (k > 1).
+fn display_name(input: &BakedOutput, node: usize, k: usize) -> String {
+    let path = input.node_path(node);
+    if k == 0 {
+        path
     } else {
         format!("{path} [{}]", k + 1)
     }
@@ -154,7 +166,7 @@ pub(super) fn match_outputs(
     mode: Mode,
 ) -> Result<Matched, Mismatch> {
     let (ra, rb) = (&a, &b);
-    let (paths_a, paths_b) = (all_paths(ra), all_paths(rb));
+    let (paths_a, paths_b) = path_ids(ra, rb);
     let tolerance = 1e-6 * scene_size(a, b);
     let (material_of_b, materials) = material_groups(rb);
     let mut material_of_a = vec![usize::MAX; ra.materials.len()];
@@ -193,18 +205,18 @@ pub(super) fn match_outputs(
 fn match_nodes(
     ra: &BakedOutput,
     rb: &BakedOutput,
-    paths_a: &[String],
-    paths_b: &[String],
+    paths_a: &[u32],
+    paths_b: &[u32],
 ) -> Result<Vec<NodePair>, Mismatch> {
     let (order_a, prims_a) = baked_nodes(ra);
     let (order_b, prims_b) = baked_nodes(rb);
     let keys_a = keyed(paths_a, &order_a);
     let keys_b = keyed(paths_b, &order_b);
-    let index_b: HashMap<&(String, usize), usize> =
+    let index_b: HashMap<&(u32, usize), usize> =
         keys_b.iter().zip(&order_b).map(|(k, &n)| (k, n)).collect();
     let mut pairs = Vec::with_capacity(order_a.len());
     for (key, &na) in keys_a.iter().zip(&order_a) {
-        let name = display_name(key);
+        let name = display_name(ra, na, key.1);
         let Some(&nb) = index_b.get(key) else {
             let in_b = paths_b.iter().position(|p| *p == key.0);
             return Err(Mismatch(match in_b {
@@ -222,10 +234,10 @@ fn match_nodes(
             by_position: Vec::new(),
         });
     }
-    let keys_a_set: HashSet<&(String, usize)> = keys_a.iter().collect();
+    let keys_a_set: HashSet<&(u32, usize)> = keys_a.iter().collect();
     if let Some(key) = keys_b.iter().find(|k| !keys_a_set.contains(k)) {
-        let name = display_name(key);
         let nb = index_b[key];
+        let name = display_name(rb, nb, key.1);
         let in_a = paths_a.iter().position(|p| *p == key.0);
         return Err(Mismatch(match in_a {
             Some(na) => format!(
@@ -401,19 +413,20 @@ fn match_materials(
 fn match_probes(
     a: &BakedOutput,
     b: &BakedOutput,
-    paths_a: &[String],
-    paths_b: &[String],
+    paths_a: &[u32],
+    paths_b: &[u32],
     tolerance: f64,
 ) -> Result<Vec<ProbePair>, Mismatch> {
     let probe_nodes = |o: &BakedOutput| o.probes.iter().map(|p| p.node).collect::<Vec<_>>();
     let pk_a = keyed(paths_a, &probe_nodes(a));
     let pk_b = keyed(paths_b, &probe_nodes(b));
-    let index_b: HashMap<&(String, usize), usize> =
+    let index_b: HashMap<&(u32, usize), usize> =
         pk_b.iter().enumerate().map(|(i, k)| (k, i)).collect();
     let mut probes = Vec::with_capacity(pk_a.len());
     for (ia, key) in pk_a.iter().enumerate() {
-        let name = display_name(key);
         let na = a.probes[ia].node;
+        let path = a.node_path(na);
+        let name = display_name(a, na, key.1);
         let Some(&ib) = index_b.get(key) else {
             return Err(Mismatch(format!(
                 "probe {name} (/nodes/{na} in A): missing in B"
@@ -425,7 +438,7 @@ fn match_probes(
         if let Some(m) = too_far(p, q, tolerance, &what) {
             return Err(m);
         }
-        let working_plane = key.0.starts_with("probes/working_plane/");
+        let working_plane = path.starts_with("probes/working_plane/");
         probes.push(ProbePair {
             name,
             a: ia,
@@ -438,7 +451,7 @@ fn match_probes(
         let ib = (0..pk_b.len()).find(|i| !matched.contains(i)).unwrap_or(0);
         return Err(Mismatch(format!(
             "probe {} (/nodes/{} in B): missing in A",
-            display_name(&pk_b[ib]),
+            display_name(b, b.probes[ib].node, pk_b[ib].1),
             b.probes[ib].node
         )));
     }

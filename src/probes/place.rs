@@ -119,6 +119,13 @@ fn orthonormal(m: DMat3) -> DMat3 {
     DMat3::from_cols(x, y, x.cross(y))
 }
 
+/// Grid points along x and z (+Y up) over the box `lo`..`hi`: floor(extent / spacing) per axis,
+/// at least one; centred in the extent, so at least half a spacing from its edges and no point
+/// lies in a bounding wall. In f64: `bake::budget` counts before anything is allocated.
+pub fn grid_counts(lo: DVec3, hi: DVec3, spacing: f64) -> [f64; 2] {
+    [hi.x - lo.x, hi.z - lo.z].map(|extent| (extent / spacing).floor().max(1.0))
+}
+
 /// A horizontal grid of world-aligned probes `height` above the floor.
 pub fn grid(
     scene: &Scene,
@@ -136,10 +143,7 @@ pub fn grid(
     if lo.x > hi.x {
         return Vec::new();
     }
-    // floor(extent / spacing) points per axis (at least one), centred in the extent: at least
-    // half a spacing from its edges, so no point lies in a bounding wall.
-    let count = |extent: f64| ((extent / g.spacing).floor() as usize).max(1);
-    let (nx, nz) = (count(hi.x - lo.x), count(hi.z - lo.z));
+    let [nx, nz] = grid_counts(lo, hi, g.spacing).map(|n| n as usize);
     let (x0, z0) = (
         lo.x + (hi.x - lo.x - (nx - 1) as f64 * g.spacing) / 2.0,
         lo.z + (hi.z - lo.z - (nz - 1) as f64 * g.spacing) / 2.0,

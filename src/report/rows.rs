@@ -99,6 +99,8 @@ fn groups(
     members
         .iter()
         .enumerate()
+        // Named only when it has primitives: a node's path is as long as its depth.
+        .filter(|(_, prims)| !prims.is_empty())
         .filter_map(|(i, prims)| row(input, &name(i), prims, filter))
         .collect()
 }

@@ -126,10 +126,15 @@ impl Targets {
                 .collect(),
             None => {
                 let path = name.strip_prefix("node:").unwrap_or(name);
+                // Each node's path once (a path is as long as the node's depth).
+                let mut is: std::collections::HashMap<usize, bool> = Default::default();
                 input
                     .primitives
                     .iter()
-                    .filter(|p| input.node_path(p.node) == path)
+                    .filter(|p| {
+                        *is.entry(p.node)
+                            .or_insert_with(|| input.node_path(p.node) == path)
+                    })
                     .collect()
             }
         };
