@@ -171,4 +171,13 @@ mod tests {
             assert!((sum - want).abs() < 1e-7 * want, "{rho}: {sum} vs {want}");
         }
     }
+
+    #[test]
+    fn a_non_finite_right_hand_side_stops_at_once() {
+        let b = vec![DVec3::splat(f64::INFINITY), DVec3::ONE];
+        let apply = |x: &[DVec3], out: &mut [DVec3]| out.copy_from_slice(x);
+        let (_, stats) = gmres(apply, &b, &[1.0, 1.0], 1e-10, 2000, 30);
+        assert!(!stats.converged && stats.iterations == 0, "{stats:?}");
+        assert!(!stats.relative_residual.is_finite());
+    }
 }

@@ -587,3 +587,26 @@ fn a_large_energy_balance_error_is_loud() {
     let run = bake([path.as_os_str(), "-o".as_ref(), output.as_os_str()]);
     assert!(run.ok() && !run.stderr.contains("warning"), "{run:?}");
 }
+
+#[test]
+fn a_ground_plane_that_sets_the_patch_size_is_warned_about() {
+    // A 2 km ground under a 0.5 m panel: the default patch size follows the ground's area.
+    let (input, out) = folders("ground");
+    let g = 1000.0;
+    let mini = Mini::with_floor([[-g, 0.0, -g], [-g, 0.0, g], [g, 0.0, g], [g, 0.0, -g]]);
+    let path = mini.write_gltf(&input, "ground.gltf", None);
+    let run = bake_into(&path, &out, &[]);
+    assert_warned(
+        &run,
+        &[
+            "node 'floor'",
+            "/meshes/0/primitives/0",
+            "100.0 % of the scene's area",
+            "--patch-size",
+        ],
+    );
+    // With --patch-size given there is nothing to warn about.
+    let (_, out) = folders("ground-given");
+    let run = bake_into(&path, &out, &["--patch-size", "100"]);
+    assert!(run.ok() && !run.stderr.contains("area"), "{run:?}");
+}

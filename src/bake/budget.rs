@@ -15,7 +15,9 @@
 //! limit if lower) holds at those sizes; `--max-patches` and `--max-probes` set others. When the
 //! quality sets the patch size and a sliver (a triangle kilometres long, a stray vertex) would
 //! mesh into far more patches than the quality asks for, the patch size is raised instead, with
-//! a warning naming the surface; a `--patch-size` given is never changed.
+//! a warning naming the surface; a `--patch-size` given is never changed. When one surface (a
+//! ground plane kilometres wide) holds over 99 % of the area, so the default patch size follows
+//! it alone, a warning names it and the `--patch-size` the rest would get ([`dominant_surface`]).
 //!
 //! Invariant: time linear in the input's triangles (a few passes), memory constant.
 
@@ -312,4 +314,48 @@ fn probes(scene: &Scene, settings: &Settings, max: f64) -> Result<f64> {
         }
     }
     Ok(total)
+}
+
+/// A surface holding more than this share of the scene's area sets the default patch size
+/// almost alone ([`dominant_surface`]).
+pub const DOMINANT_SHARE: f64 = 0.99;
+
+/// A warning when, with the patch size derived from the quality (`h`, m), one surface (a terrain,
+/// a ground plane kilometres wide) holds more than [`DOMINANT_SHARE`] of the area, so the rest of
+/// the scene gets patches over ten times larger than it would alone; `None` otherwise.
+pub fn dominant_surface(scene: &Scene, target_patches: f64, h: f64) -> Option<String> {
+    let areas: Vec<f64> = scene
+        .surfaces
+        .iter()
+        .map(|s| {
+            (s.triangles.iter())
+                .map(|t| {
+                    let [a, b, c] = t.map(|v| s.positions[v as usize]);
+                    (b - a).cross(c - a).length() / 2.0
+                })
+                .sum()
+        })
+        .collect();
+    let total: f64 = areas.iter().sum();
+    let (k, &big) = areas.iter().enumerate().max_by(|a, b| a.1.total_cmp(b.1))?;
+    let rest = total - big;
+    if !(big > DOMINANT_SHARE * total && rest > 0.0) {
+        return None;
+    }
+    // The same rule as the default patch size, over the other surfaces only.
+    let h_rest = 2.0 * (rest / target_patches).sqrt();
+    (h > 10.0 * h_rest).then(|| {
+        format!(
+            "{} ({}) holds {:.1} % of the scene's area ({:.0} m²), so the default patch size is \
+             {} m where the rest of the scene alone would get {} m; give --patch-size {} to mesh \
+             the rest finely (the large surface then gets more patches too)",
+            surface_name(scene, k),
+            scene.surfaces[k].source_path,
+            100.0 * big / total,
+            big,
+            metres(h),
+            metres(h_rest),
+            metres(h_rest)
+        )
+    })
 }

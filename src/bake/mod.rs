@@ -109,6 +109,11 @@ pub fn solve<'a>(
         progress.warn(w);
     }
     let h = budget.patch_size;
+    if settings.patch_size.is_none()
+        && let Some(w) = budget::dominant_surface(scene, params.target_patches, h)
+    {
+        progress.warn(&w);
+    }
     let mut run = Run::default();
 
     progress.stage("meshing", 0);
