@@ -64,6 +64,7 @@ fn openplan(args: &OpenplanArgs) -> Result<()> {
     if target == 0 {
         anyhow::bail!("--triangles must be at least 1");
     }
+    luxbake::export::check(&args.output, &luxbake::scene::Scene::default(), &[])?;
     let scene = open_plan(&OpenPlan::new(target, args.seed));
     luxbake::export::write_scene(&args.output, &scene)?;
     if !args.quiet {
