@@ -346,8 +346,9 @@ fn refuses_to_overwrite_an_input_file() {
         &opts,
     ));
     assert_eq!(std::fs::read(&input).unwrap(), b"input");
-    // The side buffer of `out.gltf` would replace an input buffer: nothing is written.
-    let buffer = dir.join("out.bin");
+    // An input buffer named like a side file of `out.gltf` (which a bake writes and removes):
+    // nothing is written.
+    let buffer = dir.join("out.0123456789abcdef.bin");
     std::fs::write(&buffer, b"buffer").unwrap();
     scene.input_files = vec![buffer.canonicalize().unwrap()];
     assert_output_error(export::write(&dir.join("out.gltf"), &scene, &result, &opts));
@@ -368,7 +369,7 @@ fn failed_writes_leave_nothing_behind() {
         &opts,
     ));
     assert_output_error(export::write(&dir.join("room.obj"), &scene, &result, &opts));
-    // The .gltf cannot replace a directory: its .bin, renamed first, is removed again.
+    // The .gltf cannot replace a directory: refused before anything is staged.
     std::fs::create_dir(dir.join("room.gltf")).unwrap();
     assert_output_error(export::write(
         &dir.join("room.gltf"),

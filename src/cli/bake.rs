@@ -220,9 +220,8 @@ pub fn run(args: &BakeArgs) -> Result<()> {
     // One batch: the lightmaps, the .bin and the glTF (its rename commits the set), then the
     // probes, summary and report files, each renamed after the glTF.
     let mut batch = Batch::default();
-    let prepared = pool.install(|| {
-        export::Prepared::staged(output, &scene, &result, &options, &mut batch)
-    })?;
+    let prepared =
+        pool.install(|| export::Prepared::staged(output, &scene, &result, &options, &mut batch))?;
     // The report is made from the bytes about to be written, before anything is renamed (a bad
     // target fails the run cleanly).
     let report_text = match &report_options {

@@ -227,7 +227,9 @@ fn temporary_pid(name: &str) -> Option<u32> {
     let (_, ids) = rest.rsplit_once(".luxbake-")?;
     let (pid, n) = ids.split_once('-')?;
     let digits = |s: &str| !s.is_empty() && s.bytes().all(|b| b.is_ascii_digit());
-    (digits(pid) && digits(n)).then(|| pid.parse().ok()).flatten()
+    (digits(pid) && digits(n))
+        .then(|| pid.parse().ok())
+        .flatten()
 }
 
 /// Whether process `pid` exists (when unsure, it does: its files are kept).
@@ -279,7 +281,10 @@ pub mod fault {
             return;
         }
         if pause {
-            eprintln!("luxbake-fault: pause at step {n} ({kind} {})", path.display());
+            eprintln!(
+                "luxbake-fault: pause at step {n} ({kind} {})",
+                path.display()
+            );
             std::thread::sleep(std::time::Duration::from_secs(20));
         } else {
             // SAFETY: sends SIGKILL to this process, as `kill -9` would.
@@ -340,7 +345,12 @@ mod tests {
     fn stale_temporaries_of_dead_processes_only() {
         assert_eq!(temporary_pid(".lit.gltf.luxbake-123-4.tmp"), Some(123));
         assert_eq!(temporary_pid(".a.luxbake-b.luxbake-7-0.tmp"), Some(7));
-        for name in ["lit.gltf", ".lit.luxbake-1.tmp", ".x.luxbake-a-1.tmp", ".x.luxbake-1-.tmp"] {
+        for name in [
+            "lit.gltf",
+            ".lit.luxbake-1.tmp",
+            ".x.luxbake-a-1.tmp",
+            ".x.luxbake-1-.tmp",
+        ] {
             assert_eq!(temporary_pid(name), None, "{name}");
         }
         let dir = scratch("stale");

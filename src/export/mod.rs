@@ -37,6 +37,7 @@ pub mod summary;
 mod target;
 
 pub use glyphs::scale as glyph_scale;
+pub use target::content_hash;
 
 use crate::{Error, Result, result::BakeResult, scene::Scene};
 use std::collections::BTreeSet;
@@ -64,7 +65,12 @@ impl Default for ExportOptions {
 /// The files `scene` was read from (its source file and every file the import read).
 fn scene_inputs(scene: &Scene) -> Vec<&Path> {
     let source = Some(scene.source_file.as_path()).filter(|p| !p.as_os_str().is_empty());
-    scene.input_files.iter().map(PathBuf::as_path).chain(source).collect()
+    scene
+        .input_files
+        .iter()
+        .map(PathBuf::as_path)
+        .chain(source)
+        .collect()
 }
 
 /// Check, before any work, that `path` is a writable output for `scene`: a `.gltf` or `.glb`
@@ -188,7 +194,10 @@ impl<'p> Prepared<'p> {
             old: self.target.old_references(),
             target: self.target,
             new,
-            keep: scene_inputs(scene).iter().map(|p| p.to_path_buf()).collect(),
+            keep: scene_inputs(scene)
+                .iter()
+                .map(|p| p.to_path_buf())
+                .collect(),
         })
     }
 }
@@ -245,7 +254,10 @@ pub fn write_scene(path: &Path, scene: &Scene) -> Result<()> {
         old: target.old_references(),
         target,
         new,
-        keep: scene_inputs(scene).iter().map(|p| p.to_path_buf()).collect(),
+        keep: scene_inputs(scene)
+            .iter()
+            .map(|p| p.to_path_buf())
+            .collect(),
     };
     staged.commit(batch, &[])
 }

@@ -98,7 +98,8 @@ impl Target {
     fn side_kind(&self, name: &str) -> Option<Side> {
         let rest = name.strip_prefix(self.stem.as_str())?.strip_prefix('.')?;
         let digits = |s: &str| !s.is_empty() && s.bytes().all(|b| b.is_ascii_digit());
-        let hex = |s: &str| s.len() == 16 && s.bytes().all(|b| matches!(b, b'0'..=b'9' | b'a'..=b'f'));
+        let hex =
+            |s: &str| s.len() == 16 && s.bytes().all(|b| matches!(b, b'0'..=b'9' | b'a'..=b'f'));
         if rest == "bin" {
             return Some(Side::Legacy);
         }
@@ -152,7 +153,10 @@ impl Target {
         for name in &names {
             let sibling = Path::new(name);
             let same_stem = sibling.file_stem().and_then(|s| s.to_str()) == Some(&self.stem);
-            let ext = sibling.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+            let ext = sibling
+                .extension()
+                .and_then(|e| e.to_str())
+                .map(str::to_ascii_lowercase);
             if name != main_name && same_stem && matches!(ext.as_deref(), Some("gltf" | "glb")) {
                 referenced.extend(self.references(&dir.join(name)));
             }
@@ -246,7 +250,11 @@ pub fn check_paths(inputs: &[&Path], gltf: Option<&Target>, others: &[&Path]) ->
         .collect();
     let mut outputs: Vec<(&Path, FileId)> = Vec::new();
     let mut folders: Vec<PathBuf> = Vec::new();
-    for path in gltf.map(|t| t.main.as_path()).into_iter().chain(others.iter().copied()) {
+    for path in gltf
+        .map(|t| t.main.as_path())
+        .into_iter()
+        .chain(others.iter().copied())
+    {
         let id = output_id(path)?;
         if inputs.iter().any(|i| i.same(&id)) {
             return Err(Error::output(
@@ -266,7 +274,10 @@ pub fn check_paths(inputs: &[&Path], gltf: Option<&Target>, others: &[&Path]) ->
         let dir = id.path.parent().map(Path::to_path_buf).unwrap_or_default();
         if !folders.contains(&dir) {
             atomic::check_writable(&dir).map_err(|e| {
-                Error::output(path, format!("cannot write in folder {}: {e}", dir.display()))
+                Error::output(
+                    path,
+                    format!("cannot write in folder {}: {e}", dir.display()),
+                )
             })?;
             folders.push(dir);
         }
@@ -276,14 +287,16 @@ pub fn check_paths(inputs: &[&Path], gltf: Option<&Target>, others: &[&Path]) ->
         return Ok(());
     };
     let dir = outputs[0].1.path.parent().map(Path::to_path_buf);
-    let clash = inputs.iter().chain(outputs.iter().skip(1).map(|(_, id)| id));
-    for file in clash {
+    // Named as given for an output, canonical for an input.
+    let clash = (inputs.iter().map(|i| (i.path.as_path(), i)))
+        .chain(outputs.iter().skip(1).map(|(p, id)| (*p, id)));
+    for (given, file) in clash {
         let name = file.path.file_name().and_then(|n| n.to_str()).unwrap_or("");
         if file.path.parent().map(Path::to_path_buf) == dir
             && target.side_kind(name) == Some(Side::Hashed)
         {
             return Err(Error::output(
-                &file.path,
+                given,
                 format!(
                     "this file (an input, or another output) has the name of a side file of \
                      {} ({stem}.<hash>.bin, {stem}.lightmap<k>.<hash>.exr), which a bake \
@@ -402,10 +415,16 @@ mod tests {
     fn side_file_names() {
         let t = Target::for_path(Path::new("out/room lit.glb")).unwrap();
         let (path, uri) = t.lightmap(12, b"a");
-        assert_eq!(path, Path::new("out/room lit.lightmap12.af63dc4c8601ec8c.exr"));
+        assert_eq!(
+            path,
+            Path::new("out/room lit.lightmap12.af63dc4c8601ec8c.exr")
+        );
         assert_eq!(uri, "room%20lit.lightmap12.af63dc4c8601ec8c.exr");
         for (name, kind) in [
-            ("room lit.lightmap0.0123456789abcdef.exr", Some(Side::Hashed)),
+            (
+                "room lit.lightmap0.0123456789abcdef.exr",
+                Some(Side::Hashed),
+            ),
             ("room lit.0123456789abcdef.bin", Some(Side::Hashed)),
             ("room lit.lightmap0.exr", Some(Side::Legacy)),
             ("room lit.bin", Some(Side::Legacy)),
