@@ -88,7 +88,10 @@ fn json_structure() {
         json!(["KHR_lights_punctual", "KHR_materials_unlit"])
     );
     assert!(j.get("extensionsRequired").is_none());
-    assert_eq!(j["buffers"][0]["uri"], "room.bin");
+    // `room.<16 hex digits of the bytes' FNV-1a>.bin`.
+    let bin = std::fs::read(support::hashed(&dir, "room.#.bin")).unwrap();
+    let hash = luxbake::export::content_hash(&bin);
+    assert_eq!(j["buffers"][0]["uri"], format!("room.{hash:016x}.bin"));
 
     let scene = &j["scenes"][j["scene"].as_u64().unwrap() as usize];
     assert_eq!(scene["name"], "Lit room");
@@ -273,10 +276,11 @@ fn output_is_byte_identical_on_a_second_write() {
         let path = dir.join(name);
         write(&path, &ExportOptions::default());
         let first = std::fs::read(&path).unwrap();
-        let first_bin = std::fs::read(dir.join("a.bin")).unwrap();
+        let bin = support::hashed(&dir, "a.#.bin");
+        let first_bin = std::fs::read(&bin).unwrap();
         write(&path, &ExportOptions::default());
         assert_eq!(first, std::fs::read(&path).unwrap(), "{name}");
-        assert_eq!(first_bin, std::fs::read(dir.join("a.bin")).unwrap());
+        assert_eq!(first_bin, std::fs::read(&bin).unwrap());
     }
     let names: Vec<_> = std::fs::read_dir(&dir)
         .unwrap()

@@ -148,8 +148,16 @@ fn output_is_byte_identical_on_a_second_write() {
         write(&a.join(name), &ExportOptions::default());
         write(&b.join(name), &ExportOptions::default());
     }
-    assert_eq!(names(&a), names(&b));
-    for name in names(&a) {
+    let exact = |d: &Path| -> Vec<String> {
+        let mut n: Vec<String> = std::fs::read_dir(d)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().into_string().unwrap())
+            .collect();
+        n.sort();
+        n
+    };
+    assert_eq!(exact(&a), exact(&b));
+    for name in exact(&a) {
         let same = std::fs::read(a.join(&name)).unwrap() == std::fs::read(b.join(&name)).unwrap();
         assert!(same, "{name} differs");
     }
