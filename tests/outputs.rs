@@ -97,6 +97,25 @@ fn polar_curve_over_its_own_profile_is_refused() {
     assert!(std::fs::read_to_string(&svg).unwrap().contains("<svg"));
 }
 
+/// `bake generate -o` is checked before the scene is built: a directory, a missing folder.
+#[test]
+fn generate_into_a_directory_is_refused() {
+    let dir = scratch("out-generate");
+    let missing = dir.join("nowhere/office.gltf");
+    for (path, why) in [
+        (dir.as_path(), "unsupported output extension"),
+        (missing.as_path(), "create it first"),
+    ] {
+        let run = bake([os("generate"), os("openplan"), os("-o"), path.as_os_str()]);
+        assert_refused(&run, &[&path.display().to_string(), why]);
+    }
+    let as_dir = dir.join("office.gltf");
+    std::fs::create_dir(&as_dir).unwrap();
+    let run = bake([os("generate"), os("openplan"), os("-o"), as_dir.as_os_str()]);
+    assert_refused(&run, &["office.gltf", "is a directory"]);
+    assert_eq!(listing(&dir), ["office.gltf"]);
+}
+
 /// A minimal scene in `dir/in/` and an empty `dir/out/`.
 fn mini_folders(name: &str) -> (PathBuf, PathBuf, PathBuf) {
     let dir = scratch(name);
