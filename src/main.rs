@@ -38,6 +38,10 @@ enum Command {
 }
 
 fn main() {
+    // SIGINT/SIGTERM remove the run's temporary files before exiting (130/143).
+    if let Err(e) = luxbake::export::atomic::install_signal_handler() {
+        eprintln!("warning: cannot handle SIGINT/SIGTERM: {e}");
+    }
     let args = match Cli::try_parse() {
         Ok(args) => args,
         Err(e) if e.use_stderr() => {

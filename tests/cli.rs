@@ -42,7 +42,7 @@ fn good_run_writes_the_output_and_the_summary() {
     assert_eq!(run.stderr.lines().count(), 2, "{}", run.stderr);
     assert_eq!(
         listing(&dir),
-        ["office.bin", "office.gltf", "summary.json"],
+        ["office.#.bin", "office.gltf", "summary.json"],
         "exactly the output, its buffer and the summary (no temporary file)"
     );
     assert!(std::fs::metadata(&output).unwrap().len() > 0);
@@ -91,9 +91,10 @@ fn threads_do_not_change_the_output() {
             &["--threads", threads, "-q"],
         );
         assert_eq!(run.code, Some(0), "--threads {threads}: {run:?}");
-        assert_eq!(listing(&out), ["lit.bin", "lit.gltf"]);
+        assert_eq!(listing(&out), ["lit.#.bin", "lit.gltf"]);
         let read = |name: &str| std::fs::read(out.join(name)).unwrap();
-        files.push((read("lit.gltf"), read("lit.bin")));
+        let bin = support::hashed(&out, "lit.#.bin");
+        files.push((read("lit.gltf"), read(bin.to_str().unwrap())));
     }
     // Compare the lengths first so a failure does not print two 100 kB byte arrays.
     for (k, name) in [(0, "lit.gltf"), (1, "lit.bin")] {
@@ -191,7 +192,7 @@ fn summary_json_over_the_output_is_refused() {
 
 fn summary_json_over_the_output_buffer_is_refused() {
     let (input, _, out) = mini_folders("cli-summary-bin");
-    let (output, bin) = (out.join("lit.gltf"), out.join("lit.bin"));
+    let (output, bin) = (out.join("lit.gltf"), out.join("lit.0123456789abcdef.bin"));
     let run = draft(&input, &output, &["--summary-json", bin.to_str().unwrap()]);
     assert_summary_refused(&run, &bin);
     assert_eq!(listing(&out), Vec::<String>::new());

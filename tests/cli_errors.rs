@@ -93,7 +93,7 @@ fn the_minimal_scene_is_valid_and_bakes() {
         ]);
         assert!(run.ok(), "{}: {run:?}", path.display());
         assert_eq!(run.stderr, "", "{}", path.display());
-        assert_eq!(listing(&out), ["lit.bin", "lit.gltf"]);
+        assert_eq!(listing(&out), ["lit.#.bin", "lit.gltf"]);
     }
     if tools::have_validator() {
         for path in [&gltf, &glb] {
@@ -224,21 +224,30 @@ fn unsupported_output_extension() {
 #[test]
 fn output_over_an_input_file_is_refused() {
     let (input, _) = folders("over-input");
-    let path = Mini::new().write_gltf(&input, "scene.gltf", Some("data.bin"));
+    let data = "data.0123456789abcdef.bin";
+    let path = Mini::new().write_gltf(&input, "scene.gltf", Some(data));
     let before = |p: &str| std::fs::read(input.join(p)).unwrap();
-    let (gltf, bin) = (before("scene.gltf"), before("data.bin"));
-    // The input itself, and an output whose side file `data.bin` would replace the input's.
-    for (target, at_fault) in [("scene.gltf", "scene.gltf"), ("data.gltf", "data.bin")] {
+    let (gltf, bin) = (before("scene.gltf"), before(data));
+    // The input itself, and an output one of whose side-file names (`data.<hash>.bin`, which
+    // a bake writes and removes) the input buffer has.
+    for (target, at_fault, why) in [
+        (
+            "scene.gltf",
+            "scene.gltf",
+            "refusing to overwrite an input file",
+        ),
+        ("data.gltf", data, "has the name of a side file of"),
+    ] {
         let run = bake([
             path.as_os_str(),
             "-o".as_ref(),
             input.join(target).as_os_str(),
         ]);
         let named = input.join(at_fault).display().to_string();
-        assert_error_line(&run, &[&named, "refusing to overwrite an input file"]);
-        assert_eq!(listing(&input), ["data.bin", "scene.gltf"], "-o {target}");
+        assert_error_line(&run, &[&named, why]);
+        assert_eq!(listing(&input), ["data.#.bin", "scene.gltf"], "-o {target}");
         assert_eq!(before("scene.gltf"), gltf, "-o {target}: input changed");
-        assert_eq!(before("data.bin"), bin, "-o {target}: input buffer changed");
+        assert_eq!(before(data), bin, "-o {target}: input buffer changed");
     }
 }
 

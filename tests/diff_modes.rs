@@ -151,10 +151,10 @@ fn different_topologies_cannot_be_compared() {
     // A moved vertex.
     let m = copy(&b, &dir, "moved");
     let at = offset(&m, "floor", 0, "POSITION", 2);
-    let mut bin = std::fs::read(m.with_file_name("lit.bin")).unwrap();
+    let mut bin = std::fs::read(bin_of(&m)).unwrap();
     let y = read_f32(&bin, at + 4) + 1e-3;
     bin[at + 4..at + 8].copy_from_slice(&y.to_le_bytes());
-    std::fs::write(m.with_file_name("lit.bin"), bin).unwrap();
+    std::fs::write(bin_of(&m), bin).unwrap();
     let run = diff(&m, &b, &[]);
     assert_eq!(run.code, Some(2));
     assert!(

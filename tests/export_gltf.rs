@@ -88,7 +88,10 @@ fn json_structure() {
         json!(["KHR_lights_punctual", "KHR_materials_unlit"])
     );
     assert!(j.get("extensionsRequired").is_none());
-    assert_eq!(j["buffers"][0]["uri"], "room.bin");
+    // `room.<16 hex digits of the bytes' FNV-1a>.bin`.
+    let bin = std::fs::read(support::hashed(&dir, "room.#.bin")).unwrap();
+    let hash = luxbake::export::content_hash(&bin);
+    assert_eq!(j["buffers"][0]["uri"], format!("room.{hash:016x}.bin"));
 
     let scene = &j["scenes"][j["scene"].as_u64().unwrap() as usize];
     assert_eq!(scene["name"], "Lit room");
@@ -273,10 +276,11 @@ fn output_is_byte_identical_on_a_second_write() {
         let path = dir.join(name);
         write(&path, &ExportOptions::default());
         let first = std::fs::read(&path).unwrap();
-        let first_bin = std::fs::read(dir.join("a.bin")).unwrap();
+        let bin = support::hashed(&dir, "a.#.bin");
+        let first_bin = std::fs::read(&bin).unwrap();
         write(&path, &ExportOptions::default());
         assert_eq!(first, std::fs::read(&path).unwrap(), "{name}");
-        assert_eq!(first_bin, std::fs::read(dir.join("a.bin")).unwrap());
+        assert_eq!(first_bin, std::fs::read(&bin).unwrap());
     }
     let names: Vec<_> = std::fs::read_dir(&dir)
         .unwrap()
@@ -346,8 +350,9 @@ fn refuses_to_overwrite_an_input_file() {
         &opts,
     ));
     assert_eq!(std::fs::read(&input).unwrap(), b"input");
-    // The side buffer of `out.gltf` would replace an input buffer: nothing is written.
-    let buffer = dir.join("out.bin");
+    // An input buffer named like a side file of `out.gltf` (which a bake writes and removes):
+    // nothing is written.
+    let buffer = dir.join("out.0123456789abcdef.bin");
     std::fs::write(&buffer, b"buffer").unwrap();
     scene.input_files = vec![buffer.canonicalize().unwrap()];
     assert_output_error(export::write(&dir.join("out.gltf"), &scene, &result, &opts));
@@ -368,7 +373,7 @@ fn failed_writes_leave_nothing_behind() {
         &opts,
     ));
     assert_output_error(export::write(&dir.join("room.obj"), &scene, &result, &opts));
-    // The .gltf cannot replace a directory: its .bin, renamed first, is removed again.
+    // The .gltf cannot replace a directory: refused before anything is staged.
     std::fs::create_dir(dir.join("room.gltf")).unwrap();
     assert_output_error(export::write(
         &dir.join("room.gltf"),

@@ -20,7 +20,7 @@ fn write(path: &Path, options: &ExportOptions) {
 fn names(dir: &Path) -> Vec<String> {
     let mut names: Vec<String> = std::fs::read_dir(dir)
         .unwrap()
-        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .map(|e| support::unhashed(&e.unwrap().file_name().into_string().unwrap()))
         .collect();
     names.sort();
     names
@@ -33,10 +33,10 @@ fn files_are_named_after_the_output() {
     assert_eq!(
         names(&dir),
         [
-            "lit.bin",
+            "lit.#.bin",
             "lit.gltf",
-            "lit.lightmap0.exr",
-            "lit.lightmap1.exr"
+            "lit.lightmap0.#.exr",
+            "lit.lightmap1.#.exr"
         ]
     );
     let dir = scratch("lm-names-glb");
@@ -45,13 +45,18 @@ fn files_are_named_after_the_output() {
         names(&dir),
         [
             "room lit.glb",
-            "room lit.lightmap0.exr",
-            "room lit.lightmap1.exr"
+            "room lit.lightmap0.#.exr",
+            "room lit.lightmap1.#.exr"
         ]
     );
     let j = gltf_read::read(&dir.join("room lit.glb")).json;
     let ext = &j["materials"][2]["extensions"]["LUXBAKE_lightmap"];
-    assert_eq!(ext["uri"], "room%20lit.lightmap0.exr");
+    let exr = support::hashed(&dir, "room lit.lightmap0.#.exr");
+    let name = exr.file_name().unwrap().to_str().unwrap();
+    assert_eq!(ext["uri"], name.replace(' ', "%20"));
+    // The name's hash is the file's content's (FNV-1a 64).
+    let hash = luxbake::export::content_hash(&std::fs::read(&exr).unwrap());
+    assert!(name.ends_with(&format!(".{hash:016x}.exr")), "{name}");
 }
 
 /// Every channel of every texel as written, row 0 first, and the header texts.
@@ -61,8 +66,11 @@ fn exr_holds_the_atlas_exactly_row_0_at_the_top() {
     write(&dir.join("lit.gltf"), &ExportOptions::default());
     for k in 0..2 {
         let atlas = lightmapped::atlas(k);
-        let image = read_all_flat_layers_from_file(dir.join(format!("lit.lightmap{k}.exr")))
-            .unwrap_or_else(|e| panic!("atlas {k}: {e}"));
+        let image = read_all_flat_layers_from_file(support::hashed(
+            &dir,
+            &format!("lit.lightmap{k}.#.exr"),
+        ))
+        .unwrap_or_else(|e| panic!("atlas {k}: {e}"));
         let layer = &image.layer_data[0];
         assert_eq!(image.layer_data.len(), 1);
         let (w, h) = lightmapped::SIZES[k];
@@ -140,8 +148,16 @@ fn output_is_byte_identical_on_a_second_write() {
         write(&a.join(name), &ExportOptions::default());
         write(&b.join(name), &ExportOptions::default());
     }
-    assert_eq!(names(&a), names(&b));
-    for name in names(&a) {
+    let exact = |d: &Path| -> Vec<String> {
+        let mut n: Vec<String> = std::fs::read_dir(d)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().into_string().unwrap())
+            .collect();
+        n.sort();
+        n
+    };
+    assert_eq!(exact(&a), exact(&b));
+    for name in exact(&a) {
         let same = std::fs::read(a.join(&name)).unwrap() == std::fs::read(b.join(&name)).unwrap();
         assert!(same, "{name} differs");
     }
@@ -170,7 +186,7 @@ fn failed_writes_leave_nothing_behind() {
 fn refuses_when_a_lightmap_would_replace_an_input() {
     let dir = scratch("lm-refuse");
     let (mut scene, result) = lightmapped::scene();
-    let input = dir.join("lit.lightmap1.exr");
+    let input = dir.join("lit.lightmap1.0123456789abcdef.exr");
     std::fs::write(&input, b"input").unwrap();
     scene.input_files = vec![input.canonicalize().unwrap()];
     let out = dir.join("lit.glb");
@@ -185,8 +201,8 @@ fn refuses_when_a_lightmap_would_replace_an_input() {
     assert!(export::check(&dir.join("other.glb"), &scene, &[]).is_ok());
     // An extra output (a summary) may not take a lightmap's name either.
     scene.input_files.clear();
-    let summary = dir.join("lit.lightmap7.exr");
+    let summary = dir.join("lit.lightmap7.0123456789abcdef.exr");
     assert_output_error(export::check(&out, &scene, &[summary.as_path()]));
     assert_eq!(std::fs::read(&input).unwrap(), b"input");
-    assert_eq!(names(&dir), ["lit.lightmap1.exr"]);
+    assert_eq!(names(&dir), ["lit.lightmap1.#.exr"]);
 }

@@ -33,7 +33,7 @@ fn generate(args: &[&str], out: &Path) {
     assert!(run.stderr.is_empty(), "-q prints nothing: {}", run.stderr);
 }
 
-/// The small preset (default seed) written as `dir/office.gltf` (+ `office.bin`).
+/// The small preset (default seed) written as `dir/office.gltf` (+ `office.<hash>.bin`).
 fn small(dir: &Path) -> PathBuf {
     let path = dir.join("office.gltf");
     generate(&["--size", "small"], &path);
@@ -59,10 +59,10 @@ fn same_seed_same_bytes_other_seed_other_bytes() {
         let args = ["--size", "small", "--seed", seed];
         generate(&args, &d.join("office.gltf"));
         generate(&args, &d.join("office.glb"));
-        assert_eq!(listing(&d), ["office.bin", "office.glb", "office.gltf"]);
+        assert_eq!(listing(&d), ["office.#.bin", "office.glb", "office.gltf"]);
         runs.push((
             read(d.join("office.gltf")),
-            read(d.join("office.bin")),
+            read(support::hashed(&d, "office.#.bin")),
             read(d.join("office.glb")),
         ));
     }

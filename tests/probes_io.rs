@@ -255,7 +255,7 @@ fn office_probes_in_gltf_json_out_validator_and_blender() {
     );
     assert_eq!(
         listing(&dir),
-        ["desks.csv", "lit.bin", "lit.gltf", "probes.json"]
+        ["desks.csv", "lit.#.bin", "lit.gltf", "probes.json"]
     );
     let g = gltf_read::read(&output);
     let layers = probe_layers(&g);

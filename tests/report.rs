@@ -497,12 +497,14 @@ fn run_summary_reads_back_typed_and_a_missing_field_is_named() {
         assert!(parent.as_object_mut().unwrap().remove(field).is_some());
         let old = dir.join(format!("old-{field}.gltf"));
         std::fs::write(&old, serde_json::to_vec(&doc).unwrap()).unwrap();
-        std::fs::copy(dir.join("lit.bin"), dir.join(format!("old-{field}.bin"))).unwrap();
+        let bin = support::hashed(&dir, "lit.#.bin");
+        std::fs::copy(&bin, dir.join(format!("old-{field}.bin"))).unwrap();
+        let bin_name = bin.file_name().unwrap().to_str().unwrap();
         std::fs::write(
             &old,
             String::from_utf8(std::fs::read(&old).unwrap())
                 .unwrap()
-                .replace("\"lit.bin\"", &format!("\"old-{field}.bin\"")),
+                .replace(&format!("\"{bin_name}\""), &format!("\"old-{field}.bin\"")),
         )
         .unwrap();
         let run = run_bake([Path::new("report"), old.as_path()]);

@@ -6,6 +6,7 @@ use super::progress::CliProgress;
 use super::report::{ByArg, FormatArg};
 use anyhow::{Context, Result};
 use clap::{Args, ValueEnum};
+use luxbake::export::atomic::Batch;
 use luxbake::export::{self, ExportOptions};
 use luxbake::import::{self, ImportOptions, UpAxis};
 use luxbake::progress::Progress;
@@ -185,6 +186,21 @@ pub fn run(args: &BakeArgs) -> Result<()> {
         UpArg::Y => UpAxis::Y,
         UpArg::Z => UpAxis::Z,
     };
+    // Every output against the inputs named on the command line and each other, before any
+    // work; again with every file the import read once it is done.
+    let read: Vec<&Path> = [Some(input.as_path()), args.targets.as_deref()]
+        .into_iter()
+        .flatten()
+        .chain(args.probes.in_path())
+        .collect();
+    let extra: Vec<&Path> = args
+        .summary_json
+        .iter()
+        .chain(&args.report_out)
+        .map(|p| p.as_path())
+        .chain(args.probes.out_path())
+        .collect();
+    export::check_run(output, &luxbake::scene::Scene::default(), &read, &extra)?;
     let scene = import::load(input, &ImportOptions { obj_up })?;
     let wants_report = args.report.is_some()
         || args.report_out.is_some()
@@ -204,14 +220,7 @@ pub fn run(args: &BakeArgs) -> Result<()> {
     {
         return Err(t.no_working_plane().into());
     }
-    let extra: Vec<&Path> = args
-        .summary_json
-        .iter()
-        .chain(&args.report_out)
-        .map(|p| p.as_path())
-        .chain(args.probes.out_path())
-        .collect();
-    export::check(output, &scene, &extra)?;
+    export::check_run(output, &scene, &read, &extra)?;
     for w in &scene.warnings {
         progress.warn(w);
     }
@@ -230,8 +239,12 @@ pub fn run(args: &BakeArgs) -> Result<()> {
             .probe_glyphs
             .then(|| export::glyph_scale(&settings)),
     };
-    let prepared = pool.install(|| export::Prepared::new(output, &scene, &result, &options))?;
-    // The report is made from the bytes about to be written, before anything is written (a bad
+    // One batch: the lightmaps, the .bin and the glTF (its rename commits the set), then the
+    // probes, summary and report files, each renamed after the glTF.
+    let mut batch = Batch::default();
+    let prepared =
+        pool.install(|| export::Prepared::staged(output, &scene, &result, &options, &mut batch))?;
+    // The report is made from the bytes about to be written, before anything is renamed (a bad
     // target fails the run cleanly).
     let report_text = match &report_options {
         Some(o) => {
@@ -241,9 +254,8 @@ pub fn run(args: &BakeArgs) -> Result<()> {
         }
         None => None,
     };
-    pool.install(|| prepared.write(&scene))?;
-    args.probes.write_out(&result.probes)?;
-    progress.done();
+    let staged = prepared.stage(&scene, &mut batch)?;
+    args.probes.stage_out(&result.probes, &mut batch)?;
     let total = start.elapsed().as_secs_f64();
     if let Some(path) = &args.summary_json {
         let summary = RunSummary {
@@ -257,17 +269,19 @@ pub fn run(args: &BakeArgs) -> Result<()> {
             threads,
             total_seconds: total,
         };
-        export::summary::write(path, &record)?;
+        batch.stage(path, &export::summary::bytes(&record))?;
     }
+    if let (Some(text), Some(path)) = (&report_text, &args.report_out) {
+        batch.stage(path, text.as_bytes())?;
+    }
+    staged.commit(batch, &extra)?;
+    progress.done();
     if !args.quiet {
         report(&result.summary, output, total);
         super::probes::report(&result.probes);
     }
-    if let Some(text) = report_text {
-        match &args.report_out {
-            Some(path) => export::atomic::write_atomic(path, text.as_bytes())?,
-            None => print!("{text}"),
-        }
+    if let (Some(text), None) = (report_text, &args.report_out) {
+        print!("{text}");
     }
     Ok(())
 }

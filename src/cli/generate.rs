@@ -67,6 +67,7 @@ fn openplan(args: &OpenplanArgs) -> Result<()> {
     let target = args
         .triangles
         .map_or(preset.target_triangles, |n| n as usize);
+    luxbake::export::check(&args.output, &luxbake::scene::Scene::default(), &[])?;
     let scene = open_plan(&OpenPlan::new(target, args.seed));
     luxbake::export::write_scene(&args.output, &scene)?;
     if !args.quiet {

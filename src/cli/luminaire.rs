@@ -28,6 +28,9 @@ pub fn run(args: &LuminaireArgs) -> Result<()> {
             file.display()
         )
     })?;
+    if let Some(svg) = &args.polar {
+        luxbake::export::check_files(&[file], &[svg])?;
+    }
     let bytes = std::fs::read(file).with_context(|| format!("{}: cannot read", file.display()))?;
     let photometry = Photometry::parse(&bytes, format)
         .map_err(|e| anyhow::anyhow!("{}: {e}", file.display()))?;

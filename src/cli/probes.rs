@@ -5,6 +5,7 @@
 
 use anyhow::{Result, anyhow};
 use clap::Args;
+use luxbake::export::atomic::Batch;
 use luxbake::probes::{ProbeResult, csv, output};
 use luxbake::settings::{ProbeGrid, Settings};
 use std::path::{Path, PathBuf};
@@ -81,13 +82,18 @@ impl ProbeArgs {
         self.probes_out.as_deref()
     }
 
-    /// Write `--probes-out` (atomically), if asked for.
-    pub fn write_out(&self, results: &[ProbeResult]) -> Result<()> {
+    /// The `--probes` file, an input of the run.
+    pub fn in_path(&self) -> Option<&Path> {
+        self.probes.as_deref()
+    }
+
+    /// Stage `--probes-out` in `batch`, if asked for.
+    pub fn stage_out(&self, results: &[ProbeResult], batch: &mut Batch) -> Result<()> {
         let Some(path) = &self.probes_out else {
             return Ok(());
         };
         let format = output::Format::for_path(path).map_err(|m| anyhow!("{m}"))?;
-        luxbake::export::atomic::write_atomic(path, &output::bytes(format, results))?;
+        batch.stage(path, &output::bytes(format, results))?;
         Ok(())
     }
 }

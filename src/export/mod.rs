@@ -2,13 +2,16 @@
 //! an unbaked scene (one built in code) the same way, as an input.
 //!
 //! Input: the [`Scene`], its [`BakeResult`] and [`ExportOptions`]. Output: the file(s) at the
-//! requested path, and with lightmaps one EXR file per atlas beside it
-//! (`<stem>.lightmap<k>.exr`). Invariants: the output is byte-deterministic (same inputs, same
-//! bytes); it is written atomically (every file staged first, then renamed: the EXR files, the
-//! `.bin`, the `.gltf`/`.glb` last), and nothing is written when any check fails (unknown
-//! extension, missing directory, an output that would replace an input file, inconsistent bake
-//! results). Layout of the output (one concern per module):
-//! [`target`] (paths and the input-overwrite guard), [`document`] (the root JSON) built from
+//! requested path: `<stem>.<hash>.bin` beside a `.gltf`, and with lightmaps one EXR file per
+//! atlas beside it (`<stem>.lightmap<k>.<hash>.exr`; `<hash>`: 16 hex digits of the file's
+//! bytes). Invariants: the output is byte-deterministic (same inputs, same bytes and names);
+//! every check runs before anything is written ([`check_run`]: unknown extension, missing or
+//! unwritable folder, a directory, an output that would replace an input or another output);
+//! every file is staged in one [`atomic::Batch`], then renamed: the side files first (new names,
+//! so the old set's files are untouched), the `.gltf`/`.glb` last: that rename is the commit
+//! point, so a kill at any instant leaves the old set or the new one; the old set's side files
+//! are removed after it ([`Staged::commit`]). Layout of the output (one concern per module):
+//! [`target`] (paths, checks and cleanup), [`document`] (the root JSON) built from
 //! [`mesh`] (+ [`geometry`], [`buffer`]), [`material`], [`nodes`], [`luminaires`] (profiles and
 //! luminaire extensions), [`probes`] (probe nodes and their results, + [`glyphs`]),
 //! [`lightmaps`] (display textures, + [`display`]; EXR files, [`exr`]; material variants,
@@ -34,9 +37,11 @@ pub mod summary;
 mod target;
 
 pub use glyphs::scale as glyph_scale;
+pub use target::content_hash;
 
 use crate::{Error, Result, result::BakeResult, scene::Scene};
-use std::path::Path;
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
 use target::{Format, Target};
 
 /// Options for writing the output.
@@ -57,13 +62,37 @@ impl Default for ExportOptions {
     }
 }
 
+/// The files `scene` was read from (its source file and every file the import read).
+fn scene_inputs(scene: &Scene) -> Vec<&Path> {
+    let source = Some(scene.source_file.as_path()).filter(|p| !p.as_os_str().is_empty());
+    scene
+        .input_files
+        .iter()
+        .map(PathBuf::as_path)
+        .chain(source)
+        .collect()
+}
+
 /// Check, before any work, that `path` is a writable output for `scene`: a `.gltf` or `.glb`
 /// name in an existing folder that would not replace any file the import read (nor would any
-/// lightmap EXR file it may get). `extra` are other files the caller will write (e.g. a
-/// summary); they are checked the same way and may not coincide with the output files.
+/// side file it may get). `extra` are other files the caller will write (e.g. a summary);
+/// they are checked the same way and may not coincide with the output files.
 pub fn check(path: &Path, scene: &Scene, extra: &[&Path]) -> Result<()> {
+    check_run(path, scene, &[], extra)
+}
+
+/// [`check`] with `inputs`: files the run reads besides the scene's (targets, a probe CSV).
+pub fn check_run(path: &Path, scene: &Scene, inputs: &[&Path], extra: &[&Path]) -> Result<()> {
     let target = Target::for_path(path)?;
-    target.check_with(scene, true, None, extra)
+    let mut all = scene_inputs(scene);
+    all.extend_from_slice(inputs);
+    target::check_paths(&all, Some(&target), extra)
+}
+
+/// Check outputs that are not a scene (e.g. a polar curve's SVG) against the run's `inputs`
+/// and each other, as [`check`] does.
+pub fn check_files(inputs: &[&Path], outputs: &[&Path]) -> Result<()> {
+    target::check_paths(inputs, None, outputs)
 }
 
 /// Write `scene` with the baked `result` to `path` (`.gltf` or `.glb`, by extension), atomically.
@@ -73,7 +102,9 @@ pub fn write(
     result: &BakeResult,
     options: &ExportOptions,
 ) -> Result<()> {
-    Prepared::new(path, scene, result, options)?.write(scene)
+    let mut batch = atomic::Batch::default();
+    let prepared = Prepared::staged(path, scene, result, options, &mut batch)?;
+    prepared.stage(scene, &mut batch)?.commit(batch, &[])
 }
 
 /// An output built and checked but not yet written: it can be read back first (the bake's
@@ -83,9 +114,13 @@ pub struct Prepared<'p> {
     target: Target,
     doc: document::Document,
     result: &'p BakeResult,
+    /// The lightmaps' EXR file names, when staged.
+    staged: Vec<String>,
 }
 
 impl<'p> Prepared<'p> {
+    /// The output in memory only, to be read back: nothing is staged and the lightmaps' URIs
+    /// are `<stem>.lightmap<k>.exr` without a hash.
     pub fn new(
         path: &'p Path,
         scene: &Scene,
@@ -94,12 +129,49 @@ impl<'p> Prepared<'p> {
     ) -> Result<Self> {
         let target = Target::for_path(path)?;
         let atlases = result.lightmaps.as_ref().map_or(0, |l| l.atlases.len());
-        let uris: Vec<String> = (0..atlases).map(|k| target.lightmap(k).1).collect();
+        let uris: Vec<String> = (0..atlases)
+            .map(|k| target.unstaged_lightmap_uri(k))
+            .collect();
         Ok(Prepared {
             path,
             doc: document::build(scene, result, options, &uris)?,
             target,
             result,
+            staged: Vec::new(),
+        })
+    }
+
+    /// The output to be written: checks `path` against the scene's files, then encodes and
+    /// stages the lightmaps' EXR files in `batch` (one at a time; their names carry a hash of
+    /// their bytes) and builds the document that references them.
+    pub fn staged(
+        path: &'p Path,
+        scene: &Scene,
+        result: &'p BakeResult,
+        options: &ExportOptions,
+        batch: &mut atomic::Batch,
+    ) -> Result<Self> {
+        let target = Target::for_path(path)?;
+        target::check_paths(&scene_inputs(scene), Some(&target), &[])?;
+        let mut uris = Vec::new();
+        let mut staged = Vec::new();
+        if let Some(l) = &result.lightmaps {
+            for (k, atlas) in l.atlases.iter().enumerate() {
+                let header = lightmaps::exr_header(k, l, &result.summary);
+                let bytes = exr::encode(atlas, &header)
+                    .map_err(|m| Error::output(target.lightmap(k, b"").0, m))?;
+                let (file, uri) = target.lightmap(k, &bytes);
+                batch.stage(&file, &bytes)?;
+                staged.push(name_of(&file));
+                uris.push(uri);
+            }
+        }
+        Ok(Prepared {
+            path,
+            doc: document::build(scene, result, options, &uris)?,
+            target,
+            result,
+            staged,
         })
     }
 
@@ -113,10 +185,53 @@ impl<'p> Prepared<'p> {
         container::glb(&self.doc, self.path)
     }
 
-    /// Write the output files (the EXR files are encoded here, one at a time).
-    pub fn write(self, scene: &Scene) -> Result<()> {
-        write_doc(self.path, self.target, scene, &self.doc, Some(self.result))
+    /// Stage the `.bin` and the `.gltf`/`.glb` (after the lightmaps, so it is renamed last of
+    /// the set); other files staged in `batch` after it are renamed after it.
+    pub fn stage(self, scene: &Scene, batch: &mut atomic::Batch) -> Result<Staged> {
+        let mut new: BTreeSet<String> = self.staged.into_iter().collect();
+        stage_doc(self.path, &self.target, &self.doc, batch, &mut new)?;
+        Ok(Staged {
+            old: self.target.old_references(),
+            target: self.target,
+            new,
+            keep: scene_inputs(scene)
+                .iter()
+                .map(|p| p.to_path_buf())
+                .collect(),
+        })
     }
+}
+
+/// A glTF set staged in a [`atomic::Batch`], to be committed with it.
+#[derive(Debug)]
+pub struct Staged {
+    target: Target,
+    /// Side files the output referenced before this run, and references now.
+    old: BTreeSet<String>,
+    new: BTreeSet<String>,
+    /// Files never removed by the cleanup (the inputs).
+    keep: Vec<PathBuf>,
+}
+
+impl Staged {
+    /// Rename everything staged in `batch` (the glTF set's commit point is its main file's
+    /// rename), then remove the old set's side files the new one does not use, side files and
+    /// temporaries that killed runs left beside it, and temporaries of killed runs in the
+    /// folders of `others` (the other outputs).
+    pub fn commit(self, batch: atomic::Batch, others: &[&Path]) -> Result<()> {
+        batch.commit()?;
+        self.target.clean(&self.old, &self.new, &self.keep);
+        for other in others {
+            atomic::remove_stale_temporaries(&atomic::folder(other));
+        }
+        Ok(())
+    }
+}
+
+fn name_of(path: &Path) -> String {
+    path.file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default()
 }
 
 /// Write `scene` unbaked, as an input for a bake (e.g. a scene built in code): POSITION, NORMAL
@@ -125,44 +240,46 @@ impl<'p> Prepared<'p> {
 /// a run summary. The importer reads it back as the same scene.
 pub fn write_scene(path: &Path, scene: &Scene) -> Result<()> {
     let target = Target::for_path(path)?;
+    target::check_paths(&scene_inputs(scene), Some(&target), &[])?;
     let result = BakeResult::unbaked(scene);
     let options = ExportOptions {
         unlit: false,
         probe_glyphs: None,
     };
     let doc = document::build_input(scene, &result, &options)?;
-    write_doc(path, target, scene, &doc, None)
+    let mut batch = atomic::Batch::default();
+    let mut new = BTreeSet::new();
+    stage_doc(path, &target, &doc, &mut batch, &mut new)?;
+    let staged = Staged {
+        old: target.old_references(),
+        target,
+        new,
+        keep: scene_inputs(scene)
+            .iter()
+            .map(|p| p.to_path_buf())
+            .collect(),
+    };
+    staged.commit(batch, &[])
 }
 
-/// Stage every file (the lightmaps of `baked`, if any, first), then rename them all.
-fn write_doc(
+/// Stage the `.bin` (a `.gltf` with binary data) and the main file; `names` gets the side
+/// file's name.
+fn stage_doc(
     path: &Path,
-    target: Target,
-    scene: &Scene,
+    target: &Target,
     doc: &document::Document,
-    baked: Option<&BakeResult>,
+    batch: &mut atomic::Batch,
+    names: &mut BTreeSet<String>,
 ) -> Result<()> {
-    let has_binary = !doc.bin.is_empty();
-    let lightmaps = baked.and_then(|b| b.lightmaps.as_ref().map(|l| (l, &b.summary)));
-    let atlases = lightmaps.map_or(0, |(l, _)| l.atlases.len());
-    target.check_not_input(scene, has_binary, atlases)?;
-    let mut batch = atomic::Batch::default();
-    if let Some((l, summary)) = lightmaps {
-        for (k, atlas) in l.atlases.iter().enumerate() {
-            let file = target.lightmap(k).0;
-            let header = lightmaps::exr_header(k, l, summary);
-            let bytes = exr::encode(atlas, &header).map_err(|m| Error::output(&file, m))?;
-            batch.stage(&file, &bytes)?;
-        }
-    }
     match target.format {
-        Format::Glb => batch.stage(&target.main, &container::glb(doc, path)?)?,
+        Format::Glb => batch.stage(&target.main, &container::glb(doc, path)?),
         Format::Gltf => {
-            if has_binary {
-                batch.stage(&target.bin, &doc.bin)?;
+            let (bin, uri) = target.bin(&doc.bin);
+            if !doc.bin.is_empty() {
+                batch.stage(&bin, &doc.bin)?;
+                names.insert(name_of(&bin));
             }
-            batch.stage(&target.main, &container::gltf(doc, &target.bin_uri))?;
+            batch.stage(&target.main, &container::gltf(doc, &uri))
         }
     }
-    batch.commit()
 }

@@ -12,9 +12,14 @@ pub fn to_json(summary: &RunSummary) -> Value {
     serde_json::to_value(summary).expect("the run summary serialises")
 }
 
-/// Write `record` to `path` as pretty JSON, atomically.
-pub fn write(path: &Path, record: &RunRecord) -> Result<()> {
+/// `record` as the bytes of the summary file (pretty JSON, final newline).
+pub fn bytes(record: &RunRecord) -> Vec<u8> {
     let mut bytes = serde_json::to_vec_pretty(record).expect("the run record serialises");
     bytes.push(b'\n');
-    write_atomic(path, &bytes)
+    bytes
+}
+
+/// Write `record` to `path` as pretty JSON, atomically.
+pub fn write(path: &Path, record: &RunRecord) -> Result<()> {
+    write_atomic(path, &bytes(record))
 }

@@ -92,14 +92,21 @@ pub fn write(dir: &Path, name: &str, ext: &str, scene: &Scene, settings: &Settin
     path
 }
 
-/// A copy of `lit.gltf` + `lit.bin` into `dir/name/`.
+/// A copy of `lit.gltf` + its `lit.<hash>.bin` into `dir/name/`.
 pub fn copy(from: &Path, dir: &Path, name: &str) -> PathBuf {
     let sub = dir.join(name);
     std::fs::create_dir_all(&sub).unwrap();
-    for f in ["lit.gltf", "lit.bin"] {
-        std::fs::copy(from.with_file_name(f), sub.join(f)).unwrap();
+    let bin = bin_of(from);
+    for f in [from.to_path_buf(), bin] {
+        std::fs::copy(&f, sub.join(f.file_name().unwrap())).unwrap();
     }
     sub.join("lit.gltf")
+}
+
+/// The `.bin` side file of a written `.gltf` (its `buffers[0].uri`, a plain file name).
+pub fn bin_of(gltf: &Path) -> PathBuf {
+    let json: Value = serde_json::from_slice(&std::fs::read(gltf).unwrap()).unwrap();
+    gltf.with_file_name(json["buffers"][0]["uri"].as_str().unwrap())
 }
 
 /// Where element `vertex` of a vertex attribute lies in the `.bin` of a written `.gltf`.
@@ -147,7 +154,7 @@ pub fn edit(
 ) -> (f32, [f32; 3]) {
     let at = offset(gltf, node, primitive, "_ILLUMINANCE", vertex);
     let p = offset(gltf, node, primitive, "POSITION", vertex);
-    let bin_path = gltf.with_file_name("lit.bin");
+    let bin_path = bin_of(gltf);
     let mut bin = std::fs::read(&bin_path).unwrap();
     let old = read_f32(&bin, at);
     let position = [0, 4, 8].map(|k| read_f32(&bin, p + k));

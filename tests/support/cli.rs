@@ -39,11 +39,12 @@ where
     }
 }
 
-/// The sorted names of the files in `dir` (hidden ones included).
+/// The sorted names of the files in `dir` (hidden ones included), a side file's content hash
+/// shown as `#` (`lit.#.bin`, `lit.lightmap0.#.exr`; see [`super::unhashed`]).
 pub fn listing(dir: &Path) -> Vec<String> {
     let mut names: Vec<String> = std::fs::read_dir(dir)
         .unwrap()
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .map(|e| super::unhashed(&e.unwrap().file_name().to_string_lossy()))
         .collect();
     names.sort();
     names

@@ -13,6 +13,32 @@ pub mod tools;
 
 use std::path::{Path, PathBuf};
 
+/// `name` with a side file's content hash (16 lowercase hex digits between the last two dots)
+/// replaced by `#`: `lit.0123456789abcdef.bin` → `lit.#.bin`.
+pub fn unhashed(name: &str) -> String {
+    let parts: Vec<&str> = name.split('.').collect();
+    let hex = |s: &str| s.len() == 16 && s.bytes().all(|b| matches!(b, b'0'..=b'9' | b'a'..=b'f'));
+    match parts.len() {
+        n if n >= 3 && hex(parts[n - 2]) => {
+            let mut parts = parts;
+            parts[n - 2] = "#";
+            parts.join(".")
+        }
+        _ => name.to_string(),
+    }
+}
+
+/// The one file in `dir` whose [`unhashed`] name is `pattern` (e.g. `lit.#.bin`).
+pub fn hashed(dir: &Path, pattern: &str) -> PathBuf {
+    let found: Vec<PathBuf> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| unhashed(&p.file_name().unwrap().to_string_lossy()) == pattern)
+        .collect();
+    assert_eq!(found.len(), 1, "{pattern} in {}: {found:?}", dir.display());
+    found.into_iter().next().unwrap()
+}
+
 /// A fresh, empty directory for one test's files, under cargo's temporary directory for
 /// integration tests (emptied again by the next run of the same test).
 pub fn scratch(name: &str) -> PathBuf {
