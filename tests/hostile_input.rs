@@ -610,3 +610,25 @@ fn a_ground_plane_that_sets_the_patch_size_is_warned_about() {
     let run = bake_into(&path, &out, &["--patch-size", "100"]);
     assert!(run.ok() && !run.stderr.contains("area"), "{run:?}");
 }
+
+#[test]
+fn usage_errors_exit_2_and_input_errors_exit_1() {
+    let (input, out) = folders("exit-codes");
+    let path = variant(&input, "room.gltf", |_| {});
+    for extra in [
+        &["--patch-size", "-1"][..],
+        &["--probe-height", "1"],
+        &["--working-plane-spacing", "0.5"],
+        &["--exposure", "bright"],
+        &["--max-patches", "0"],
+        &["--no-such-option"],
+    ] {
+        let run = bake_into(&path, &out, extra);
+        assert_eq!(run.code, Some(2), "{extra:?}: {run:?}");
+        assert!(run.stderr.starts_with("error: "), "{run:?}");
+        assert!(listing(&out).is_empty());
+    }
+    let missing = input.join("missing.gltf");
+    let run = bake_into(&missing, &out, &[]);
+    assert_refused(&run, &out, &["missing.gltf"]);
+}
