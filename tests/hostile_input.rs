@@ -87,7 +87,7 @@ fn add_mesh(mini: &mut Mini, positions: &[[f32; 3]], indices: &[u16], node: Valu
     let index_start = mini.bin.len();
     mini.bin
         .extend(indices.iter().flat_map(|i| i.to_le_bytes()));
-    while mini.bin.len() % 4 != 0 {
+    while !mini.bin.len().is_multiple_of(4) {
         mini.bin.push(0);
     }
     let j = &mut mini.json;
@@ -339,7 +339,8 @@ fn positions_beyond_any_room_are_refused_and_far_probes_warned() {
 
 #[test]
 fn emitters_beyond_any_lamp_are_refused() {
-    let cases: [(&str, Box<dyn Fn(&mut Value)>, &[&str]); 3] = [
+    type Case<'a> = (&'a str, Box<dyn Fn(&mut Value)>, &'a [&'a str]);
+    let cases: [Case; 3] = [
         (
             "flux",
             Box::new(|j| {

@@ -167,7 +167,8 @@ fn material(
 /// The spec's ranges of the material's factors: an out-of-range value is an error naming it.
 fn check_factors(ctx: &Ctx, raw: &Value, at: &str) -> Result<()> {
     let unit = |v: f64| (0.0..=1.0).contains(&v);
-    let ranges: [(String, &dyn Fn(f64) -> bool, &str); 7] = [
+    type Range<'a> = (String, &'a dyn Fn(f64) -> bool, &'a str);
+    let ranges: [Range; 7] = [
         (
             format!("{at}/pbrMetallicRoughness/baseColorFactor"),
             &unit,
@@ -197,7 +198,7 @@ fn check_factors(ctx: &Ctx, raw: &Value, at: &str) -> Result<()> {
         (format!("{at}/alphaCutoff"), &|v| v >= 0.0, "≥ 0"),
         (
             format!("{at}/extensions/KHR_materials_emissive_strength/emissiveStrength"),
-            &|v| v >= 0.0 && v <= crate::import::MAX_PHOTOMETRIC,
+            &|v| (0.0..=crate::import::MAX_PHOTOMETRIC).contains(&v),
             "≥ 0 and at most 1e12",
         ),
     ];

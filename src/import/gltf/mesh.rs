@@ -132,7 +132,7 @@ fn surface(
         }
         None => (0..count as u32).collect(),
     };
-    if primitive.mode() == Mode::Triangles && indices.len() % 3 != 0 {
+    if primitive.mode() == Mode::Triangles && !indices.len().is_multiple_of(3) {
         let (where_, what) = match primitive.indices() {
             Some(a) => (
                 format!("{at}/indices"),
