@@ -29,3 +29,33 @@ fn position_accessor_out_of_range_is_an_input_error() {
         .to_string();
     assert!(message.contains(pointer), "{message}");
 }
+
+/// An MTL colour line with fewer than three values: `tobj` unwrapped a failed conversion to
+/// `[f64; 3]` and panicked.
+#[test]
+fn short_mtl_colour_line_is_an_input_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = dir.path().join("room.obj");
+    std::fs::write(
+        &obj,
+        "mtllib room.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl wall\nf 1 2 3\n",
+    )
+    .unwrap();
+    for line in ["Kd 0.5 0.5", "Ka", "Ke 2", "Ks 0.1 0.2"] {
+        std::fs::write(
+            dir.path().join("room.mtl"),
+            format!("newmtl wall\n{line}\n"),
+        )
+        .unwrap();
+        let message = load(&obj, &ImportOptions::default())
+            .err()
+            .expect("refused")
+            .to_string();
+        let key = &line[..2];
+        assert!(message.contains("room.mtl"), "{message}");
+        assert!(
+            message.contains(&format!("line 2: {key} needs three values")),
+            "{message}"
+        );
+    }
+}
