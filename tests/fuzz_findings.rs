@@ -59,3 +59,44 @@ fn short_mtl_colour_line_is_an_input_error() {
         );
     }
 }
+
+/// An EXR file whose header declares a 40 001 × 40 001 data window: the `exr` crate allocated
+/// 6.4 GB of samples from the header before reading any (the fuzzer's limit is 4 GiB).
+#[test]
+fn exr_header_larger_than_its_file_is_refused_before_allocating() {
+    use exr::prelude::*;
+    let layer = Layer::new(
+        (8, 8),
+        LayerAttributes::default(),
+        Encoding::UNCOMPRESSED,
+        AnyChannels::sort(vec![AnyChannel::new("Y", FlatSamples::F32(vec![1.0; 64]))].into()),
+    );
+    let mut bytes = std::io::Cursor::new(Vec::new());
+    Image::from_layer(layer)
+        .write()
+        .non_parallel()
+        .to_buffered(&mut bytes)
+        .unwrap();
+    let mut bytes = bytes.into_inner();
+    assert!(luxbake::import::exr::decode(&bytes, &["Y"]).is_ok());
+    // dataWindow: name, type, size 16, then xMin yMin xMax yMax (i32 LE).
+    let key = b"dataWindow\0box2i\0\x10\0\0\0";
+    let at = (bytes.windows(key.len()))
+        .position(|w| w == key)
+        .expect("a dataWindow attribute")
+        + key.len();
+    bytes[at + 8..at + 12].copy_from_slice(&40_000i32.to_le_bytes());
+    bytes[at + 12..at + 16].copy_from_slice(&40_000i32.to_le_bytes());
+    // The chunk count the writer stores must agree: one scan line per uncompressed chunk.
+    let key = b"chunkCount\0int\0\x04\0\0\0";
+    let at = (bytes.windows(key.len()))
+        .position(|w| w == key)
+        .expect("a chunkCount attribute")
+        + key.len();
+    bytes[at..at + 4].copy_from_slice(&40_001i32.to_le_bytes());
+    let message = luxbake::import::exr::decode(&bytes, &["Y"]).unwrap_err();
+    assert!(
+        message.contains("declares 40001 × 40001 pixels of 1 channel(s), more than a file"),
+        "{message}"
+    );
+}
