@@ -17,8 +17,7 @@ fn position_accessor_out_of_range_is_an_input_error() {
     std::fs::write(&path, POSITION_OUT_OF_RANGE).unwrap();
     let pointer = "/meshes/0/primitives/0/attributes/POSITION";
     let message = load(&path, &ImportOptions::default())
-        .err()
-        .expect("refused")
+        .expect_err("refused")
         .to_string();
     assert!(message.contains(pointer), "{message}");
     assert!(message.contains("missing-accessor.gltf"), "{message}");
@@ -48,8 +47,7 @@ fn short_mtl_colour_line_is_an_input_error() {
         )
         .unwrap();
         let message = load(&obj, &ImportOptions::default())
-            .err()
-            .expect("refused")
+            .expect_err("refused")
             .to_string();
         let key = &line[..2];
         assert!(message.contains("room.mtl"), "{message}");
