@@ -20,8 +20,14 @@ pub struct ExrChannels {
     pub channels: Vec<Vec<f32>>,
 }
 
+/// Largest ratio of decoded to stored pixel bytes accepted: deflate's bound (1032:1), beyond
+/// what any uncompressed, RLE or ZIP file reaches. The `exr` crate allocates every layer's
+/// samples from its header before reading them: a forged data window asked for any amount.
+const MAX_EXPANSION: u128 = 1032;
+
 /// Decode `bytes` and take the channels named `wanted`.
 pub fn decode(bytes: &[u8], wanted: &[&str]) -> std::result::Result<ExrChannels, String> {
+    check_sizes(bytes)?;
     let image = read()
         .no_deep_data()
         .largest_resolution_level()
@@ -62,6 +68,28 @@ pub fn decode(bytes: &[u8], wanted: &[&str]) -> std::result::Result<ExrChannels,
         height,
         channels,
     })
+}
+
+/// Every layer's pixels (and its offset table) fit in what a file of this length can hold.
+fn check_sizes(bytes: &[u8]) -> std::result::Result<(), String> {
+    let meta = exr::meta::MetaData::read_from_buffered(Cursor::new(bytes), true)
+        .map_err(|e| format!("not a readable OpenEXR file ({e})"))?;
+    let stored = bytes.len() as u128;
+    for h in meta.headers.iter() {
+        let (w, ht) = (h.layer_size.0, h.layer_size.1);
+        let per_pixel: u128 = (h.channels.list.iter())
+            .map(|c| c.sample_type.bytes_per_sample() as u128)
+            .sum();
+        let decoded = w as u128 * ht as u128 * per_pixel;
+        if decoded > stored * MAX_EXPANSION || h.chunk_count as u128 * 8 > stored {
+            return Err(format!(
+                "its header declares {w} × {ht} pixels of {} channel(s), more than a file of \
+                 {stored} bytes can hold",
+                h.channels.list.len()
+            ));
+        }
+    }
+    Ok(())
 }
 
 #[cfg(test)]

@@ -174,6 +174,7 @@ fn load_mtl(ctx: &Ctx, reference: &Path, loads: &mut MtlLoads) -> tobj::MTLLoadR
     };
     let parsed = std::fs::read(&path)
         .map_err(|e| e.to_string())
+        .and_then(|b| check_colour_lines(&b).map(|()| b))
         .and_then(|b| tobj::load_mtl_buf(&mut &b[..]).map_err(|e| e.to_string()));
     match parsed {
         Ok((materials, map)) => {
@@ -196,6 +197,19 @@ fn load_mtl(ctx: &Ctx, reference: &Path, loads: &mut MtlLoads) -> tobj::MTLLoadR
             empty
         }
     }
+}
+
+/// Every `Ka`/`Kd`/`Ks`/`Ke` line of an MTL file has three values: `tobj` panics on fewer.
+fn check_colour_lines(bytes: &[u8]) -> std::result::Result<(), String> {
+    for (i, line) in String::from_utf8_lossy(bytes).lines().enumerate() {
+        let mut words = line.split_whitespace();
+        if let Some(key @ ("Ka" | "Kd" | "Ks" | "Ke")) = words.next()
+            && words.count() < 3
+        {
+            return Err(format!("line {}: {key} needs three values (r g b)", i + 1));
+        }
+    }
+    Ok(())
 }
 
 /// Map a point or direction from the file's axes to glTF's (+Y up).

@@ -63,6 +63,7 @@ pub(super) fn parse(ctx: &mut Ctx, bytes: &[u8]) -> Result<Parsed> {
         .map_err(|e| ctx.err("", format!("not valid glTF 2.0 JSON: {e}")))?;
     root.extensions_required
         .retain(|e| !READ_HERE.contains(&e.as_str()));
+    check_position_accessors(ctx, &root)?;
     let doc = match ::gltf::Document::from_json(root.clone()) {
         Ok(doc) => doc,
         Err(::gltf::Error::Validation(errors)) => {
@@ -85,6 +86,30 @@ pub(super) fn parse(ctx: &mut Ctx, bytes: &[u8]) -> Result<Parsed> {
         Err(other) => return Err(ctx.err("", format!("invalid glTF: {other}"))),
     };
     Ok(Parsed { doc, raw, bin })
+}
+
+/// Every primitive's `POSITION` names an existing accessor: the `gltf` crate's validation indexes
+/// the accessors with it unchecked (a panic, not an error, on an index out of range).
+fn check_position_accessors(ctx: &Ctx, root: &::gltf::json::Root) -> Result<()> {
+    let count = root.accessors.len();
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, prim) in mesh.primitives.iter().enumerate() {
+            let position =
+                ::gltf::json::validation::Checked::Valid(::gltf::json::mesh::Semantic::Positions);
+            if let Some(index) = prim.attributes.get(&position)
+                && index.value() >= count
+            {
+                return Err(ctx.err(
+                    format!("/meshes/{m}/primitives/{p}/attributes/POSITION"),
+                    format!(
+                        "accessor {} does not exist (the file has {count})",
+                        index.value()
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 fn check_version(ctx: &Ctx, raw: &Value) -> Result<()> {
