@@ -633,3 +633,24 @@ fn usage_errors_exit_2_and_input_errors_exit_1() {
     let run = bake_into(&missing, &out, &[]);
     assert_refused(&run, &out, &["missing.gltf"]);
 }
+
+#[test]
+fn a_material_black_only_because_metallic_defaulted_is_warned_about() {
+    // The README promises it: metallicFactor absent defaults to 1 (metal), reflectance 0.
+    let (input, out) = folders("metallic");
+    let path = variant(&input, "metal.gltf", |j| {
+        j["materials"][0]["pbrMetallicRoughness"]
+            .as_object_mut()
+            .unwrap()
+            .remove("metallicFactor");
+    });
+    let run = bake_into(&path, &out, &[]);
+    assert_warned(
+        &run,
+        &[
+            "/materials/0",
+            "metallicFactor is not given",
+            "defaults to 1",
+        ],
+    );
+}
