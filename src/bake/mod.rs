@@ -158,11 +158,8 @@ pub fn solve<'a>(
             radiosity.stats.relative_residual
         )));
     }
-    if !radiosity.stats.converged {
-        progress.warn(&format!(
-            "the solver stopped at {} iterations with relative residual {:.2e} (tolerance {:.0e})",
-            radiosity.stats.iterations, radiosity.stats.relative_residual, params.tolerance
-        ));
+    if let Some(w) = solve::warning(&radiosity.stats, params.tolerance) {
+        progress.warn(&w);
     }
     let energy = run.time(Stage::Energy, || {
         energy::balance(&meshed, &occluder, &flux, &radiosity)

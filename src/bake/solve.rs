@@ -118,3 +118,38 @@ pub fn stage(meshed: &Meshed, rows: Rows, light_flux: Vec<DVec3>, tolerance: f64
         counts,
     }
 }
+
+/// The warning for a solve that stopped before reaching `tolerance` (`None` when it converged).
+pub fn warning(stats: &SolveStats, tolerance: f64) -> Option<String> {
+    (!stats.converged).then(|| {
+        format!(
+            "the solver stopped at {} iterations with relative residual {:.2e} (tolerance \
+             {tolerance:.0e}): the inter-reflected light is not converged",
+            stats.iterations, stats.relative_residual
+        )
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_solve_that_stopped_early_is_warned_about() {
+        let stopped = SolveStats {
+            iterations: 2000,
+            relative_residual: 3e-4,
+            converged: false,
+        };
+        let w = warning(&stopped, 1e-7).expect("must warn");
+        assert!(
+            w.contains("2000 iterations") && w.contains("3.00e-4") && w.contains("1e-7"),
+            "{w}"
+        );
+        let done = SolveStats {
+            converged: true,
+            ..stopped
+        };
+        assert_eq!(warning(&done, 1e-7), None);
+    }
+}
