@@ -135,6 +135,18 @@ pub struct Surface {
     pub triangles: Vec<[u32; 3]>,
 }
 
+impl Surface {
+    /// Total area of its triangles (m²).
+    pub fn area(&self) -> f64 {
+        (self.triangles.iter())
+            .map(|t| {
+                let [a, b, c] = t.map(|v| self.positions[v as usize]);
+                (b - a).cross(c - a).length() / 2.0
+            })
+            .sum()
+    }
+}
+
 /// A material: its photometric meaning (what the bake uses) and its display data (what the output
 /// keeps so viewers draw it as the author made it).
 #[derive(Debug, Clone)]

@@ -18,16 +18,6 @@ use std::sync::OnceLock;
 /// Separates the main file from the side files in a scene input.
 pub const SEP: &[u8] = b"\n%%LUXFUZZ%%\n";
 
-/// The channels `crate::baked` asks of a lightmap EXR file.
-const EXR_CHANNELS: [&str; 6] = [
-    "R",
-    "G",
-    "B",
-    "illuminance",
-    "illuminanceDirect",
-    "footprint",
-];
-
 /// A baked output (a small Cornell box bake) the targets file is checked against.
 const BAKED: &[u8] = include_bytes!("../data/cornell-baked.glb");
 
@@ -296,7 +286,7 @@ pub fn targets_json(data: &[u8]) -> bool {
 
 /// A lightmap's OpenEXR file.
 pub fn exr(data: &[u8]) -> bool {
-    import::exr::decode(data, &EXR_CHANNELS).is_ok()
+    import::exr::decode(data, &baked::LIGHTMAP_CHANNELS).is_ok()
 }
 
 /// A baked output as GLB bytes (`bake report`/`diff` read it), then its report in every format.

@@ -323,19 +323,13 @@ pub const DOMINANT_SHARE: f64 = 0.99;
 /// A warning when, with the patch size derived from the quality (`h`, m), one surface (a terrain,
 /// a ground plane kilometres wide) holds more than [`DOMINANT_SHARE`] of the area, so the rest of
 /// the scene gets patches over ten times larger than it would alone; `None` otherwise.
-pub fn dominant_surface(scene: &Scene, target_patches: f64, h: f64) -> Option<String> {
-    let areas: Vec<f64> = scene
-        .surfaces
-        .iter()
-        .map(|s| {
-            (s.triangles.iter())
-                .map(|t| {
-                    let [a, b, c] = t.map(|v| s.positions[v as usize]);
-                    (b - a).cross(c - a).length() / 2.0
-                })
-                .sum()
-        })
-        .collect();
+/// `areas` are the surfaces' areas (m²), in scene order.
+pub fn dominant_surface(
+    scene: &Scene,
+    areas: &[f64],
+    target_patches: f64,
+    h: f64,
+) -> Option<String> {
     let total: f64 = areas.iter().sum();
     let (k, &big) = areas.iter().enumerate().max_by(|a, b| a.1.total_cmp(b.1))?;
     let rest = total - big;
@@ -343,7 +337,7 @@ pub fn dominant_surface(scene: &Scene, target_patches: f64, h: f64) -> Option<St
         return None;
     }
     // The same rule as the default patch size, over the other surfaces only.
-    let h_rest = 2.0 * (rest / target_patches).sqrt();
+    let h_rest = super::default_patch_size(rest, target_patches);
     (h > 10.0 * h_rest).then(|| {
         format!(
             "{} ({}) holds {:.1} % of the scene's area ({:.0} m²), so the default patch size is \

@@ -31,7 +31,7 @@ mod solve;
 use crate::error::{Error, Result};
 use crate::progress::Progress;
 use crate::result::BakeResult;
-use crate::scene::Scene;
+use crate::scene::{Scene, Surface};
 use crate::settings::{LightmapSettings, Settings};
 use crate::solution::{PlaneLight, Solution, solved};
 use crate::summary::{Counts, EnergyBalance, RunSummary, SettingsRecord, Units};
@@ -104,13 +104,14 @@ pub fn solve<'a>(
 ) -> Result<Solved<'a>> {
     settings.validate()?;
     let params = settings.params();
-    let budget = budget::check(scene, settings, patch_size(scene, settings)?)?;
+    let areas: Vec<f64> = scene.surfaces.iter().map(Surface::area).collect();
+    let budget = budget::check(scene, settings, patch_size(scene, &areas, settings)?)?;
     if let Some(w) = &budget.warning {
         progress.warn(w);
     }
     let h = budget.patch_size;
     if settings.patch_size.is_none()
-        && let Some(w) = budget::dominant_surface(scene, params.target_patches, h)
+        && let Some(w) = budget::dominant_surface(scene, &areas, params.target_patches, h)
     {
         progress.warn(&w);
     }
@@ -279,17 +280,8 @@ fn texel_size(l: &LightmapSettings, q: crate::settings::Quality, h: f64, s: &Sol
 
 /// The patch size: the settings' or, from the quality's patch count, the longest edge of the
 /// uniform mesh (m).
-fn patch_size(scene: &Scene, settings: &Settings) -> Result<f64> {
-    let total_area: f64 = scene
-        .surfaces
-        .iter()
-        .flat_map(|s| {
-            s.triangles.iter().map(|t| {
-                let [a, b, c] = t.map(|v| s.positions[v as usize]);
-                (b - a).cross(c - a).length() / 2.0
-            })
-        })
-        .sum();
+fn patch_size(scene: &Scene, areas: &[f64], settings: &Settings) -> Result<f64> {
+    let total_area: f64 = areas.iter().sum();
     if total_area.is_nan() || total_area <= 0.0 {
         return Err(Error::input(
             &scene.source_file,
@@ -297,9 +289,14 @@ fn patch_size(scene: &Scene, settings: &Settings) -> Result<f64> {
             "the scene has no surface with area (nothing to bake)",
         ));
     }
-    // Uniform subdivision of a triangle whose longest edge is split into segments of h gives
-    // patches of area ≈ h²/4, hence the factor 2.
     Ok(settings
         .patch_size
-        .unwrap_or(2.0 * (total_area / settings.params().target_patches).sqrt()))
+        .unwrap_or_else(|| default_patch_size(total_area, settings.params().target_patches)))
+}
+
+/// The patch size (m) that meshes `area` m² into about `target_patches` patches: uniform
+/// subdivision of a triangle whose longest edge is split into segments of h gives patches of area
+/// ≈ h²/4, hence the factor 2.
+fn default_patch_size(area: f64, target_patches: f64) -> f64 {
+    2.0 * (area / target_patches).sqrt()
 }

@@ -21,7 +21,7 @@ use std::collections::BTreeMap;
 pub const EXTENSION: &str = "LUXBAKE_lightmap";
 
 /// The channels read from each file, in this order.
-const CHANNELS: [&str; 6] = [
+pub const CHANNELS: [&str; 6] = [
     "R",
     "G",
     "B",

@@ -201,14 +201,10 @@ fn drop_degenerate(scene: &mut Scene) -> Result<()> {
     for (k, s) in scene.surfaces.iter_mut().enumerate() {
         let node = &scene.nodes[s.node];
         let singular = singular(node.world_from_local);
-        let bad = if singular {
-            s.triangles.len()
-        } else {
-            s.triangles
-                .iter()
-                .filter(|&&t| degenerate(&s.positions, t))
-                .count()
-        };
+        let flat: Vec<bool> = (s.triangles.iter())
+            .map(|&t| singular || degenerate(&s.positions, t))
+            .collect();
+        let bad = flat.iter().filter(|&&f| f).count();
         if bad == 0 {
             continue;
         }
@@ -236,7 +232,7 @@ fn drop_degenerate(scene: &mut Scene) -> Result<()> {
                 "{whose}: {bad} of its {} triangles have no area and are dropped",
                 s.triangles.len()
             ));
-            compact(s);
+            compact(s, &flat);
         }
     }
     if !dropped_any {
@@ -268,13 +264,11 @@ fn drop_degenerate(scene: &mut Scene) -> Result<()> {
     Ok(())
 }
 
-/// Keep the triangles with area and the vertices they use (in their order).
-fn compact(s: &mut Surface) {
-    let triangles: Vec<[u32; 3]> = s
-        .triangles
-        .iter()
-        .copied()
-        .filter(|&t| !degenerate(&s.positions, t))
+/// Keep the triangles not marked `flat` and the vertices they use (in their order).
+fn compact(s: &mut Surface, flat: &[bool]) {
+    let triangles: Vec<[u32; 3]> = (s.triangles.iter().zip(flat))
+        .filter(|(_, f)| !**f)
+        .map(|(t, _)| *t)
         .collect();
     let mut remap = vec![u32::MAX; s.positions.len()];
     let mut used = Vec::new();
@@ -286,21 +280,19 @@ fn compact(s: &mut Surface) {
             }
         }
     }
-    let pick = |v: &[_]| used.iter().map(|&i| v[i]).collect::<Vec<_>>();
-    s.positions = pick(&s.positions);
-    s.normals = pick(&s.normals);
-    s.uv0 = s
-        .uv0
-        .as_deref()
-        .map(|v| used.iter().map(|&i| v[i]).collect());
-    s.uv1 = s
-        .uv1
-        .as_deref()
-        .map(|v| used.iter().map(|&i| v[i]).collect());
+    s.positions = pick(&s.positions, &used);
+    s.normals = pick(&s.normals, &used);
+    s.uv0 = s.uv0.as_deref().map(|v| pick(v, &used));
+    s.uv1 = s.uv1.as_deref().map(|v| pick(v, &used));
     s.triangles = triangles
         .into_iter()
         .map(|t| t.map(|i| remap[i as usize]))
         .collect();
+}
+
+/// The elements of `v` at `used`, in that order.
+fn pick<T: Copy>(v: &[T], used: &[usize]) -> Vec<T> {
+    used.iter().map(|&i| v[i]).collect()
 }
 
 /// One warning naming the primitives that have no material (they reflect the default 0.5).
