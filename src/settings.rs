@@ -152,6 +152,16 @@ impl Default for LightmapSettings {
     }
 }
 
+impl LightmapSettings {
+    /// Texel edge `t` (m), the rest as default.
+    pub fn with_texel(t: f64) -> Self {
+        LightmapSettings {
+            texel_size: Some(t),
+            ..LightmapSettings::default()
+        }
+    }
+}
+
 impl Default for Settings {
     fn default() -> Self {
         Settings {

@@ -7,31 +7,17 @@
 mod support;
 
 use serde_json::Value;
-use std::ffi::OsStr;
 use std::path::Path;
 use std::process::Command;
-use support::cli::{Mini, Run, bake, listing, repo_file};
+use support::cli::{Mini, Run, bake_draft, listing, mini_in, repo_file};
 use support::{scratch, tools};
-
-/// Bake `input` to `output` (draft) with `extra` arguments.
-fn draft(input: &Path, output: &Path, extra: &[&str]) -> Run {
-    let mut args = vec![
-        input.as_os_str(),
-        OsStr::new("-o"),
-        output.as_os_str(),
-        OsStr::new("--quality"),
-        OsStr::new("draft"),
-    ];
-    args.extend(extra.iter().map(OsStr::new));
-    bake(args)
-}
 
 #[test]
 fn good_run_writes_the_output_and_the_summary() {
     let dir = scratch("cli-good");
     let (output, summary) = (dir.join("office.gltf"), dir.join("summary.json"));
     let office = repo_file("samples/office/office.gltf");
-    let run = draft(
+    let run = bake_draft(
         &office,
         &output,
         &["--summary-json", summary.to_str().unwrap()],
@@ -85,7 +71,7 @@ fn threads_do_not_change_the_output() {
     for threads in ["1", "2"] {
         let out = dir.join(format!("t{threads}"));
         std::fs::create_dir(&out).unwrap();
-        let run = draft(
+        let run = bake_draft(
             &office,
             &out.join("lit.gltf"),
             &["--threads", threads, "-q"],
@@ -121,7 +107,7 @@ fn a_scene_without_light_bakes_with_a_warning() {
         serde_json::json!({"reflectance": 0.5});
     let input = mini.write_gltf(&dir, "dark.gltf", None);
     let output = dir.join("dark-lit.glb");
-    let run = draft(&input, &output, &["--quiet"]);
+    let run = bake_draft(&input, &output, &["--quiet"]);
     assert_eq!(run.code, Some(0), "{run:?}");
     let warnings: Vec<&str> = run
         .stderr
@@ -138,7 +124,7 @@ fn cornell_box_with_z_up() {
     let dir = scratch("cli-obj-up");
     let output = dir.join("cornell.glb");
     let input = repo_file("samples/cornell-box/cornell-box.obj");
-    let run = draft(&input, &output, &["--obj-up", "z", "-q"]);
+    let run = bake_draft(&input, &output, &["--obj-up", "z", "-q"]);
     assert_eq!(run.code, Some(0), "{run:?}");
     assert!(std::fs::metadata(&output).unwrap().len() > 1000);
     assert_eq!(listing(&dir), ["cornell.glb"]);
@@ -151,16 +137,6 @@ fn cornell_box_with_z_up() {
             report.listing()
         );
     }
-}
-
-/// A minimal scene in `in/` (buffer `scene.bin`) and an empty `out/`.
-fn mini_folders(name: &str) -> (std::path::PathBuf, std::path::PathBuf, std::path::PathBuf) {
-    let dir = scratch(name);
-    let (input, out) = (dir.join("in"), dir.join("out"));
-    std::fs::create_dir(&input).unwrap();
-    std::fs::create_dir(&out).unwrap();
-    let gltf = Mini::new().write_gltf(&input, "scene.gltf", Some("scene.bin"));
-    (gltf, input, out)
 }
 
 /// The run was refused with one `error:` line naming `--summary-json`'s file.
@@ -177,9 +153,9 @@ fn assert_summary_refused(run: &Run, summary: &Path) {
 
 #[test]
 fn summary_json_over_the_output_is_refused() {
-    let (input, _, out) = mini_folders("cli-summary-main");
+    let (input, _, out) = mini_in("cli-summary-main");
     let output = out.join("lit.gltf");
-    let run = draft(
+    let run = bake_draft(
         &input,
         &output,
         &["--summary-json", output.to_str().unwrap()],
@@ -191,9 +167,9 @@ fn summary_json_over_the_output_is_refused() {
 #[test]
 
 fn summary_json_over_the_output_buffer_is_refused() {
-    let (input, _, out) = mini_folders("cli-summary-bin");
+    let (input, _, out) = mini_in("cli-summary-bin");
     let (output, bin) = (out.join("lit.gltf"), out.join("lit.0123456789abcdef.bin"));
-    let run = draft(&input, &output, &["--summary-json", bin.to_str().unwrap()]);
+    let run = bake_draft(&input, &output, &["--summary-json", bin.to_str().unwrap()]);
     assert_summary_refused(&run, &bin);
     assert_eq!(listing(&out), Vec::<String>::new());
 }
@@ -201,10 +177,10 @@ fn summary_json_over_the_output_buffer_is_refused() {
 #[test]
 
 fn summary_json_over_an_input_file_is_refused() {
-    let (input, folder, out) = mini_folders("cli-summary-input");
+    let (input, folder, out) = mini_in("cli-summary-input");
     let bin = folder.join("scene.bin");
     let before = std::fs::read(&bin).unwrap();
-    let run = draft(
+    let run = bake_draft(
         &input,
         &out.join("lit.glb"),
         &["--summary-json", bin.to_str().unwrap()],
@@ -221,9 +197,9 @@ fn summary_json_over_an_input_file_is_refused() {
 #[test]
 
 fn summary_json_in_a_missing_folder_writes_nothing() {
-    let (input, _, out) = mini_folders("cli-summary-nodir");
+    let (input, _, out) = mini_in("cli-summary-nodir");
     let summary = out.join("missing").join("summary.json");
-    let run = draft(
+    let run = bake_draft(
         &input,
         &out.join("lit.glb"),
         &["--summary-json", summary.to_str().unwrap()],

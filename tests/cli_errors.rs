@@ -6,32 +6,13 @@
 
 mod support;
 
-use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
-use support::cli::{Mini, Run, bake, listing};
-use support::{scratch, tools};
+use support::cli::{Mini, Run, bake, bake_draft_into, listing};
+use support::{in_out, tools};
 
 /// A test's folders: `in/` for the input, `out/` (empty) for the output.
 fn folders(name: &str) -> (PathBuf, PathBuf) {
-    let dir = scratch(&format!("cli-{name}"));
-    let (input, out) = (dir.join("in"), dir.join("out"));
-    std::fs::create_dir(&input).unwrap();
-    std::fs::create_dir(&out).unwrap();
-    (input, out)
-}
-
-/// Bake `input` into `out/lit.gltf` (draft) with `extra` arguments.
-fn bake_into(input: &Path, out: &Path, extra: &[&str]) -> Run {
-    let output = out.join("lit.gltf");
-    let mut args = vec![
-        input.as_os_str(),
-        "-o".as_ref(),
-        output.as_os_str(),
-        "--quality".as_ref(),
-        "draft".as_ref(),
-    ];
-    args.extend(extra.iter().map(OsStr::new));
-    bake(args)
+    in_out(&format!("cli-{name}"))
 }
 
 /// The run failed cleanly: non-zero exit, one `error:` line holding every needle, `out` empty.
@@ -114,7 +95,7 @@ fn missing_buffer_file() {
     let (input, out) = folders("missing-bin");
     let path = Mini::new().write_gltf(&input, "scene.gltf", Some("scene.bin"));
     std::fs::remove_file(input.join("scene.bin")).unwrap();
-    let run = bake_into(&path, &out, &[]);
+    let run = bake_draft_into(&path, &out, &[] as &[&str]);
     assert_refused(
         &run,
         &out,
@@ -129,7 +110,7 @@ fn truncated_glb() {
     for cut in [7, 20, bytes.len() / 2, bytes.len() - 3] {
         let path = input.join(format!("cut{cut}.glb"));
         std::fs::write(&path, &bytes[..cut]).unwrap();
-        let run = bake_into(&path, &out, &[]);
+        let run = bake_draft_into(&path, &out, &[] as &[&str]);
         assert_refused(&run, &out, &[&path.display().to_string(), "truncated"]);
     }
 }
@@ -144,7 +125,7 @@ fn nan_position() {
         [1.0, 0.0, -1.0],
     ];
     let path = Mini::with_floor(floor).write_gltf(&input, "nan.gltf", None);
-    let run = bake_into(&path, &out, &[]);
+    let run = bake_draft_into(&path, &out, &[] as &[&str]);
     assert_refused(
         &run,
         &out,
@@ -164,7 +145,7 @@ fn reflectance_above_one() {
     mini.json["materials"][0] = serde_json::json!({"name": "floor",
         "extensions": {"LUXBAKE_material": {"reflectance": 1.2}}});
     let path = mini.write_gltf(&input, "bright.gltf", None);
-    let run = bake_into(&path, &out, &[]);
+    let run = bake_draft_into(&path, &out, &[] as &[&str]);
     assert_refused(
         &run,
         &out,
@@ -183,7 +164,7 @@ fn buffer_outside_the_input_folder() {
     let path = nested.join("escape.gltf");
     let json = mini.document(Some("../../x.bin"));
     std::fs::write(&path, serde_json::to_vec(&json).unwrap()).unwrap();
-    let run = bake_into(&path, &out, &[]);
+    let run = bake_draft_into(&path, &out, &[] as &[&str]);
     assert_refused(
         &run,
         &out,
@@ -195,7 +176,7 @@ fn buffer_outside_the_input_folder() {
 fn nonexistent_input() {
     let (input, out) = folders("nonexistent");
     let path = input.join("nowhere.gltf");
-    let run = bake_into(&path, &out, &[]);
+    let run = bake_draft_into(&path, &out, &[] as &[&str]);
     assert_refused(&run, &out, &[&path.display().to_string()]);
 }
 
@@ -262,7 +243,7 @@ fn invalid_settings() {
         (&["--exposure=-5"], &["--exposure"]),
         (&["--threads", "0"], &["--threads"]),
     ] {
-        let run = bake_into(&path, &out, args);
+        let run = bake_draft_into(&path, &out, args);
         assert_refused(&run, &out, needles);
     }
 }
@@ -276,7 +257,7 @@ fn negative_numbers_with_a_space() {
     let (input, out) = folders("settings-space");
     let path = Mini::new().write_gltf(&input, "scene.gltf", None);
     for (option, value) in [("--patch-size", "-1"), ("--exposure", "-5")] {
-        let run = bake_into(&path, &out, &[option, value]);
+        let run = bake_draft_into(&path, &out, &[option, value]);
         assert_refused(&run, &out, &[option, value]);
     }
 }

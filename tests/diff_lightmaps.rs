@@ -16,29 +16,15 @@ use luxbake::result::BakeResult;
 use luxbake::scene::Scene;
 use luxbake::settings::{LightmapSettings, Quality, Settings};
 use std::path::{Path, PathBuf};
-use support::bakes::{diff, diff_json, last_line, number, quantity};
+use support::bakes::{diff, diff_json, floor_and_walls, last_line, number, quantity};
 use support::scratch;
 
 /// A 2 × 2 m floor (ρ 0.5) between two 1 m walls (ρ 0.5 at x = 1, 0.8 at x = −1) under an
 /// isotropic point light 1 m up: nothing casts a shadow, light varies smoothly.
 fn smooth_room() -> Scene {
     let mut b = SceneBuilder::new();
-    let grey = b.material("grey", 0.5);
-    let white = b.material("white", 0.8);
-    b.floor("floor", 1.0, 0.0, grey);
-    let p = DVec3::new;
-    let wall = |x: f64| {
-        [
-            p(x, 0.0, -1.0),
-            p(x, 0.0, 1.0),
-            p(x, 1.0, 1.0),
-            p(x, 1.0, -1.0),
-        ]
-    };
-    let w = wall(-1.0);
-    b.quad("wall_grey", wall(1.0), grey);
-    b.quad("wall_white", [w[0], w[3], w[2], w[1]], white);
-    b.point_light("lamp", p(0.0, 1.0, 0.0), 2400.0);
+    floor_and_walls(&mut b);
+    b.point_light("lamp", DVec3::new(0.0, 1.0, 0.0), 2400.0);
     b.build()
 }
 
@@ -46,11 +32,7 @@ fn settings(texel: Option<f64>) -> Settings {
     Settings {
         quality: Quality::Draft,
         patch_size: Some(0.25),
-        lightmaps: texel.map(|t| LightmapSettings {
-            texel_size: Some(t),
-            max_size: 2048,
-            tolerance: None,
-        }),
+        lightmaps: texel.map(LightmapSettings::with_texel),
         ..Settings::default()
     }
 }

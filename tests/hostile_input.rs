@@ -7,18 +7,13 @@
 mod support;
 
 use serde_json::{Value, json};
-use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
-use support::cli::{Mini, Run, bake, listing};
-use support::{bakes, scratch};
+use support::cli::{Mini, Run, bake, bake_draft_into, listing};
+use support::{bakes, in_out};
 
 /// A test's folders: `in/` for the input, `out/` (empty) for the output.
 fn folders(name: &str) -> (PathBuf, PathBuf) {
-    let dir = scratch(&format!("hostile-{name}"));
-    let (input, out) = (dir.join("in"), dir.join("out"));
-    std::fs::create_dir(&input).unwrap();
-    std::fs::create_dir(&out).unwrap();
-    (input, out)
+    in_out(&format!("hostile-{name}"))
 }
 
 /// The minimal scene with `edit` applied to its JSON, written as `in/name` (buffer as data URI).
@@ -26,20 +21,6 @@ fn variant(input: &Path, name: &str, edit: impl FnOnce(&mut Value)) -> PathBuf {
     let mut mini = Mini::new();
     edit(&mut mini.json);
     mini.write_gltf(input, name, None)
-}
-
-/// Bake `input` into `out/lit.gltf` (draft) with `extra` arguments.
-fn bake_into(input: &Path, out: &Path, extra: &[&str]) -> Run {
-    let output = out.join("lit.gltf");
-    let mut args = vec![
-        input.as_os_str(),
-        "-o".as_ref(),
-        output.as_os_str(),
-        "--quality".as_ref(),
-        "draft".as_ref(),
-    ];
-    args.extend(extra.iter().map(OsStr::new));
-    bake(args)
 }
 
 /// Exit code 1, one `error:` line holding every needle, nothing written to `out`.
@@ -150,7 +131,7 @@ fn a_primitive_without_area_is_dropped_with_a_warning() {
         json!({"name": "extra"}),
     );
     let path = mini.write_gltf(&input, "flat.gltf", None);
-    let run = bake_into(&path, &out, &[]);
+    let run = bake_draft_into(&path, &out, &[] as &[&str]);
     assert_warned(
         &run,
         &[
@@ -174,7 +155,7 @@ fn a_primitive_without_area_is_dropped_with_a_warning() {
         json!({"name": "extra"}),
     );
     let path = mini.write_gltf(&input, "some.gltf", None);
-    let run = bake_into(&path, &out, &[]);
+    let run = bake_draft_into(&path, &out, &[] as &[&str]);
     assert_warned(
         &run,
         &[
@@ -198,7 +179,7 @@ fn a_node_scaled_to_zero_is_dropped_and_a_scene_left_empty_is_an_error() {
         json!({"name": "flat", "scale": [1, 0, 1]}),
     );
     let path = mini.write_gltf(&input, "scaled.gltf", None);
-    let run = bake_into(&path, &out, &[]);
+    let run = bake_draft_into(&path, &out, &[] as &[&str]);
     assert_warned(
         &run,
         &["scaled.gltf", "flat", "/nodes/2", "singular", "dropped"],
@@ -209,7 +190,7 @@ fn a_node_scaled_to_zero_is_dropped_and_a_scene_left_empty_is_an_error() {
         j["nodes"][0]["scale"] = json!([0, 0, 0]);
         j["nodes"][1]["scale"] = json!([0, 0, 0]);
     });
-    let run = bake_into(&path, &out, &[]);
+    let run = bake_draft_into(&path, &out, &[] as &[&str]);
     assert_refused(&run, &out, &["nothing.gltf", "nothing is left to bake"]);
 }
 
@@ -219,7 +200,7 @@ fn a_triangle_list_whose_length_is_not_a_multiple_of_three_is_refused() {
     let path = variant(&input, "count.gltf", |j| {
         j["accessors"][2]["count"] = json!(5)
     });
-    let run = bake_into(&path, &out, &[]);
+    let run = bake_draft_into(&path, &out, &[] as &[&str]);
     assert_refused(
         &run,
         &out,
@@ -238,7 +219,7 @@ fn a_triangle_list_whose_length_is_not_a_multiple_of_three_is_refused() {
             .unwrap()
             .remove("indices");
     });
-    let run = bake_into(&path, &out, &[]);
+    let run = bake_draft_into(&path, &out, &[] as &[&str]);
     assert_refused(
         &run,
         &out,
@@ -273,7 +254,7 @@ fn factors_outside_the_spec_ranges_are_refused() {
             };
             target[key] = value.clone();
         });
-        let run = bake_into(&path, &out, &[]);
+        let run = bake_draft_into(&path, &out, &[] as &[&str]);
         assert_refused(&run, &out, &["factor.gltf", pointer, needle, "in [0, 1]"]);
     }
 }
@@ -284,7 +265,7 @@ fn a_probe_flag_of_the_wrong_type_is_refused() {
     let path = variant(&input, "probe.gltf", |j| {
         j["nodes"][0]["extras"] = json!({"probe": "yes"});
     });
-    let run = bake_into(&path, &out, &[]);
+    let run = bake_draft_into(&path, &out, &[] as &[&str]);
     assert_refused(
         &run,
         &out,
@@ -305,7 +286,7 @@ fn positions_beyond_any_room_are_refused_and_far_probes_warned() {
             .unwrap()
             .push(json!(2));
     });
-    let run = bake_into(&path, &out, &[]);
+    let run = bake_draft_into(&path, &out, &[] as &[&str]);
     assert_refused(&run, &out, &["far.gltf", "/nodes/2", "x = 1e30"]);
 
     // Scaled into overflow: the floor's world positions are beyond any room.
@@ -313,7 +294,7 @@ fn positions_beyond_any_room_are_refused_and_far_probes_warned() {
     let path = variant(&input, "huge.gltf", |j| {
         j["nodes"][0]["scale"] = json!([1e30, 1.0, 1.0]);
     });
-    let run = bake_into(&path, &out, &[]);
+    let run = bake_draft_into(&path, &out, &[] as &[&str]);
     assert_refused(
         &run,
         &out,
@@ -330,7 +311,7 @@ fn positions_beyond_any_room_are_refused_and_far_probes_warned() {
             .unwrap()
             .push(json!(2));
     });
-    let run = bake_into(&path, &out, &[]);
+    let run = bake_draft_into(&path, &out, &[] as &[&str]);
     assert_warned(
         &run,
         &["outside.gltf", "probe p", "outside the scene's geometry"],
@@ -371,7 +352,7 @@ fn emitters_beyond_any_lamp_are_refused() {
     for (name, edit, needles) in cases {
         let (input, out) = folders(&format!("emitter-{name}"));
         let path = variant(&input, "bright.gltf", |j| edit(j));
-        let run = bake_into(&path, &out, &[]);
+        let run = bake_draft_into(&path, &out, &[] as &[&str]);
         let mut all = vec!["bright.gltf"];
         all.extend_from_slice(needles);
         assert_refused(&run, &out, &all);
@@ -405,7 +386,7 @@ fn overflowing_profiles_are_refused_by_bake_and_by_luminaire() {
         j["extensions"] = json!({"EXT_lights_ies": {"lights": [{"uri": "ok.ies"}]}});
         j["nodes"][1]["extensions"] = json!({"EXT_lights_ies": {"light": 0, "multiplier": 1e306}});
     });
-    let run = bake_into(&path, &out, &[]);
+    let run = bake_draft_into(&path, &out, &[] as &[&str]);
     assert_refused(&run, &out, &["lum.gltf", "/nodes/1", "multiplier 1e306"]);
 }
 
@@ -442,7 +423,7 @@ fn quantized_and_sparse_positions_bake_like_plain_ones() {
     // without a bufferView: the same floor, the same light on it.
     let (input, out) = folders("plain");
     let plain = variant(&input, "plain.gltf", |_| {});
-    let run = bake_into(&plain, &out, &["--quiet"]);
+    let run = bake_draft_into(&plain, &out, &["--quiet"]);
     assert!(run.ok(), "{run:?}");
     let reference = bakes::node_mean(&out.join("lit.gltf"), "floor");
     assert!(reference > 1.0, "{reference}");
@@ -484,7 +465,7 @@ fn quantized_and_sparse_positions_bake_like_plain_ones() {
     for (name, mini) in [("quantized", quantized), ("sparse", sparse)] {
         let (input, out) = folders(name);
         let path = mini.write_gltf(&input, &format!("{name}.gltf"), None);
-        let run = bake_into(&path, &out, &["--quiet"]);
+        let run = bake_draft_into(&path, &out, &["--quiet"]);
         assert!(run.ok(), "{name}: {run:?}");
         let mean = bakes::node_mean(&out.join("lit.gltf"), "floor");
         assert!(
@@ -503,7 +484,7 @@ fn missing_materials_are_warned_about() {
                o floor\nusemtl floor\nf 1 3 2\no shelf\nusemtl flor\nf 4 5 6\n";
     let path = input.join("room.obj");
     std::fs::write(&path, obj).unwrap();
-    let run = bake_into(&path, &out, &[]);
+    let run = bake_draft_into(&path, &out, &[] as &[&str]);
     assert_warned(
         &run,
         &[
@@ -521,7 +502,7 @@ fn missing_materials_are_warned_about() {
             .unwrap()
             .remove("material");
     });
-    let run = bake_into(&path, &out, &[]);
+    let run = bake_draft_into(&path, &out, &[] as &[&str]);
     assert_warned(
         &run,
         &[
@@ -538,7 +519,7 @@ fn a_working_plane_target_without_a_working_plane_is_refused_before_baking() {
     let path = variant(&input, "room.gltf", |_| {});
     let targets = input.join("targets.json");
     std::fs::write(&targets, r#"{"working_plane": 500}"#).unwrap();
-    let run = bake_into(&path, &out, &["--targets", targets.to_str().unwrap()]);
+    let run = bake_draft_into(&path, &out, &["--targets", targets.to_str().unwrap()]);
     assert_refused(
         &run,
         &out,
@@ -563,7 +544,7 @@ fn a_large_energy_balance_error_is_loud() {
     j["meshes"].as_array_mut().unwrap().truncate(1);
     j["accessors"].as_array_mut().unwrap().truncate(3);
     let path = mini.write_gltf(&input, "lamp.gltf", None);
-    let run = bake_into(&path, &out, &[]);
+    let run = bake_draft_into(&path, &out, &[] as &[&str]);
     assert!(run.ok(), "{run:?}");
     let printed: f64 = run
         .stderr
@@ -596,7 +577,7 @@ fn a_ground_plane_that_sets_the_patch_size_is_warned_about() {
     let g = 1000.0;
     let mini = Mini::with_floor([[-g, 0.0, -g], [-g, 0.0, g], [g, 0.0, g], [g, 0.0, -g]]);
     let path = mini.write_gltf(&input, "ground.gltf", None);
-    let run = bake_into(&path, &out, &[]);
+    let run = bake_draft_into(&path, &out, &[] as &[&str]);
     assert_warned(
         &run,
         &[
@@ -608,7 +589,7 @@ fn a_ground_plane_that_sets_the_patch_size_is_warned_about() {
     );
     // With --patch-size given there is nothing to warn about.
     let (_, out) = folders("ground-given");
-    let run = bake_into(&path, &out, &["--patch-size", "100"]);
+    let run = bake_draft_into(&path, &out, &["--patch-size", "100"]);
     assert!(run.ok() && !run.stderr.contains("area"), "{run:?}");
 }
 
@@ -624,13 +605,13 @@ fn usage_errors_exit_2_and_input_errors_exit_1() {
         &["--max-patches", "0"],
         &["--no-such-option"],
     ] {
-        let run = bake_into(&path, &out, extra);
+        let run = bake_draft_into(&path, &out, extra);
         assert_eq!(run.code, Some(2), "{extra:?}: {run:?}");
         assert!(run.stderr.starts_with("error: "), "{run:?}");
         assert!(listing(&out).is_empty());
     }
     let missing = input.join("missing.gltf");
-    let run = bake_into(&missing, &out, &[]);
+    let run = bake_draft_into(&missing, &out, &[] as &[&str]);
     assert_refused(&run, &out, &["missing.gltf"]);
 }
 
@@ -644,7 +625,7 @@ fn a_material_black_only_because_metallic_defaulted_is_warned_about() {
             .unwrap()
             .remove("metallicFactor");
     });
-    let run = bake_into(&path, &out, &[]);
+    let run = bake_draft_into(&path, &out, &[] as &[&str]);
     assert_warned(
         &run,
         &[

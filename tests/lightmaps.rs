@@ -14,11 +14,7 @@ use luxbake::settings::{LightmapSettings, Settings};
 
 fn lightmapped(texel: f64) -> Settings {
     Settings {
-        lightmaps: Some(LightmapSettings {
-            texel_size: Some(texel),
-            max_size: 2048,
-            tolerance: None,
-        }),
+        lightmaps: Some(LightmapSettings::with_texel(texel)),
         ..Settings::default()
     }
 }

@@ -15,9 +15,9 @@ use serde_json::{Value, json};
 use std::collections::BTreeMap;
 use std::io::{BufRead, BufReader};
 use std::os::unix::process::ExitStatusExt;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Stdio};
-use support::cli::{Mini, Run, bake, listing};
+use support::cli::{Mini, Run, bake, bake_draft, listing, mini_in};
 use support::scratch;
 
 /// Every file of `dir` by name (hidden ones included) with its bytes.
@@ -116,26 +116,14 @@ fn generate_into_a_directory_is_refused() {
     assert_eq!(listing(&dir), ["office.gltf"]);
 }
 
-/// A minimal scene in `dir/in/` and an empty `dir/out/`.
-fn mini_folders(name: &str) -> (PathBuf, PathBuf, PathBuf) {
-    let dir = scratch(name);
-    let (input, out) = (dir.join("in"), dir.join("out"));
-    std::fs::create_dir(&input).unwrap();
-    std::fs::create_dir(&out).unwrap();
-    let gltf = Mini::new().write_gltf(&input, "scene.gltf", Some("scene.bin"));
-    (gltf, input, out)
-}
-
+/// Bake `input` to `output` (draft, quiet) with `extra` arguments.
 fn draft(input: &Path, output: &Path, extra: &[&std::ffi::OsStr]) -> Run {
-    let mut args = vec![input.as_os_str(), os("-o"), output.as_os_str()];
-    args.extend([os("--quality"), os("draft"), os("-q")]);
-    args.extend_from_slice(extra);
-    bake(args)
+    bake_draft(input, output, &[&[os("-q")], extra].concat())
 }
 
 #[test]
 fn report_out_over_the_targets_file_is_refused() {
-    let (scene, input, out) = mini_folders("out-targets");
+    let (scene, input, out) = mini_in("out-targets");
     let targets = input.join("targets.json");
     std::fs::write(&targets, r#"{"floor": 100}"#).unwrap();
     std::fs::hard_link(&targets, out.join("hard.json")).unwrap();
@@ -176,7 +164,7 @@ fn report_out_over_the_targets_file_is_refused() {
 /// the bake, the old set byte for byte as it was.
 #[test]
 fn a_bad_later_output_changes_nothing() {
-    let (scene, _, out) = mini_folders("out-late");
+    let (scene, _, out) = mini_in("out-late");
     let lit = out.join("lit.gltf");
     assert!(draft(&scene, &lit, &[]).ok());
     let (dir, csv) = (out.join("d"), out.join("d.csv"));
@@ -443,7 +431,7 @@ fn a_signal_removes_the_temporaries() {
 /// `lit.glb` references and files that only look like side files of another output.
 #[test]
 fn a_rebake_removes_only_the_old_sets_unused_side_files() {
-    let (scene, _, out) = mini_folders("out-rebake");
+    let (scene, _, out) = mini_in("out-rebake");
     let lit = out.join("lit.gltf");
     let lm = [os("--lightmaps"), os("--texel-size"), os("0.25")];
     assert!(draft(&scene, &out.join("lit.glb"), &lm).ok());

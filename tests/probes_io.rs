@@ -9,24 +9,11 @@ use luxbake::probes::{ProbeOrigin, csv};
 use serde_json::{Value, json};
 use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
-use support::cli::{Mini, Run, bake, listing, repo_file};
+use support::cli::{Mini, Run, bake_draft, listing, repo_file};
 use support::gltf_read::{self, Gltf};
 use support::{scratch, tools};
 
 const FACES: [&str; 6] = ["+x", "-x", "+y", "-y", "+z", "-z"];
-
-/// Bake `input` to `output` (draft, quiet) with `extra` arguments.
-fn draft(input: &Path, output: &Path, extra: &[&OsStr]) -> Run {
-    let mut args = vec![
-        input.as_os_str(),
-        OsStr::new("-o"),
-        output.as_os_str(),
-        OsStr::new("--quality"),
-        OsStr::new("draft"),
-    ];
-    args.extend(extra);
-    bake(args)
-}
 
 fn os<S: AsRef<OsStr> + ?Sized>(s: &S) -> &OsStr {
     s.as_ref()
@@ -198,7 +185,7 @@ fn office(dir: &Path, out: &str, plane_spacing: &str) -> (Run, PathBuf, PathBuf)
     let probes = dir.join("desks.csv");
     std::fs::write(&probes, OFFICE_CSV).unwrap();
     let (output, probes_out) = (dir.join("lit.gltf"), dir.join(out));
-    let run = draft(
+    let run = bake_draft(
         &repo_file("samples/office/office.gltf"),
         &output,
         &[
@@ -488,7 +475,7 @@ fn grid_points_inside_objects_are_skipped_with_a_warning() {
     let dir = scratch("probes-inside");
     let input = mini_with_box(&dir);
     let (output, out) = (dir.join("lit.glb"), dir.join("probes.json"));
-    let run = draft(
+    let run = bake_draft(
         &input,
         &output,
         &[
@@ -538,7 +525,7 @@ fn node_probe_of_a_blender_file_gets_its_results() {
     let dir = scratch("probes-node");
     let (output, out) = (dir.join("room.glb"), dir.join("probes.csv"));
     let input = repo_file("tests/data/blender-room/room.glb");
-    let run = draft(
+    let run = bake_draft(
         &input,
         &output,
         &[os("--probe-glyphs"), os("--probes-out"), out.as_os_str()],
@@ -623,7 +610,7 @@ fn bad_probes_file_is_one_error_naming_file_and_line() {
     let input = Mini::new().write_gltf(&dir, "scene.gltf", None);
     let bad = dir.join("bad probes.csv");
     std::fs::write(&bad, "x,y,z,name\n0,0.5,0,a\n0.5,half,0,b\n").unwrap();
-    let run = draft(
+    let run = bake_draft(
         &input,
         &out.join("lit.gltf"),
         &[
@@ -637,7 +624,7 @@ fn bad_probes_file_is_one_error_naming_file_and_line() {
     assert_refused(&run, &[&at, "y must be a finite number", "'half'"], &out);
 
     let missing = dir.join("missing.csv");
-    let run = draft(
+    let run = bake_draft(
         &input,
         &out.join("lit.gltf"),
         &[os("--probes"), missing.as_os_str()],
@@ -701,7 +688,7 @@ fn probe_option_errors_are_caught_before_baking() {
         ),
     ];
     for (args, needles) in &cases {
-        let run = draft(&input, &lit, args);
+        let run = bake_draft(&input, &lit, args);
         let needles: Vec<&str> = needles.iter().map(String::as_str).collect();
         assert_refused(&run, &needles, &out);
     }

@@ -12,11 +12,12 @@ use luxbake::fixtures::SceneBuilder;
 use luxbake::progress::Silent;
 use luxbake::report::{self, By, Filter, Format, Options, Targets};
 use luxbake::result::BakeResult;
-use luxbake::scene::{LocalTransform, Node, Scene};
+use luxbake::scene::Scene;
 use luxbake::settings::{ProbeGrid, Quality, Settings};
 use serde_json::Value;
 use std::f64::consts::PI;
 use std::path::Path;
+use support::bakes::{floor_and_walls, group};
 use support::cli::{Mini, bake as run_bake, repo_file};
 use support::scratch;
 
@@ -47,38 +48,10 @@ fn floor_under_light(flux: f64) -> Scene {
 /// all three under a parent node `room`.
 fn room() -> Scene {
     let mut b = SceneBuilder::new();
-    let grey = b.material("grey", 0.5);
-    let white = b.material("white", 0.8);
-    b.floor("floor", 1.0, 0.0, grey);
-    let p = DVec3::new;
-    let wall = |x: f64| {
-        [
-            p(x, 0.0, -1.0),
-            p(x, 0.0, 1.0),
-            p(x, 1.0, 1.0),
-            p(x, 1.0, -1.0),
-        ]
-    };
-    let w = wall(-1.0);
-    b.quad("wall_grey", wall(1.0), grey); // faces −x
-    b.quad("wall_white", [w[0], w[3], w[2], w[1]], white); // faces +x
-    b.point_light("lamp", p(0.0, 1.0, 0.0), 2400.0);
+    floor_and_walls(&mut b);
+    b.point_light("lamp", DVec3::new(0.0, 1.0, 0.0), 2400.0);
     let mut scene = b.build();
-    let children: Vec<usize> = vec![0, 1, 2];
-    scene.roots.retain(|r| !children.contains(r));
-    scene.roots.push(scene.nodes.len());
-    scene.nodes.push(Node {
-        name: Some("room".into()),
-        source_path: "/nodes/4".into(),
-        children,
-        local: LocalTransform::default(),
-        world_from_local: glam::DMat4::IDENTITY,
-        mesh_name: None,
-        surfaces: Vec::new(),
-        light: None,
-        camera: None,
-        extras: None,
-    });
+    group(&mut scene, "room", vec![0, 1, 2]);
     scene
 }
 

@@ -20,6 +20,7 @@ use luxbake::settings::{LightmapSettings, Quality, Settings};
 use serde_json::Value;
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
+use support::bakes::floor_and_walls;
 use support::cli::bake as run_bake;
 use support::scratch;
 
@@ -40,11 +41,7 @@ fn settings(patch: f64, texel: f64) -> Settings {
     Settings {
         quality: Quality::Draft,
         patch_size: Some(patch),
-        lightmaps: Some(LightmapSettings {
-            texel_size: Some(texel),
-            max_size: 2048,
-            tolerance: None,
-        }),
+        lightmaps: Some(LightmapSettings::with_texel(texel)),
         ..Settings::default()
     }
 }
@@ -148,26 +145,12 @@ fn texel_mean_of_a_black_floor_is_the_closed_form() {
     assert!(row_from(&input, "down", &prims, &Filter::Facing(-DVec3::Y), true).is_none());
 }
 
-/// A room with walls (ρ 0.5 and 0.8), a floor and a box resting on it (its bottom is a covered
-/// part of the floor), lightmapped, written to `dir/lit.<ext>`.
+/// A 2 × 2 m floor between walls (ρ 0.5 and 0.8) under a 2400 lm point light 1 m up,
+/// lightmapped, written to `dir/lit.<ext>`.
 fn write_room(dir: &Path, ext: &str, texel: f64) -> (Scene, PathBuf) {
     let mut b = SceneBuilder::new();
-    let grey = b.material("grey", 0.5);
-    let white = b.material("white", 0.8);
-    b.floor("floor", 1.0, 0.0, grey);
-    let p = DVec3::new;
-    let wall = |x: f64| {
-        [
-            p(x, 0.0, -1.0),
-            p(x, 0.0, 1.0),
-            p(x, 1.0, 1.0),
-            p(x, 1.0, -1.0),
-        ]
-    };
-    let w = wall(-1.0);
-    b.quad("wall_grey", wall(1.0), grey);
-    b.quad("wall_white", [w[0], w[3], w[2], w[1]], white);
-    b.point_light("lamp", p(0.0, 1.0, 0.0), 2400.0);
+    floor_and_walls(&mut b);
+    b.point_light("lamp", DVec3::new(0.0, 1.0, 0.0), 2400.0);
     let scene = b.build();
     let r = bake(&scene, &settings(0.25, texel), &Silent).unwrap();
     let path = dir.join(format!("lit.{ext}"));

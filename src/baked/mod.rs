@@ -16,9 +16,9 @@ pub mod model;
 mod read;
 mod texels;
 
+pub use lightmaps::CHANNELS as LIGHTMAP_CHANNELS;
 pub use model::{
     BakedOutput, Lightmap, LightmapUse, MaterialInfo, NodeInfo, PlaneInput, PlanePoint, Primitive,
     ProbeNode, Texel,
 };
-pub use lightmaps::CHANNELS as LIGHTMAP_CHANNELS;
 pub use read::{as_written, from_glb, from_prepared, read};

@@ -79,7 +79,7 @@ pub struct BakeArgs {
     #[arg(
         long,
         value_name = "PX",
-        default_value_t = 2048,
+        default_value_t = LightmapSettings::default().max_size,
         requires = "lightmaps"
     )]
     lightmap_size: u32,

@@ -15,14 +15,12 @@ use luxbake::settings::{ProbeGrid, Quality, Settings};
 use serde_json::Value;
 use std::path::{Path, PathBuf};
 
-/// A 2 × 2 m floor (ρ 0.5), a grey wall (ρ 0.5) at x = 1 and a white one (ρ 0.8) at x = −1, a
-/// double-sided divider (front and back primitives) at z = 0.5, all under a parent node `room`;
-/// an isotropic point light of `flux` lm at (0, 1, 0).
-pub fn room(flux: f64) -> Scene {
-    let mut b = SceneBuilder::new();
+/// A 2 × 2 m floor (ρ 0.5, nodes 0) at y = 0 between two 1 m high walls facing it:
+/// `wall_grey` (ρ 0.5) at x = 1 facing −x (node 1), `wall_white` (ρ 0.8) at x = −1 facing +x
+/// (node 2). Returns the grey and white materials.
+pub fn floor_and_walls(b: &mut SceneBuilder) -> (usize, usize) {
     let grey = b.material("grey", 0.5);
     let white = b.material("white", 0.8);
-    let card = b.material_full("card", DVec3::splat(0.6), None, true);
     b.floor("floor", 1.0, 0.0, grey);
     let p = DVec3::new;
     let wall = |x: f64| {
@@ -36,6 +34,34 @@ pub fn room(flux: f64) -> Scene {
     let w = wall(-1.0);
     b.quad("wall_grey", wall(1.0), grey);
     b.quad("wall_white", [w[0], w[3], w[2], w[1]], white);
+    (grey, white)
+}
+
+/// Move the roots `children` under a new root node `name` (the scene's last node).
+pub fn group(scene: &mut Scene, name: &str, children: Vec<usize>) {
+    scene.roots.retain(|r| !children.contains(r));
+    scene.roots.push(scene.nodes.len());
+    scene.nodes.push(Node {
+        name: Some(name.into()),
+        source_path: format!("/nodes/{}", scene.nodes.len()),
+        children,
+        local: LocalTransform::default(),
+        world_from_local: glam::DMat4::IDENTITY,
+        mesh_name: None,
+        surfaces: Vec::new(),
+        light: None,
+        camera: None,
+        extras: None,
+    });
+}
+
+/// [`floor_and_walls`], a double-sided divider (ρ 0.6, front and back primitives) at z = 0.5,
+/// all four under a parent node `room`; an isotropic point light of `flux` lm at (0, 1, 0).
+pub fn room(flux: f64) -> Scene {
+    let mut b = SceneBuilder::new();
+    floor_and_walls(&mut b);
+    let card = b.material_full("card", DVec3::splat(0.6), None, true);
+    let p = DVec3::new;
     b.quad(
         "divider",
         [
@@ -48,21 +74,7 @@ pub fn room(flux: f64) -> Scene {
     );
     b.point_light("lamp", p(0.0, 1.0, 0.0), flux);
     let mut scene = b.build();
-    let children: Vec<usize> = vec![0, 1, 2, 3];
-    scene.roots.retain(|r| !children.contains(r));
-    scene.roots.push(scene.nodes.len());
-    scene.nodes.push(Node {
-        name: Some("room".into()),
-        source_path: format!("/nodes/{}", scene.nodes.len()),
-        children,
-        local: LocalTransform::default(),
-        world_from_local: glam::DMat4::IDENTITY,
-        mesh_name: None,
-        surfaces: Vec::new(),
-        light: None,
-        camera: None,
-        extras: None,
-    });
+    group(&mut scene, "room", vec![0, 1, 2, 3]);
     scene
 }
 

@@ -39,6 +39,32 @@ where
     }
 }
 
+/// Bake `input` to `output` at draft quality with `extra` arguments.
+pub fn bake_draft<S: AsRef<OsStr>>(input: &Path, output: &Path, extra: &[S]) -> Run {
+    let mut args: Vec<&OsStr> = vec![
+        input.as_os_str(),
+        "-o".as_ref(),
+        output.as_os_str(),
+        "--quality".as_ref(),
+        "draft".as_ref(),
+    ];
+    args.extend(extra.iter().map(AsRef::as_ref));
+    bake(args)
+}
+
+/// Bake `input` into `out/lit.gltf` at draft quality with `extra` arguments.
+pub fn bake_draft_into<S: AsRef<OsStr>>(input: &Path, out: &Path, extra: &[S]) -> Run {
+    bake_draft(input, &out.join("lit.gltf"), extra)
+}
+
+/// The minimal scene as `in/scene.gltf` (buffer `scene.bin`) and an empty `out/`, in
+/// `scratch(name)`: (the scene, `in`, `out`).
+pub fn mini_in(name: &str) -> (PathBuf, PathBuf, PathBuf) {
+    let (input, out) = super::in_out(name);
+    let gltf = Mini::new().write_gltf(&input, "scene.gltf", Some("scene.bin"));
+    (gltf, input, out)
+}
+
 /// The sorted names of the files in `dir` (hidden ones included), a side file's content hash
 /// shown as `#` (`lit.#.bin`, `lit.lightmap0.#.exr`; see [`super::unhashed`]).
 pub fn listing(dir: &Path) -> Vec<String> {

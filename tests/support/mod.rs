@@ -47,3 +47,13 @@ pub fn scratch(name: &str) -> PathBuf {
     std::fs::create_dir_all(&dir).unwrap();
     dir
 }
+
+/// A test's folders: `scratch(name)/in/` for the input, `scratch(name)/out/` (empty) for the
+/// output.
+pub fn in_out(name: &str) -> (PathBuf, PathBuf) {
+    let dir = scratch(name);
+    let (input, out) = (dir.join("in"), dir.join("out"));
+    std::fs::create_dir(&input).unwrap();
+    std::fs::create_dir(&out).unwrap();
+    (input, out)
+}
