@@ -7,7 +7,7 @@
 mod support;
 
 use std::path::{Path, PathBuf};
-use support::cli::{Mini, Run, bake, bake_draft_into, listing};
+use support::cli::{Mini, Run, assert_error_line, bake, bake_draft_into, listing};
 use support::{in_out, tools};
 
 /// A test's folders: `in/` for the input, `out/` (empty) for the output.
@@ -23,35 +23,6 @@ fn assert_refused(run: &Run, out: &Path, needles: &[&str]) {
         Vec::<String>::new(),
         "output folder not empty"
     );
-}
-
-/// Non-zero exit and one `error:` line on stderr holding every needle.
-fn assert_error_line(run: &Run, needles: &[&str]) {
-    assert!(!run.ok(), "expected a failure, got {run:?}");
-    assert!(run.code.is_some(), "killed by a signal: {run:?}");
-    assert!(
-        run.stderr.starts_with("error: ") && run.stderr.ends_with('\n'),
-        "stderr must be one `error:` line:\n{}",
-        run.stderr
-    );
-    assert_eq!(
-        run.stderr.lines().count(),
-        1,
-        "stderr must be ONE line:\n{}",
-        run.stderr
-    );
-    assert!(
-        !run.stderr.contains("panicked"),
-        "a panic, not an error: {}",
-        run.stderr
-    );
-    for needle in needles {
-        assert!(
-            run.stderr.contains(needle),
-            "expected '{needle}' in: {}",
-            run.stderr
-        );
-    }
 }
 
 #[test]

@@ -8,7 +8,7 @@ mod support;
 
 use serde_json::{Value, json};
 use std::path::{Path, PathBuf};
-use support::cli::{Mini, Run, bake, bake_draft_into, listing};
+use support::cli::{Mini, Run, assert_error_line, bake, bake_draft_into, listing};
 use support::{bakes, in_out};
 
 /// A test's folders: `in/` for the input, `out/` (empty) for the output.
@@ -26,18 +26,7 @@ fn variant(input: &Path, name: &str, edit: impl FnOnce(&mut Value)) -> PathBuf {
 /// Exit code 1, one `error:` line holding every needle, nothing written to `out`.
 fn assert_refused(run: &Run, out: &Path, needles: &[&str]) {
     assert_eq!(run.code, Some(1), "{run:?}");
-    assert!(
-        run.stderr.starts_with("error: ") && run.stderr.lines().count() == 1,
-        "stderr must be one `error:` line:\n{}",
-        run.stderr
-    );
-    for needle in needles {
-        assert!(
-            run.stderr.contains(needle),
-            "expected '{needle}' in: {}",
-            run.stderr
-        );
-    }
+    assert_error_line(run, needles);
     assert_eq!(
         listing(out),
         Vec::<String>::new(),

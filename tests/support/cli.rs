@@ -65,6 +65,35 @@ pub fn mini_in(name: &str) -> (PathBuf, PathBuf, PathBuf) {
     (gltf, input, out)
 }
 
+/// Non-zero exit and one `error:` line on stderr holding every needle.
+pub fn assert_error_line(run: &Run, needles: &[&str]) {
+    assert!(!run.ok(), "expected a failure, got {run:?}");
+    assert!(run.code.is_some(), "killed by a signal: {run:?}");
+    assert!(
+        run.stderr.starts_with("error: ") && run.stderr.ends_with('\n'),
+        "stderr must be one `error:` line:\n{}",
+        run.stderr
+    );
+    assert_eq!(
+        run.stderr.lines().count(),
+        1,
+        "stderr must be ONE line:\n{}",
+        run.stderr
+    );
+    assert!(
+        !run.stderr.contains("panicked"),
+        "a panic, not an error: {}",
+        run.stderr
+    );
+    for needle in needles {
+        assert!(
+            run.stderr.contains(needle),
+            "expected '{needle}' in: {}",
+            run.stderr
+        );
+    }
+}
+
 /// The sorted names of the files in `dir` (hidden ones included), a side file's content hash
 /// shown as `#` (`lit.#.bin`, `lit.lightmap0.#.exr`; see [`super::unhashed`]).
 pub fn listing(dir: &Path) -> Vec<String> {
