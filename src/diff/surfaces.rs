@@ -17,7 +17,7 @@
 use super::matching::Matched;
 use super::stats::{Columns, Loc};
 use super::{BakedOutput, Quantity};
-use crate::baked::Primitive;
+use crate::baked::{LightmapUse, Primitive};
 use glam::DVec2;
 
 /// Test a pair of values (A, B) at a place and add it to the columns.
@@ -84,12 +84,7 @@ pub(super) fn texels(
     let mut seen: Vec<Vec<bool>> = (b.lightmaps.iter())
         .map(|l| vec![false; l.footprint.len()])
         .collect();
-    for (k, j, pa, pb) in pairs(a, b, m) {
-        cols.run(Some(k), Some(m.material_of_b[pb.material]));
-        let (Some(la), Some(lb)) = (&pa.lightmap, &pb.lightmap) else {
-            vertex_run(q, (k, j), (pa, pb), None, cols, push);
-            continue;
-        };
+    lightmapped_pairs(q, a, b, m, cols, push, |k, j, _, (la, lb), cols, push| {
         let (ma, mb) = (&a.lightmaps[la.lightmap], &b.lightmaps[lb.lightmap]);
         for t in &lb.texels {
             let i = t.index as usize;
@@ -103,7 +98,7 @@ pub(super) fn texels(
                 push(cols, loc, q.texel(ma, i), q.texel(mb, i));
             }
         }
-    }
+    });
     cols.run(None, None);
     for (l, (ma, mb)) in a.lightmaps.iter().zip(&b.lightmaps).enumerate() {
         for (i, &on) in seen[l].iter().enumerate() {
@@ -128,12 +123,7 @@ pub(super) fn samples(
     cols: &mut Columns,
     push: &mut Push,
 ) {
-    for (k, j, pa, pb) in pairs(a, b, m) {
-        cols.run(Some(k), Some(m.material_of_b[pb.material]));
-        let (Some(la), Some(lb)) = (&pa.lightmap, &pb.lightmap) else {
-            vertex_run(q, (k, j), (pa, pb), None, cols, push);
-            continue;
-        };
+    lightmapped_pairs(q, a, b, m, cols, push, |k, j, pb, (la, lb), cols, push| {
         let (ma, mb) = (&a.lightmaps[la.lightmap], &b.lightmaps[lb.lightmap]);
         let read_a = |uv: DVec2| ma.bilinear(|i| q.texel(ma, i), uv);
         let read_b = |uv: DVec2| mb.bilinear(|i| q.texel(mb, i), uv);
@@ -159,6 +149,33 @@ pub(super) fn samples(
                 read_a(centroid(&la.uv)),
                 read_b(centroid(&lb.uv)),
             );
+        }
+    });
+}
+
+/// One run per matched primitive pair: `each` (node pair, primitive, B's primitive, the two
+/// lightmap uses) where both are lightmapped, vertex by vertex where not.
+fn lightmapped_pairs(
+    q: Quantity,
+    a: &BakedOutput,
+    b: &BakedOutput,
+    m: &Matched,
+    cols: &mut Columns,
+    push: &mut Push,
+    mut each: impl FnMut(
+        usize,
+        usize,
+        &Primitive,
+        (&LightmapUse, &LightmapUse),
+        &mut Columns,
+        &mut Push,
+    ),
+) {
+    for (k, j, pa, pb) in pairs(a, b, m) {
+        cols.run(Some(k), Some(m.material_of_b[pb.material]));
+        match (&pa.lightmap, &pb.lightmap) {
+            (Some(la), Some(lb)) => each(k, j, pb, (la, lb), cols, push),
+            _ => vertex_run(q, (k, j), (pa, pb), None, cols, push),
         }
     }
 }
