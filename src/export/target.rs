@@ -179,9 +179,8 @@ impl Target {
 
 /// The JSON of a `.gltf` file or of a `.glb`'s first chunk.
 fn json_of(bytes: &[u8]) -> Option<serde_json::Value> {
-    let chunk = if bytes.starts_with(b"glTF") {
-        let len = u32::from_le_bytes(bytes.get(12..16)?.try_into().ok()?) as usize;
-        bytes.get(20..20usize.checked_add(len)?)?
+    let chunk = if crate::import::is_glb(bytes) {
+        crate::import::parse_glb(bytes).ok()?.json
     } else {
         bytes
     };

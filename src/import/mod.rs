@@ -22,6 +22,7 @@ mod obj_mtl;
 mod resources;
 
 pub use checks::{MAX_COORDINATE, MAX_PHOTOMETRIC};
+pub(crate) use glb::{is_glb, parse as parse_glb};
 pub use gltf::file::{GltfFile, Primitive as GltfPrimitive};
 
 use crate::{Error, Result, scene::Scene};
