@@ -135,6 +135,18 @@ pub struct Surface {
     pub triangles: Vec<[u32; 3]>,
 }
 
+impl Scene {
+    /// The world-space box around every surface's vertices (m), if there is any vertex.
+    pub fn bounds(&self) -> Option<(DVec3, DVec3)> {
+        let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
+        for p in self.surfaces.iter().flat_map(|s| s.positions.iter()) {
+            lo = lo.min(*p);
+            hi = hi.max(*p);
+        }
+        (lo.x <= hi.x).then_some((lo, hi))
+    }
+}
+
 impl Surface {
     /// Total area of its triangles (m²).
     pub fn area(&self) -> f64 {

@@ -25,7 +25,6 @@ use crate::error::{Error, Result};
 use crate::patches::refine::triangle_patches;
 use crate::scene::Scene;
 use crate::settings::Settings;
-use glam::DVec3;
 
 /// Peak resident bytes per *estimated* patch (links, tree, receivers, output) and of the rest of
 /// a run, from measured peaks, rounded up so the estimate errs high (`bench/results/limits.md`).
@@ -254,18 +253,10 @@ fn round_up(x: f64) -> String {
     )
 }
 
-/// The box around the scene's vertices, if it has any.
-fn bounds(scene: &Scene) -> Option<(DVec3, DVec3)> {
-    let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
-    for p in scene.surfaces.iter().flat_map(|s| s.positions.iter()) {
-        lo = lo.min(*p);
-        hi = hi.max(*p);
-    }
-    (lo.x <= hi.x).then_some((lo, hi))
-}
-
 fn scene_diagonal(scene: &Scene) -> f64 {
-    bounds(scene).map_or(1.0, |(lo, hi)| (hi - lo).length().max(1e-9))
+    scene
+        .bounds()
+        .map_or(1.0, |(lo, hi)| (hi - lo).length().max(1e-9))
 }
 
 /// Probes the settings ask for, refused above `max`.
@@ -274,7 +265,7 @@ fn probes(scene: &Scene, settings: &Settings, max: f64) -> Result<f64> {
     total += (scene.nodes.iter())
         .filter(|n| n.extras.as_ref().is_some_and(|e| !e["probe"].is_null()))
         .count() as f64;
-    let Some((lo, hi)) = bounds(scene) else {
+    let Some((lo, hi)) = scene.bounds() else {
         return Ok(total);
     };
     let grids = [

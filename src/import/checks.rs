@@ -320,14 +320,9 @@ fn warn_default_material(scene: &mut Scene) {
 
 /// Warn about probe nodes outside the box of every surface (grown by a tenth of its size).
 fn warn_far_probes(scene: &mut Scene) {
-    let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
-    for p in scene.surfaces.iter().flat_map(|s| &s.positions) {
-        lo = lo.min(*p);
-        hi = hi.max(*p);
-    }
-    if lo.x > hi.x {
+    let Some((lo, hi)) = scene.bounds() else {
         return;
-    }
+    };
     let grow = (hi - lo).max_element() * 0.1;
     let (lo, hi) = (lo - DVec3::splat(grow), hi + DVec3::splat(grow));
     for node in &scene.nodes {

@@ -135,14 +135,9 @@ pub fn grid(
     origin: ProbeOrigin,
     progress: &dyn Progress,
 ) -> Vec<Probe> {
-    let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
-    for p in scene.surfaces.iter().flat_map(|s| s.positions.iter()) {
-        lo = lo.min(*p);
-        hi = hi.max(*p);
-    }
-    if lo.x > hi.x {
+    let Some((lo, hi)) = scene.bounds() else {
         return Vec::new();
-    }
+    };
     let [nx, nz] = grid_counts(lo, hi, g.spacing).map(|n| n as usize);
     let (x0, z0) = (
         lo.x + (hi.x - lo.x - (nx - 1) as f64 * g.spacing) / 2.0,
