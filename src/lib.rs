@@ -22,6 +22,8 @@ pub mod import;
 pub mod lightmap;
 pub mod patches;
 pub mod photometry;
+pub mod picture;
+pub mod plan;
 pub mod probes;
 pub mod progress;
 pub mod report;
@@ -32,6 +34,7 @@ pub mod solution;
 pub mod solve;
 pub mod summary;
 pub mod transport;
+pub mod view;
 pub mod visibility;
 
 pub use error::{Error, Result};

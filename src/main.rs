@@ -33,6 +33,11 @@ enum Command {
     /// Compare two bakes: vertex or lightmap texel by texel, by node/material means or by probes (exit 0 within
     /// tolerance, 1 not, 2 not comparable).
     Diff(cli::diff::DiffArgs),
+    /// Render a luminance image (EXR, cd/m²) of a baked output from a camera, tone mapped or in
+    /// false colour.
+    View(cli::view::ViewArgs),
+    /// Draw a false-colour isolux plan of the working plane or of a planar node (SVG or PNG).
+    Plan(cli::plan::PlanArgs),
     /// Write a scene built in code as an input glTF (e.g. the benchmark's open-plan office).
     Generate(cli::generate::GenerateArgs),
 }
@@ -70,6 +75,8 @@ fn main() {
         Some(Command::Report(a)) => cli::report::run(a),
         Some(Command::Diff(_)) => unreachable!("handled above"),
         Some(Command::Generate(a)) => cli::generate::run(a),
+        Some(Command::View(a)) => cli::view::run(a),
+        Some(Command::Plan(a)) => cli::plan::run(a),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");

@@ -5,6 +5,8 @@ pub mod bake;
 pub mod diff;
 pub mod generate;
 pub mod luminaire;
+pub mod plan;
 pub mod probes;
 pub mod progress;
 pub mod report;
+pub mod view;

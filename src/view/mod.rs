@@ -1,0 +1,1 @@
+//! Luminance images of a finished bake seen through a pinhole camera (`bake view`).
