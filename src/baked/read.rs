@@ -18,13 +18,15 @@
 //! - the run summary as stored (read typed by whoever needs it: `BakedOutput::run_summary`);
 //! - the lightmap atlases its materials name ([`super::lightmaps`]) and, per primitive whose
 //!   material names one, its layout (`TEXCOORD_<texCoord>`) and the texels it stands on
-//!   ([`super::texels`]); a lightmapped variant's `extras.luxbake.variantOf`.
+//!   ([`super::texels`]); a lightmapped variant's `extras.luxbake.variantOf`;
+//! - each material's display factors ([`Look`]) and each baked primitive's `COLOR_0`; the
+//!   scene's camera nodes ([`super::cameras`]).
 //!
 //! A file with no `_ILLUMINANCE` anywhere is not a luxbake output: an error saying so.
 
 use super::lightmaps::{self, Layouts};
 use super::model::{
-    BakedOutput, LightmapUse, MaterialInfo, NodeInfo, PlaneInput, PlanePoint, Primitive, ProbeNode,
+    BakedOutput, LightmapUse, Look, MaterialInfo, NodeInfo, PlaneInput, PlanePoint, Primitive, ProbeNode,
     parents,
 };
 use super::texels::{Scratch, rasterise};
@@ -129,6 +131,7 @@ fn from_file(file: &mut GltfFile, memory: Option<&Lightmaps>) -> Result<BakedOut
             name: name.clone(),
             reflectance: reflectances[i].unwrap_or(0.0),
             variant_of: variant_of(i),
+            look: look(&json["materials"][i]),
         })
         .collect();
     Ok(BakedOutput {
@@ -138,6 +141,7 @@ fn from_file(file: &mut GltfFile, memory: Option<&Lightmaps>) -> Result<BakedOut
         probes,
         working_plane: (!points.is_empty()).then_some(PlaneInput { points }),
         lightmaps: layouts.lightmaps,
+        cameras: super::cameras::read(file)?,
         summary: file
             .scene_extras()
             .map(|e| e["luxbake"].clone())
@@ -181,6 +185,27 @@ fn probe_nodes(file: &GltfFile) -> Result<Vec<ProbeNode>> {
     Ok(probes)
 }
 
+/// A material's display factors as written.
+fn look(m: &Value) -> Look {
+    let numbers = |v: &Value, default: &[f64]| -> Vec<f64> {
+        let got: Vec<f64> = (v.as_array().into_iter().flatten())
+            .filter_map(Value::as_f64)
+            .collect();
+        if got.len() == default.len() { got } else { default.to_vec() }
+    };
+    let b = numbers(&m["pbrMetallicRoughness"]["baseColorFactor"], &[1.0; 4]);
+    let e = numbers(&m["emissiveFactor"], &[0.0; 3]);
+    let t = &m["emissiveTexture"];
+    Look {
+        base_color: [b[0], b[1], b[2], b[3]],
+        emissive: [e[0], e[1], e[2]],
+        emissive_texture: t["index"]
+            .as_u64()
+            .map(|i| (i as usize, t["texCoord"].as_u64().unwrap_or(0) as u32)),
+        unlit: !m["extensions"]["KHR_materials_unlit"].is_null(),
+    }
+}
+
 /// Y of a reflectance written as `[r, g, b]` (or a single number).
 fn reflectance(v: &Value) -> Option<f64> {
     if let Some(x) = v.as_f64() {
@@ -215,6 +240,10 @@ fn primitive(
     let illuminance = scalar("_ILLUMINANCE")?;
     let illuminance_direct = scalar("_ILLUMINANCE_DIRECT")?;
     let luminance = scalar("_LUMINANCE")?;
+    let color = match p.has("COLOR_0") {
+        true => Some(colors(p)?),
+        false => None,
+    };
     let positions: Vec<DVec3> = p
         .positions()?
         .into_iter()
@@ -251,8 +280,21 @@ fn primitive(
         illuminance,
         illuminance_direct,
         luminance,
+        color,
         lightmap,
     }))
+}
+
+/// `COLOR_0` as RGB (a VEC4's alpha dropped).
+fn colors(p: &GltfPrimitive) -> Result<Vec<[f32; 3]>> {
+    let (raw, n) = match p.read("COLOR_0", 3) {
+        Ok(raw) => (raw, 3),
+        Err(_) => (p.read("COLOR_0", 4)?, 4),
+    };
+    Ok(raw
+        .chunks_exact(n)
+        .map(|c| [c[0] as f32, c[1] as f32, c[2] as f32])
+        .collect())
 }
 
 /// The `+y` faces of the probes under the root `probes` → `working_plane`.
