@@ -49,6 +49,8 @@ pub struct MaterialInfo {
     pub name: Option<String>,
     /// Photometric reflectance: Y of the linear RGB reflectance the bake used.
     pub reflectance: f64,
+    /// The linear RGB reflectance the bake used (grey `reflectance` when written as one number).
+    pub reflectance_rgb: DVec3,
     /// For a lightmapped variant (`extras.luxbake.variantOf`): the material it was made from.
     pub variant_of: Option<usize>,
     /// What a glTF viewer shows of it (for `bake view --display`).

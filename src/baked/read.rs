@@ -92,8 +92,14 @@ fn from_file(file: &mut GltfFile, memory: Option<&Lightmaps>) -> Result<BakedOut
         .collect();
     let json = file.json();
     let names = file.material_names();
-    let reflectances: Vec<Option<f64>> = (0..names.len())
+    let reflectances_rgb: Vec<Option<DVec3>> = (0..names.len())
         .map(|i| reflectance(&json["materials"][i]["extras"]["luxbake"]["reflectance"]))
+        .collect();
+    let reflectances: Vec<Option<f64>> = (0..names.len())
+        .map(|i| {
+            let v = &json["materials"][i]["extras"]["luxbake"]["reflectance"];
+            v.as_f64().or(reflectances_rgb[i].map(luma))
+        })
         .collect();
     let variant_of = |i: usize| {
         let v = json["materials"][i]["extras"]["luxbake"]["variantOf"].as_u64();
@@ -130,6 +136,7 @@ fn from_file(file: &mut GltfFile, memory: Option<&Lightmaps>) -> Result<BakedOut
         .map(|(i, name)| MaterialInfo {
             name: name.clone(),
             reflectance: reflectances[i].unwrap_or(0.0),
+            reflectance_rgb: reflectances_rgb[i].unwrap_or(DVec3::ZERO),
             variant_of: variant_of(i),
             look: look(&json["materials"][i]),
         })
@@ -206,14 +213,14 @@ fn look(m: &Value) -> Look {
     }
 }
 
-/// Y of a reflectance written as `[r, g, b]` (or a single number).
-fn reflectance(v: &Value) -> Option<f64> {
+/// A reflectance written as `[r, g, b]` (or a single number, grey).
+fn reflectance(v: &Value) -> Option<DVec3> {
     if let Some(x) = v.as_f64() {
-        return Some(x);
+        return Some(DVec3::splat(x));
     }
     let a = v.as_array().filter(|a| a.len() == 3)?;
     let c: Vec<f64> = a.iter().filter_map(Value::as_f64).collect();
-    (c.len() == 3).then(|| luma(DVec3::new(c[0], c[1], c[2])))
+    (c.len() == 3).then(|| DVec3::new(c[0], c[1], c[2]))
 }
 
 /// A baked primitive, or `None` when it has no `_ILLUMINANCE` or is not made of triangles.

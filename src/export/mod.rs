@@ -36,6 +36,7 @@ mod probes;
 pub mod summary;
 mod target;
 
+pub use exr::{ViewImage, ascii_json, encode_view};
 pub use glyphs::scale as glyph_scale;
 pub use target::content_hash;
 
