@@ -144,11 +144,15 @@ impl<'a> Surfaces<'a> {
         })
     }
 
-    /// Does a ray from `origin` along `dir` first meet the back of a triangle (any facing)?
+    /// Does a ray from `origin` along `dir` meet the back of a triangle no farther than the
+    /// first front face (a tie counts: a box standing on a floor)?
     pub fn meets_back_face(&self, origin: DVec3, dir: DVec3) -> bool {
+        let Some(back) = self.occluder.closest_back(origin, dir) else {
+            return false;
+        };
         self.occluder
-            .closest(origin, dir)
-            .is_some_and(|h| h.normal.dot(dir) > 0.0)
+            .closest_front(origin, dir)
+            .is_none_or(|f| back.distance <= f.distance + self.occluder.epsilon)
     }
 
     fn interpolate<T>(&self, h: &SurfaceHit, values: &[T], f: impl Fn(&T) -> DVec3) -> DVec3 {

@@ -292,12 +292,22 @@ impl Occluder {
     /// distance (m) and unit geometric normal. The ray starts at `origin` itself, not pulled off
     /// anything, so of a front and a back triangle in one plane the front one is found.
     pub fn closest_front(&self, origin: DVec3, dir: DVec3) -> Option<Hit> {
+        self.closest_facing(origin, dir, true)
+    }
+
+    /// [`Occluder::closest_front`] for the triangles whose BACK the ray meets (the front faces
+    /// culled): the first back face along the ray.
+    pub fn closest_back(&self, origin: DVec3, dir: DVec3) -> Option<Hit> {
+        self.closest_facing(origin, dir, false)
+    }
+
+    fn closest_facing(&self, origin: DVec3, dir: DVec3, front: bool) -> Option<Hit> {
         let bvh = self.all.bvh.as_ref()?;
         self.rays.add();
         let ray = self.ray(origin, dir, f64::INFINITY);
         let mut hit = RayHit::none();
         let tris = &self.all.triangles;
-        if !bvh.ray_traverse(ray, &mut hit, |r, id| intersect_front(&tris[id], r)) {
+        if !bvh.ray_traverse(ray, &mut hit, |r, id| intersect_facing(&tris[id], r, front)) {
             return None;
         }
         let t = &tris[hit.primitive_id as usize];
@@ -402,10 +412,12 @@ impl Boundable for Padded {
     }
 }
 
-/// [`intersect`] for a triangle seen from its front only (∞ when the ray meets its back).
-fn intersect_front(t: &Triangle, ray: &Ray) -> f32 {
+/// [`intersect`] for a triangle seen from its front only (`front`; ∞ when the ray meets its
+/// back), or from its back only.
+fn intersect_facing(t: &Triangle, ray: &Ray, front: bool) -> f32 {
     let n = (t.v1.as_dvec3() - t.v0.as_dvec3()).cross(t.v2.as_dvec3() - t.v0.as_dvec3());
-    if n.dot(ray.direction.as_dvec3()) >= 0.0 {
+    let towards = n.dot(ray.direction.as_dvec3());
+    if (front && towards >= 0.0) || (!front && towards <= 0.0) {
         return f32::INFINITY;
     }
     intersect(t, ray)
