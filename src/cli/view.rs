@@ -46,7 +46,8 @@ pub struct ViewArgs {
     /// Rays start this far in front of the eye (m) [default: the camera's znear, or 0].
     #[arg(long, value_name = "M")]
     near: Option<f64>,
-    /// Antialiasing rays per pixel (1: the centre only; 4: rotated grid).
+    /// Antialiasing rays per pixel: 1 (the centre only), 4 (rotated grid) or a square (9, 16, …
+    /// 256: a regular grid).
     #[arg(long, value_name = "N", default_value_t = 4)]
     samples: u32,
     /// Worker threads (default: all cores); the image does not depend on it.
@@ -175,13 +176,7 @@ fn camera_text(c: &Camera, samples: u32) -> String {
 }
 
 pub fn run(args: &ViewArgs) -> Result<()> {
-    if args.samples == 0 || args.samples > view::MAX_SAMPLES {
-        return Err(usage(format!(
-            "--samples {}: must be 1 to {}",
-            args.samples,
-            view::MAX_SAMPLES
-        )));
-    }
+    view::check_samples(args.samples)?;
     if let Some(s) = &args.size {
         size(s)?;
     }

@@ -154,8 +154,8 @@ impl Camera {
 }
 
 /// Fixed antialiasing offsets from a pixel's centre (in pixels, within ±0.5): the centre alone
-/// for 1 sample, the rotated grid for 4, else the first `n` points of the R2 sequence (Roberts
-/// 2018), all deterministic.
+/// for 1 sample, the rotated grid for 4, a regular k × k grid for n = k² (see
+/// [`valid_samples`]); all deterministic, centred on the pixel's centre.
 pub fn sample_offsets(n: u32) -> Vec<DVec2> {
     match n {
         0 | 1 => vec![DVec2::ZERO],
@@ -163,14 +163,19 @@ pub fn sample_offsets(n: u32) -> Vec<DVec2> {
             .map(|(x, y)| DVec2::new(x, y))
             .to_vec(),
         _ => {
-            // The plastic number's R2 sequence: evenly spread for any count.
-            let g = 1.324_717_957_244_746;
-            let a = DVec2::new(1.0 / g, 1.0 / (g * g));
-            (0..n)
-                .map(|i| (DVec2::splat(0.5) + a * (i as f64 + 1.0)).fract() - DVec2::splat(0.5))
+            let k = (n as f64).sqrt().round() as u32;
+            let at = |i: u32| (i as f64 + 0.5) / k as f64 - 0.5;
+            (0..k * k)
+                .map(|i| DVec2::new(at(i % k), at(i / k)))
                 .collect()
         }
     }
+}
+
+/// Sample counts [`sample_offsets`] knows: 1, 4 and the squares of 3…16.
+pub fn valid_samples(n: u32) -> bool {
+    let k = (n as f64).sqrt().round() as u32;
+    (1..=256).contains(&n) && k * k == n
 }
 
 #[cfg(test)]
@@ -203,12 +208,14 @@ mod tests {
 
     #[test]
     fn offsets_stay_inside_the_pixel_and_average_to_its_centre() {
-        for n in [1, 4, 9, 16] {
+        for n in [1, 4, 9, 16, 256] {
             let o = sample_offsets(n);
             assert_eq!(o.len(), n as usize);
+            assert!(!valid_samples(n + 1));
             assert!(o.iter().all(|p| p.x.abs() < 0.5 && p.y.abs() < 0.5));
             let mean = o.iter().sum::<DVec2>() / n as f64;
-            assert!(mean.length() < 0.1, "{n}: {mean}");
+            assert!(mean.length() < 1e-12, "{n}: {mean}");
+            assert!(valid_samples(n));
         }
     }
 }

@@ -60,10 +60,10 @@ impl<'a> Openings<'a> {
     }
 
     /// The nearest opening along the unit `dir` from `origin` within `tmax`: (distance,
-    /// luminance RGB in cd/m²).
-    pub fn seen(&self, origin: DVec3, dir: DVec3, tmax: f64) -> Option<(f64, DVec3)> {
-        let mut best: Option<(f64, DVec3)> = None;
-        for o in &self.openings {
+    /// luminance RGB in cd/m², which opening).
+    pub fn seen(&self, origin: DVec3, dir: DVec3, tmax: f64) -> Option<(f64, DVec3, usize)> {
+        let mut best: Option<(f64, DVec3, usize)> = None;
+        for (k, o) in self.openings.iter().enumerate() {
             let to_local = o.source.world_from_photometric.transpose();
             let p = to_local * (origin - o.source.position);
             let d = to_local * dir;
@@ -76,7 +76,7 @@ impl<'a> Openings<'a> {
                 continue;
             }
             let l = o.source.intensity(-dir) / area;
-            best = Some((t, o.source.color * l));
+            best = Some((t, o.source.color * l, k));
         }
         best
     }

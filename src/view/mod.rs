@@ -79,6 +79,16 @@ impl View {
     }
 }
 
+/// Check a sample count: 1, 4, 9, 16, … 256 (a square, at most [`MAX_SAMPLES`]).
+pub fn check_samples(n: u32) -> Result<()> {
+    match camera::valid_samples(n) && n <= MAX_SAMPLES {
+        true => Ok(()),
+        false => Err(Error::Settings(format!(
+            "--samples {n}: must be 1, 4 or a square up to {MAX_SAMPLES} (9, 16, 25, …)"
+        ))),
+    }
+}
+
 /// The camera node named `name`; an unknown name is an error listing the cameras there are.
 pub fn named_camera(
     baked: &BakedOutput,
@@ -111,12 +121,7 @@ pub fn render(
     camera: &Camera,
     options: &ViewOptions,
 ) -> Result<View> {
-    if !(1..=MAX_SAMPLES).contains(&options.samples) {
-        return Err(Error::Settings(format!(
-            "--samples {}: must be 1 to {MAX_SAMPLES}",
-            options.samples
-        )));
-    }
+    check_samples(options.samples)?;
     let textures = match options.display {
         true => display_textures(baked, scene)?,
         false => Vec::new(),

@@ -1,9 +1,10 @@
-//! Tracing a view: per pixel, rays through fixed antialiasing offsets, each to the first front
-//! face (or a nearer luminaire opening), averaged.
+//! Tracing a view: per pixel, the centre ray and, where the image has an edge, rays through
+//! fixed antialiasing offsets, each to the first front face (or a nearer luminaire opening),
+//! averaged.
 //!
 //! Input: a [`Camera`], the [`Surfaces`], the [`Openings`] and the sample count. Output: per
 //! pixel (row 0 at the top) the mean luminance RGB over its rays (a ray that meets nothing counts
-//! as 0), the mean illuminance of the surface points its rays hit (NaN when none hit), and, when
+//! as 0; which rays: [`trace`]), the mean illuminance of the surface points its rays hit (NaN when none hit), and, when
 //! asked, the display colour: each ray's linear colour sRGB-encoded, then averaged (a
 //! multisampling viewer resolves its encoded output).
 //!
@@ -15,6 +16,7 @@
 use super::camera::{Camera, sample_offsets};
 use super::luminaires::Openings;
 use super::surfaces::Surfaces;
+use crate::scene::luma;
 use glam::{DVec2, DVec3};
 use rayon::prelude::*;
 
@@ -26,8 +28,30 @@ pub struct Pixel {
     pub display: [u8; 3],
 }
 
-/// Trace every pixel of `camera`'s image with `samples` rays each; `display`: also the display
-/// colour.
+/// Relative luminance step between neighbouring centre rays above which a pixel takes its
+/// antialiasing rays.
+const CONTRAST: f64 = 0.02;
+
+/// What one ray sees.
+#[derive(Debug, Clone, Copy)]
+struct Sample {
+    /// What it hit: a primitive's index, an opening's (with the top bit set), or `u32::MAX`.
+    what: u32,
+    luminance: DVec3,
+    /// Illuminance of the surface hit (NaN for none).
+    illuminance: f64,
+    /// Display colour, sRGB-encoded (0 when not asked).
+    display: DVec3,
+}
+
+/// Trace every pixel of `camera`'s image; `display`: also the display colour.
+///
+/// With one sample a pixel is its centre ray. With more, every pixel's centre ray is traced
+/// first; a pixel whose centre sees something else than one of its four neighbours' (another
+/// primitive, an opening, nothing) or a luminance differing by more than 2 % takes the fixed
+/// offsets' rays and their mean; the others keep their centre ray (within a primitive the
+/// values are smooth, and the centre is the mean of a linear variation over the pixel). Both
+/// passes depend on the rays alone, so the image does not depend on the thread count.
 pub fn trace(
     camera: &Camera,
     surfaces: &Surfaces,
@@ -36,64 +60,95 @@ pub fn trace(
     display: bool,
     epsilon: f64,
 ) -> Vec<Pixel> {
+    let (w, h) = (camera.width as usize, camera.height as usize);
+    let ray = |p: DVec2| sample(camera, surfaces, openings, p, display, epsilon);
+    let centres: Vec<Sample> = (0..h)
+        .into_par_iter()
+        .flat_map_iter(|row| {
+            (0..w).map(move |col| ray(DVec2::new(col as f64 + 0.5, row as f64 + 0.5)))
+        })
+        .collect();
+    if samples <= 1 {
+        return centres.iter().map(|s| pixel(&[*s])).collect();
+    }
     let offsets = sample_offsets(samples);
-    let (w, h) = (camera.width, camera.height);
+    let centres = &centres;
+    let offsets = &offsets;
     (0..h)
         .into_par_iter()
         .flat_map_iter(|row| {
-            let offsets = &offsets;
             (0..w).map(move |col| {
+                let c = centres[row * w + col];
+                let differs = |r: usize, k: usize| {
+                    let n = centres[r * w + k];
+                    let (a, b) = (luma(c.luminance), luma(n.luminance));
+                    n.what != c.what || (a - b).abs() > CONTRAST * a.max(b)
+                };
+                let edge = (row > 0 && differs(row - 1, col))
+                    || (row + 1 < h && differs(row + 1, col))
+                    || (col > 0 && differs(row, col - 1))
+                    || (col + 1 < w && differs(row, col + 1));
+                if !edge {
+                    return pixel(&[c]);
+                }
                 let centre = DVec2::new(col as f64 + 0.5, row as f64 + 0.5);
-                pixel(camera, surfaces, openings, centre, offsets, display, epsilon)
+                let rays: Vec<Sample> = offsets.iter().map(|&o| ray(centre + o)).collect();
+                pixel(&rays)
             })
         })
         .collect()
 }
 
-fn pixel(
+/// The mean of a pixel's rays: luminance over all (a miss counts 0), illuminance over those
+/// that hit a surface, encoded display colours over all.
+fn pixel(rays: &[Sample]) -> Pixel {
+    let n = rays.len() as f64;
+    let l = rays.iter().map(|s| s.luminance).sum::<DVec3>() / n;
+    let hits: Vec<f64> = (rays.iter())
+        .map(|s| s.illuminance)
+        .filter(|e| !e.is_nan())
+        .collect();
+    let shown = rays.iter().map(|s| s.display).sum::<DVec3>() / n;
+    Pixel {
+        luminance: [l.x as f32, l.y as f32, l.z as f32],
+        illuminance: match hits.is_empty() {
+            true => f32::NAN,
+            false => (hits.iter().sum::<f64>() / hits.len() as f64) as f32,
+        },
+        display: shown.to_array().map(|c| (c * 255.0).round() as u8),
+    }
+}
+
+/// What the ray through image point `p` sees.
+fn sample(
     camera: &Camera,
     surfaces: &Surfaces,
     openings: &Openings,
-    centre: DVec2,
-    offsets: &[DVec2],
+    p: DVec2,
     display: bool,
     epsilon: f64,
-) -> Pixel {
-    let mut l = DVec3::ZERO;
-    let (mut e, mut hits) = (0.0, 0u32);
-    let mut shown = DVec3::ZERO;
-    for &o in offsets {
-        let dir = camera.direction(centre + o);
-        let origin = camera.origin(dir);
-        let hit = surfaces.hit(origin, dir);
-        let reach = hit.map_or(f64::INFINITY, |h| h.distance + epsilon);
-        let lamp = match openings.is_empty() {
-            true => None,
-            false => openings.seen(origin, dir, reach),
-        };
-        if let Some(h) = &hit {
-            e += surfaces.illuminance(h);
-            hits += 1;
-            if display {
-                shown += surfaces.display(h).map(srgb_encode);
-            }
-        }
-        l += match (lamp, &hit) {
-            (Some((_, lum)), _) => lum,
-            (None, Some(h)) => surfaces.luminance(h),
-            (None, None) => DVec3::ZERO,
-        };
-    }
-    let n = offsets.len() as f64;
-    let l = l / n;
-    Pixel {
-        luminance: [l.x as f32, l.y as f32, l.z as f32],
-        illuminance: if hits > 0 {
-            (e / hits as f64) as f32
-        } else {
-            f32::NAN
+) -> Sample {
+    let dir = camera.direction(p);
+    let origin = camera.origin(dir);
+    let hit = surfaces.hit(origin, dir);
+    let reach = hit.map_or(f64::INFINITY, |h| h.distance + epsilon);
+    let lamp = match openings.is_empty() {
+        true => None,
+        false => openings.seen(origin, dir, reach),
+    };
+    let (what, luminance) = match (lamp, &hit) {
+        (Some((_, lum, k)), _) => (k as u32 | 1 << 31, lum),
+        (None, Some(h)) => (h.primitive as u32, surfaces.luminance(h)),
+        (None, None) => (u32::MAX, DVec3::ZERO),
+    };
+    Sample {
+        what,
+        luminance,
+        illuminance: hit.map_or(f64::NAN, |h| surfaces.illuminance(&h)),
+        display: match (display, &hit) {
+            (true, Some(h)) => surfaces.display(h).map(srgb_encode),
+            _ => DVec3::ZERO,
         },
-        display: (shown / n).to_array().map(|c| (c * 255.0).round() as u8),
     }
 }
 
