@@ -95,10 +95,10 @@ fn uniform_image_is_one_grey() {
         assert_eq!(first[0], srgb8(ld / LD_MAX), "{l}");
     }
     // brighter adaptation in the Weber range keeps the same grey
-    let a = histogram_adjustment(&vec![grey(200.0); 16], 4, 4, 50.0)
+    let a = histogram_adjustment(&[grey(200.0); 16], 4, 4, 50.0)
         .image
         .pixels[0];
-    let b = histogram_adjustment(&vec![grey(2e4); 16], 4, 4, 50.0)
+    let b = histogram_adjustment(&[grey(2e4); 16], 4, 4, 50.0)
         .image
         .pixels[0];
     assert_eq!(a, b);
@@ -205,6 +205,7 @@ fn ceiling_holds_as_the_paper_states() {
             b_min,
             b_max,
             counts,
+            ..
         } = &curve
         else {
             panic!("{name}: {curve:?}")

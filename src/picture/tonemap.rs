@@ -53,11 +53,13 @@ pub struct ToneMapped {
 pub enum ToneCurve {
     /// Ld = scale · Lw (clamped to Ldmax on output).
     Linear { scale: f64 },
-    /// The adjusted histogram: `counts` over [b_min, b_max] (log10 cd/m²), after the ceiling.
+    /// The adjusted histogram: `counts` over [b_min, b_max] (log10 cd/m²), after the ceiling;
+    /// `cumulative[i]`: the share of the counts below bin i (`BINS + 1` values, 0 … 1).
     Histogram {
         b_min: f64,
         b_max: f64,
         counts: Vec<f64>,
+        cumulative: Vec<f64>,
     },
 }
 
@@ -167,11 +169,7 @@ pub fn tone_curve(samples: &[f64]) -> (ToneCurve, f64) {
         if total <= TOLERANCE * samples_total {
             return (linear, adaptation); // no compression needed
         }
-        let curve = ToneCurve::Histogram {
-            b_min,
-            b_max,
-            counts: counts.clone(),
-        };
+        let curve = ToneCurve::histogram(b_min, b_max, counts.clone());
         let mut trimmed = 0.0;
         for (i, count) in counts.iter_mut().enumerate() {
             let lw = 10f64.powf(b_min + (i as f64 + 0.5) * db);
@@ -186,15 +184,28 @@ pub fn tone_curve(samples: &[f64]) -> (ToneCurve, f64) {
             break;
         }
     }
-    let curve = ToneCurve::Histogram {
-        b_min,
-        b_max,
-        counts,
-    };
-    (curve, adaptation)
+    (ToneCurve::histogram(b_min, b_max, counts), adaptation)
 }
 
 impl ToneCurve {
+    /// The histogram curve of `counts` over [b_min, b_max] (log10 cd/m²).
+    pub fn histogram(b_min: f64, b_max: f64, counts: Vec<f64>) -> ToneCurve {
+        let total: f64 = counts.iter().sum();
+        let mut cumulative = Vec::with_capacity(counts.len() + 1);
+        let mut below = 0.0;
+        cumulative.push(0.0);
+        for c in &counts {
+            below += c;
+            cumulative.push(if total > 0.0 { below / total } else { 0.0 });
+        }
+        ToneCurve::Histogram {
+            b_min,
+            b_max,
+            counts,
+            cumulative,
+        }
+    }
+
     /// Display luminance Ld (cd/m²) for world luminance `lw` > 0: in [Ldmin, Ldmax] for the
     /// histogram (clamped at its ends), scale · Lw for the linear curve.
     pub fn display(&self, lw: f64) -> f64 {
@@ -203,29 +214,29 @@ impl ToneCurve {
             ToneCurve::Histogram {
                 b_min,
                 b_max,
-                counts,
+                cumulative,
+                ..
             } => {
-                let p = cumulative(counts, (lw.log10() - b_min) / (b_max - b_min));
+                let p = share_below(cumulative, (lw.log10() - b_min) / (b_max - b_min));
                 10f64.powf(LD_MIN.log10() + p * (LD_MAX / LD_MIN).log10())
             }
         }
     }
 }
 
-/// The share of `counts` below position x ∈ [0, 1] of the histogram's range (clamped; linear
-/// within a bin).
-fn cumulative(counts: &[f64], x: f64) -> f64 {
-    let total: f64 = counts.iter().sum();
-    if total <= 0.0 || x.is_nan() || x <= 0.0 {
+/// The share of the counts below position x ∈ [0, 1] of the histogram's range, from the
+/// `cumulative` shares at the bin edges (clamped; linear within a bin).
+fn share_below(cumulative: &[f64], x: f64) -> f64 {
+    let bins = cumulative.len() - 1;
+    if x.is_nan() || x <= 0.0 {
         return 0.0;
     }
     if x >= 1.0 {
-        return 1.0;
+        return cumulative[bins];
     }
-    let pos = x * counts.len() as f64;
-    let i = (pos as usize).min(counts.len() - 1);
-    let below: f64 = counts[..i].iter().sum();
-    (below + (pos - i as f64) * counts[i]) / total
+    let pos = x * bins as f64;
+    let i = (pos as usize).min(bins - 1);
+    cumulative[i] + (pos - i as f64) * (cumulative[i + 1] - cumulative[i])
 }
 
 #[cfg(test)]
