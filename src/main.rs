@@ -35,7 +35,7 @@ enum Command {
     Diff(cli::diff::DiffArgs),
     /// Render a luminance image (EXR, cd/m²) of a baked output from a camera, tone mapped or in
     /// false colour.
-    View(cli::view::ViewArgs),
+    View(Box<cli::view::ViewArgs>),
     /// Draw a false-colour isolux plan of the working plane or of a planar node (SVG or PNG).
     Plan(cli::plan::PlanArgs),
     /// Write a scene built in code as an input glTF (e.g. the benchmark's open-plan office).

@@ -41,7 +41,15 @@ fn read_exr(path: &Path) -> (usize, usize, Vec<Vec<f32>>) {
 
 /// The unit ray through pixel centre (col, row) of a `w` × `h` image, independently of the
 /// crate: vertical field of view `fov_deg`, row 0 at the top.
-fn centre_ray(eye: DVec3, target: DVec3, up: DVec3, fov_deg: f64, (w, h): (usize, usize), col: usize, row: usize) -> DVec3 {
+fn centre_ray(
+    eye: DVec3,
+    target: DVec3,
+    up: DVec3,
+    fov_deg: f64,
+    (w, h): (usize, usize),
+    col: usize,
+    row: usize,
+) -> DVec3 {
     let f = (target - eye).normalize();
     let r = f.cross(up).normalize();
     let u = r.cross(f);
@@ -62,7 +70,20 @@ fn furnace_every_pixel_is_the_exitance_over_pi() {
     );
     let exr = lit.with_file_name("furnace.exr");
     // From the middle of the room toward a corner (walls, floor and ceiling all in view).
-    let run = view(&lit, &exr, &["--eye", "1,1.5,2.5", "--target", "0,0,0", "--fov", "100", "--size", "48x32"]);
+    let run = view(
+        &lit,
+        &exr,
+        &[
+            "--eye",
+            "1,1.5,2.5",
+            "--target",
+            "0,0,0",
+            "--fov",
+            "100",
+            "--size",
+            "48x32",
+        ],
+    );
     assert!(run.ok(), "{run:?}");
     let (w, h, c) = read_exr(&exr);
     assert_eq!((w, h), (48, 32));
@@ -99,7 +120,20 @@ fn floor_view(lit: &Path) -> Vec<(DVec3, [f64; 4])> {
     let run = view(
         lit,
         &exr,
-        &["--eye", "0.2,4,0.1", "--target", "0,0,0", "--up", "0,0,-1", "--fov", "30", "--size", "40x30", "--samples", "1"],
+        &[
+            "--eye",
+            "0.2,4,0.1",
+            "--target",
+            "0,0,0",
+            "--up",
+            "0,0,-1",
+            "--fov",
+            "30",
+            "--size",
+            "40x30",
+            "--samples",
+            "1",
+        ],
     );
     assert!(run.ok(), "{run:?}");
     let (w, h, c) = read_exr(&exr);
@@ -109,7 +143,10 @@ fn floor_view(lit: &Path) -> Vec<(DVec3, [f64; 4])> {
         for col in 0..w {
             let d = centre_ray(EYE, TARGET, UP, FOV, SIZE, col, row);
             let p = EYE + d * (-EYE.y / d.y);
-            assert!(p.x.abs() < 1.5 && p.z.abs() < 1.5, "{p} should be well inside the floor");
+            assert!(
+                p.x.abs() < 1.5 && p.z.abs() < 1.5,
+                "{p} should be well inside the floor"
+            );
             let k = row * w + col;
             out.push((p, [0, 1, 2, 3].map(|i| c[i][k] as f64)));
         }
@@ -121,7 +158,11 @@ fn floor_view(lit: &Path) -> Vec<(DVec3, [f64; 4])> {
 fn lightmapped_floor_every_pixel_within_half_a_percent_of_the_closed_form() {
     let rho = 0.5;
     let (scene, light, i) = floor_under_a_light(rho);
-    let lit = baked("view-floor-lightmapped", &scene, &["--lightmaps", "--texel-size", "0.05"]);
+    let lit = baked(
+        "view-floor-lightmapped",
+        &scene,
+        &["--lightmaps", "--texel-size", "0.05"],
+    );
     let mut worst = 0.0f64;
     for (p, values) in floor_view(&lit) {
         let d = light - p;
@@ -162,7 +203,10 @@ fn vertex_floor_every_pixel_is_the_interpolated_vertex_luminance() {
         }
         panic!("{p} is on no triangle of the floor");
     };
-    assert!(prim.triangles.len() > 20, "an adaptive mesh, not two triangles");
+    assert!(
+        prim.triangles.len() > 20,
+        "an adaptive mesh, not two triangles"
+    );
     let mut worst = 0.0f64;
     for (p, values) in floor_view(&lit) {
         let want = rho / PI * interpolated(p);
@@ -180,7 +224,10 @@ fn a_luminaire_opening_seen_from_below_shows_its_intensity_over_its_area() {
     let mut b = SceneBuilder::new();
     let m = b.material("grey", 0.3);
     b.floor("floor", 3.0, 0.0, m);
-    let ies = std::fs::read(support::cli::repo_file("samples/office/profiles/miral_58w.ies")).unwrap();
+    let ies = std::fs::read(support::cli::repo_file(
+        "samples/office/profiles/miral_58w.ies",
+    ))
+    .unwrap();
     let opening = luxbake::photometry::Opening {
         length: 0.6,
         width: 0.3,
@@ -203,13 +250,33 @@ fn a_luminaire_opening_seen_from_below_shows_its_intensity_over_its_area() {
         .intensity(DVec3::new(0.0, 0.0, -1.0));
     let lit = baked("view-luminaire", &scene, &[]);
     let exr = lit.with_file_name("up.exr");
-    let run = view(&lit, &exr, &["--eye", "0,1,0", "--target", "0,2.5,0", "--up", "1,0,0", "--fov", "2", "--size", "9x9", "--samples", "1"]);
+    let run = view(
+        &lit,
+        &exr,
+        &[
+            "--eye",
+            "0,1,0",
+            "--target",
+            "0,2.5,0",
+            "--up",
+            "1,0,0",
+            "--fov",
+            "2",
+            "--size",
+            "9x9",
+            "--samples",
+            "1",
+        ],
+    );
     assert!(run.ok(), "{run:?}");
     let (_, _, c) = read_exr(&exr);
     // The centre pixel looks along the nadir: L = I(0, 0) / 0.18 m².
     let want = i0 / 0.18;
     let got = c[3][4 * 9 + 4] as f64;
-    assert!((got / want - 1.0).abs() < 1e-4, "{got} against {want} cd/m²");
+    assert!(
+        (got / want - 1.0).abs() < 1e-4,
+        "{got} against {want} cd/m²"
+    );
     // Every pixel of this 2° view is on the opening (it spans ±0.15 m at 1.5 m: ±5.7°).
     for (k, &v) in c[3].iter().enumerate() {
         assert!((v as f64 / want - 1.0).abs() < 0.01, "pixel {k}: {v}");
@@ -229,15 +296,30 @@ fn same_bytes_on_one_and_two_threads() {
         let run = view(
             &lit,
             &dir.join("v.exr"),
-            &["--eye", "1,2,3", "--target", "0,0,0", "--size", "64x48", "--threads", threads, "--png", &png, "--false-colour", &fc, "--display", &display],
+            &[
+                "--eye",
+                "1,2,3",
+                "--target",
+                "0,0,0",
+                "--size",
+                "64x48",
+                "--threads",
+                threads,
+                "--png",
+                &png,
+                "--false-colour",
+                &fc,
+                "--display",
+                &display,
+            ],
         );
         assert!(run.ok(), "{run:?}");
         outputs.push(
             ["v.exr", "v.png", "fc.png", "d.png"].map(|n| std::fs::read(dir.join(n)).unwrap()),
         );
     }
-    for k in 0..4 {
-        assert!(outputs[0][k] == outputs[1][k], "output {k} differs between thread counts");
+    for (k, (one, two)) in outputs[0].iter().zip(&outputs[1]).enumerate() {
+        assert!(one == two, "output {k} differs between thread counts");
     }
 }
 
@@ -287,12 +369,21 @@ fn a_camera_node_by_name_and_the_errors() {
     assert_error_line(&run, &["nobody", "overview"]);
     assert_eq!(run.code, Some(2));
     for size in ["0x10", "16385x10", "10x0"] {
-        let run = view(&lit, &exr, &["--eye", "0,1,0", "--target", "0,0,0", "--size", size]);
+        let run = view(
+            &lit,
+            &exr,
+            &["--eye", "0,1,0", "--target", "0,0,0", "--size", size],
+        );
         assert_error_line(&run, &[size]);
         assert_eq!(run.code, Some(2), "{size}");
     }
     // The unbaked input is not a luxbake output.
-    let input = lit.parent().unwrap().parent().unwrap().join("in/scene.gltf");
+    let input = lit
+        .parent()
+        .unwrap()
+        .parent()
+        .unwrap()
+        .join("in/scene.gltf");
     let run = view(&input, &exr, &["--eye", "0,1,0", "--target", "0,0,0"]);
     assert_error_line(&run, &["scene.gltf", "not a luxbake output"]);
     assert_eq!(run.code, Some(1));
@@ -304,12 +395,29 @@ fn a_camera_inside_a_solid_is_warned_about() {
     let (scene, _, _) = floor_under_a_light(0.5);
     let mut b = SceneBuilder::from_scene(scene);
     let m = b.material("crate", 0.5);
-    b.axis_box("crate", DVec3::new(-0.5, 0.0, -0.5), DVec3::new(0.5, 1.0, 0.5), false, m);
+    b.axis_box(
+        "crate",
+        DVec3::new(-0.5, 0.0, -0.5),
+        DVec3::new(0.5, 1.0, 0.5),
+        false,
+        m,
+    );
     let lit = baked("view-solid", &b.build(), &[]);
     let exr = lit.with_file_name("inside.exr");
-    let run = view(&lit, &exr, &["--eye", "0,0.5,0", "--target", "1,0.5,0", "--size", "8x8"]);
+    let run = view(
+        &lit,
+        &exr,
+        &["--eye", "0,0.5,0", "--target", "1,0.5,0", "--size", "8x8"],
+    );
     assert!(run.ok(), "{run:?}");
     assert!(run.stderr.contains("inside a solid"), "{}", run.stderr);
-    let run = view(&lit, &exr, &["--eye", "0,2,1.5", "--target", "0,0,0", "--size", "8x8"]);
-    assert!(run.ok() && !run.stderr.contains("inside a solid"), "{run:?}");
+    let run = view(
+        &lit,
+        &exr,
+        &["--eye", "0,2,1.5", "--target", "0,0,0", "--size", "8x8"],
+    );
+    assert!(
+        run.ok() && !run.stderr.contains("inside a solid"),
+        "{run:?}"
+    );
 }

@@ -7,8 +7,8 @@
 //! `zfar` are optional. A camera whose projection is missing or out of range is an error naming
 //! its pointer (`/cameras/2/perspective/yfov`).
 
-use crate::import::GltfFile;
 use crate::Result;
+use crate::import::GltfFile;
 use glam::DMat4;
 use serde_json::Value;
 
@@ -80,12 +80,16 @@ fn perspective(file: &GltfFile, p: &Value, at: &str) -> Result<Projection> {
     })?;
     let aspect_ratio = match &p["aspectRatio"] {
         Value::Null => None,
-        v => Some(v.as_f64().filter(|&a| a.is_finite() && a > 0.0).ok_or_else(|| {
-            file.err(
-                format!("{at}/perspective/aspectRatio"),
-                "an aspect ratio must be a number > 0",
-            )
-        })?),
+        v => Some(
+            v.as_f64()
+                .filter(|&a| a.is_finite() && a > 0.0)
+                .ok_or_else(|| {
+                    file.err(
+                        format!("{at}/perspective/aspectRatio"),
+                        "an aspect ratio must be a number > 0",
+                    )
+                })?,
+        ),
     };
     Ok(Projection::Perspective {
         yfov,

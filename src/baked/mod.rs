@@ -20,10 +20,10 @@ pub mod model;
 mod read;
 mod texels;
 
+pub use cameras::{Camera, Projection};
 pub use lightmaps::CHANNELS as LIGHTMAP_CHANNELS;
 pub use model::{
-    BakedOutput, Lightmap, LightmapUse, Look, MaterialInfo, NodeInfo, PlaneInput, PlanePoint, Primitive,
-    ProbeNode, Texel,
+    BakedOutput, Lightmap, LightmapUse, Look, MaterialInfo, NodeInfo, PlaneInput, PlanePoint,
+    Primitive, ProbeNode, Texel,
 };
-pub use cameras::{Camera, Projection};
 pub use read::{as_written, from_glb, from_prepared, read};

@@ -26,8 +26,8 @@
 
 use super::lightmaps::{self, Layouts};
 use super::model::{
-    BakedOutput, LightmapUse, Look, MaterialInfo, NodeInfo, PlaneInput, PlanePoint, Primitive, ProbeNode,
-    parents,
+    BakedOutput, LightmapUse, Look, MaterialInfo, NodeInfo, PlaneInput, PlanePoint, Primitive,
+    ProbeNode, parents,
 };
 use super::texels::{Scratch, rasterise};
 use crate::export::{ExportOptions, Prepared};
@@ -198,7 +198,11 @@ fn look(m: &Value) -> Look {
         let got: Vec<f64> = (v.as_array().into_iter().flatten())
             .filter_map(Value::as_f64)
             .collect();
-        if got.len() == default.len() { got } else { default.to_vec() }
+        if got.len() == default.len() {
+            got
+        } else {
+            default.to_vec()
+        }
     };
     let b = numbers(&m["pbrMetallicRoughness"]["baseColorFactor"], &[1.0; 4]);
     let e = numbers(&m["emissiveFactor"], &[0.0; 3]);

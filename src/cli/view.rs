@@ -57,7 +57,11 @@ pub struct ViewArgs {
     #[arg(long, value_name = "OUT.png")]
     png: Option<PathBuf>,
     /// Also write a false-colour PNG with a legend.
-    #[arg(long = "false-colour", visible_alias = "false-color", value_name = "OUT.png")]
+    #[arg(
+        long = "false-colour",
+        visible_alias = "false-color",
+        value_name = "OUT.png"
+    )]
     false_colour: Option<PathBuf>,
     /// What the false colours show: luminance (cd/m²) or the illuminance of the surface seen (lx).
     #[arg(long, value_enum, default_value_t = Quantity::Luminance)]
@@ -106,7 +110,11 @@ fn vector(option: &str, s: &str) -> Result<DVec3> {
 
 /// `WxH` as a checked size.
 fn size(s: &str) -> Result<(u32, u32)> {
-    let bad = || usage(format!("--size {s}: WxH in pixels is expected, e.g. 1280x720"));
+    let bad = || {
+        usage(format!(
+            "--size {s}: WxH in pixels is expected, e.g. 1280x720"
+        ))
+    };
     let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
     let w: u32 = w.trim().parse().map_err(|_| bad())?;
     let h: u32 = h.trim().parse().map_err(|_| bad())?;
@@ -147,7 +155,10 @@ fn camera_of(args: &ViewArgs, baked: &luxbake::baked::BakedOutput) -> Result<Cam
             "a view needs --camera NAME or --eye X,Y,Z --target X,Y,Z".into(),
         ));
     };
-    let up = args.up.as_deref().map_or(Ok(DVec3::Y), |u| vector("up", u))?;
+    let up = args
+        .up
+        .as_deref()
+        .map_or(Ok(DVec3::Y), |u| vector("up", u))?;
     Ok(Camera::look_at(
         vector("eye", eye)?,
         vector("target", target)?,
@@ -257,10 +268,7 @@ pub fn run(args: &ViewArgs) -> Result<()> {
     if let Some(path) = &args.false_colour {
         let (values, unit): (Vec<f64>, &str) = match args.quantity {
             Quantity::Luminance => (luminance.iter().map(|&y| y as f64).collect(), "cd/m²"),
-            Quantity::Illuminance => (
-                v.illuminance().iter().map(|&e| e as f64).collect(),
-                "lx",
-            ),
+            Quantity::Illuminance => (v.illuminance().iter().map(|&e| e as f64).collect(), "lx"),
         };
         let scale = colour_scale(args, &values)?;
         let img = legend::false_colour(&values, w, h, &scale, unit, args.contours);

@@ -67,7 +67,14 @@ impl Camera {
                 "field of view {fov_deg}°: it must be between 0 and 180 degrees"
             ));
         }
-        Camera::with_axes(eye, forward, up, fov_deg.to_radians(), (width, height), near)
+        Camera::with_axes(
+            eye,
+            forward,
+            up,
+            fov_deg.to_radians(),
+            (width, height),
+            near,
+        )
     }
 
     /// The camera of a glTF camera node: its origin, local −Z forward and local +Y up (scale
@@ -91,7 +98,9 @@ impl Camera {
         };
         let size = size.unwrap_or_else(|| match aspect_ratio {
             Some(a) => {
-                let h = (DEFAULT_WIDTH as f64 / a).round().clamp(1.0, MAX_EDGE as f64);
+                let h = (DEFAULT_WIDTH as f64 / a)
+                    .round()
+                    .clamp(1.0, MAX_EDGE as f64);
                 (DEFAULT_WIDTH, h as u32)
             }
             None => (DEFAULT_WIDTH, DEFAULT_HEIGHT),
@@ -113,7 +122,9 @@ impl Camera {
     ) -> Result<Camera> {
         check_size(width, height)?;
         if !(near.is_finite() && near >= 0.0) {
-            return Err(Error::Settings(format!("near distance {near}: must be ≥ 0")));
+            return Err(Error::Settings(format!(
+                "near distance {near}: must be ≥ 0"
+            )));
         }
         let right = forward.cross(up).normalize_or_zero();
         if right == DVec3::ZERO || forward == DVec3::ZERO {
@@ -159,9 +170,14 @@ impl Camera {
 pub fn sample_offsets(n: u32) -> Vec<DVec2> {
     match n {
         0 | 1 => vec![DVec2::ZERO],
-        4 => [(0.125, 0.375), (0.375, -0.125), (-0.125, -0.375), (-0.375, 0.125)]
-            .map(|(x, y)| DVec2::new(x, y))
-            .to_vec(),
+        4 => [
+            (0.125, 0.375),
+            (0.375, -0.125),
+            (-0.125, -0.375),
+            (-0.375, 0.125),
+        ]
+        .map(|(x, y)| DVec2::new(x, y))
+        .to_vec(),
         _ => {
             let k = (n as f64).sqrt().round() as u32;
             let at = |i: u32| (i as f64 + 0.5) / k as f64 - 0.5;

@@ -96,7 +96,11 @@ pub fn named_camera(
     size: Option<(u32, u32)>,
     near: Option<f64>,
 ) -> Result<Camera> {
-    match baked.cameras.iter().find(|c| c.name.as_deref() == Some(name)) {
+    match baked
+        .cameras
+        .iter()
+        .find(|c| c.name.as_deref() == Some(name))
+    {
         Some(c) => Camera::from_node(c, size, near),
         None => {
             let names: Vec<String> = (baked.cameras.iter())

@@ -41,10 +41,7 @@ impl DisplayTexture {
         DisplayTexture {
             width,
             height,
-            texels: texels
-                .iter()
-                .map(|t| t.map(|c| lut[c as usize]))
-                .collect(),
+            texels: texels.iter().map(|t| t.map(|c| lut[c as usize])).collect(),
         }
     }
 
@@ -191,7 +188,10 @@ impl<'a> Surfaces<'a> {
                 let map = &self.baked.lightmaps[l.lightmap];
                 map.bilinear(|k| map.illuminance[k] as f64, self.uv(h, &l.uv))
             }
-            None => self.interpolate(h, &prim.illuminance, |&e| DVec3::splat(e as f64)).x,
+            None => {
+                self.interpolate(h, &prim.illuminance, |&e| DVec3::splat(e as f64))
+                    .x
+            }
         }
     }
 

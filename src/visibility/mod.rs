@@ -625,18 +625,26 @@ mod tests {
         for tris in [[up, down, floor], [down, up, floor]] {
             let occ = Occluder::from_triangles(&tris, false);
             let id = |t: [DVec3; 3]| tris.iter().position(|x| *x == t).unwrap();
-            let from_above = occ.closest_front(DVec3::new(0.0, 3.0, 0.0), -DVec3::Y).unwrap();
+            let from_above = occ
+                .closest_front(DVec3::new(0.0, 3.0, 0.0), -DVec3::Y)
+                .unwrap();
             assert_eq!(from_above.triangle, id(up));
             assert!((from_above.distance - 2.0).abs() < 1e-6);
-            let from_below = occ.closest_front(DVec3::new(0.0, 0.5, 0.0), DVec3::Y).unwrap();
+            let from_below = occ
+                .closest_front(DVec3::new(0.0, 0.5, 0.0), DVec3::Y)
+                .unwrap();
             assert_eq!(from_below.triangle, id(down));
             assert!((from_below.distance - 0.5).abs() < 1e-6);
             // Under the floor, looking up: the floor's back is culled, the plate's underside seen.
-            let under = occ.closest_front(DVec3::new(0.0, -1.0, 0.0), DVec3::Y).unwrap();
+            let under = occ
+                .closest_front(DVec3::new(0.0, -1.0, 0.0), DVec3::Y)
+                .unwrap();
             assert_eq!(under.triangle, id(down));
             // Looking down from under the floor: nothing faces the ray.
-            assert!(occ.closest_front(DVec3::new(0.0, -1.0, 0.0), -DVec3::Y).is_none());
+            assert!(
+                occ.closest_front(DVec3::new(0.0, -1.0, 0.0), -DVec3::Y)
+                    .is_none()
+            );
         }
     }
-
 }
