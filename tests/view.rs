@@ -218,6 +218,32 @@ fn vertex_floor_every_pixel_is_the_interpolated_vertex_luminance() {
 }
 
 #[test]
+fn a_coloured_vertex_floor_under_a_coloured_light_keeps_both_colours() {
+    // A floor of RGB reflectance ρ under a light of relative colour ĉ (luminance 1) leaves
+    // L_c ∝ ρ_c·ĉ_c in each channel, its Y the baked `_LUMINANCE`: the colour the view rebuilds
+    // from COLOR_0 and the material's reflectance (ρ alone would miss the light's colour).
+    let rho = DVec3::new(0.6, 0.4, 0.2);
+    let (scene, _, _) = floor_under_a_light(0.5);
+    let mut b = SceneBuilder::from_scene(scene);
+    let m = b.material_full("tinted", rho, None, false);
+    let mut scene = b.build();
+    scene.surfaces[0].material = m;
+    let c = DVec3::new(1.0, 0.8, 0.3);
+    let c = c / luxbake::scene::luma(c);
+    scene.lights[0].color = c;
+    let lit = baked("view-colour", &scene, &[]);
+    let tint = rho * c;
+    let y = luxbake::scene::luma(tint);
+    let mut worst = 0.0f64;
+    for (_, [r, g, b, l]) in floor_view(&lit) {
+        for (v, t) in [r, g, b].into_iter().zip(tint.to_array()) {
+            worst = worst.max((v / (l * t / y) - 1.0).abs());
+        }
+    }
+    assert!(worst < 1e-3, "worst channel off by {:.4} %", worst * 100.0);
+}
+
+#[test]
 fn a_luminaire_opening_seen_from_below_shows_its_intensity_over_its_area() {
     // A 0.6 × 0.3 m flat opening 2.5 m above a floor, facing down; the view looks straight up
     // at it from 1 m above the floor, the opening filling the centre of the image.

@@ -247,20 +247,24 @@ fn unshoulder(c: f64) -> Option<f64> {
 /// Per vertex of a vertex-valued primitive: RGB luminance with Y = `_LUMINANCE`, colour from
 /// COLOR_0 and the reflectance `rho` (see the module's rule).
 fn vertex_luminance(p: &Primitive, rho: DVec3) -> Vec<DVec3> {
-    let rho_y = luma(rho);
     (0..p.luminance.len())
         .map(|v| {
             let y = p.luminance[v] as f64;
             let e = p.illuminance[v] as f64;
-            let emits = std::f64::consts::PI * y > rho_y * e * (1.0 + 1e-4) + 1e-9;
             let shown = p.color.as_ref().and_then(|c| {
                 let k = c[v].map(|x| unshoulder(x as f64));
                 Some(DVec3::new(k[0]?, k[1]?, k[2]?))
             });
-            let colour = match (shown, emits) {
-                (Some(c), true) => c,
-                (Some(c), false) => rho * c,
-                (None, _) => rho,
+            let colour = match shown {
+                Some(c) if luma(c) > 0.0 => {
+                    // The illuminance it shows, scaled to the baked Y: a vertex leaving more
+                    // than ρ·E reflects is an emitter, whose COLOR_0 shows its exitance.
+                    let e_rgb = c * (e / luma(c));
+                    let reflected = luma(rho * e_rgb);
+                    let emits = std::f64::consts::PI * y > reflected * (1.0 + 1e-3) + 1e-12;
+                    if emits { c } else { rho * c }
+                }
+                _ => rho,
             };
             let cy = luma(colour);
             if cy > 0.0 {
