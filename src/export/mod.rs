@@ -20,7 +20,7 @@
 pub mod atomic;
 mod buffer;
 mod container;
-mod display;
+pub mod display;
 mod document;
 mod exr;
 mod extras;
