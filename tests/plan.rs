@@ -33,7 +33,12 @@ fn scene() -> Scene {
     let p = |x: f64, y: f64, z: f64| DVec3::new(x, y, z);
     b.surface(
         "tent",
-        vec![p(1.8, 1.0, 1.8), p(1.9, 1.1, 1.8), p(1.9, 1.1, 1.9), p(2.0, 1.0, 1.9)],
+        vec![
+            p(1.8, 1.0, 1.8),
+            p(1.9, 1.1, 1.8),
+            p(1.9, 1.1, 1.9),
+            p(2.0, 1.0, 1.9),
+        ],
         vec![DVec3::Y; 4],
         vec![[0, 2, 1], [1, 2, 3]],
         grey,
@@ -115,20 +120,30 @@ fn working_plane_contours_are_the_analytic_circles() {
     for p in &baked().output.working_plane.as_ref().unwrap().points {
         let r2 = p.position.x.powi(2) + p.position.z.powi(2);
         let e = I * h / (h * h + r2).powf(1.5);
-        assert!((p.total as f64 / e - 1.0).abs() < 5e-3, "{p:?}: {e} lx expected");
+        assert!(
+            (p.total as f64 / e - 1.0).abs() < 5e-3,
+            "{p:?}: {e} lx expected"
+        );
     }
     // Levels whose circle (r 0.53 … 1.55 m) lies inside the 4 m plane: every contour point
     // within 1 cm of it (the probes are 0.1 m apart; bilinear reads between them).
     for level in [150.0, 200.0, 250.0, 300.0, 350.0, 400.0] {
         let (miss, n) = worst_miss(&plan, level, h);
         assert!(n > 100, "{level} lx: only {n} contour points");
-        assert!(miss < 0.01, "{level} lx: a contour point {miss} m off the circle");
+        assert!(
+            miss < 0.01,
+            "{level} lx: a contour point {miss} m off the circle"
+        );
     }
     assert_eq!(plan.frame.right, DVec3::X);
     assert_eq!(plan.frame.down, DVec3::Z);
     // Figures: the probes' own (E max at the middle, U₀ = min/avg).
     let e_max = I * h / (h * h + 2.0 * 0.05f64.powi(2)).powf(1.5);
-    assert!((plan.max / e_max - 1.0).abs() < 5e-3, "{} vs {e_max}", plan.max);
+    assert!(
+        (plan.max / e_max - 1.0).abs() < 5e-3,
+        "{} vs {e_max}",
+        plan.max
+    );
     assert!((plan.uniformity() - plan.min / plan.avg).abs() < 1e-12);
 }
 
@@ -140,10 +155,16 @@ fn surface_contours_are_the_analytic_circles() {
     for level in [100.0, 150.0, 200.0] {
         let (miss, n) = worst_miss(&plan, level, LAMP_Y);
         assert!(n > 100, "{level} lx: only {n} contour points");
-        assert!(miss < 0.03, "{level} lx: a contour point {miss} m off the circle");
+        assert!(
+            miss < 0.03,
+            "{level} lx: a contour point {miss} m off the circle"
+        );
     }
     // The cells cover the floor exactly: 4 m at 0.02 m.
-    assert_eq!((plan.field.w, plan.field.h, plan.field.cell), (200, 200, 0.02));
+    assert_eq!(
+        (plan.field.w, plan.field.h, plan.field.cell),
+        (200, 200, 0.02)
+    );
     assert!(plan.field.values.iter().all(|v| v.is_finite()));
     // Its outline is the square's four sides.
     assert_eq!(plan.outline.len(), 4);
@@ -206,9 +227,16 @@ fn svg_holds_labels_legend_scale_bar_and_title() {
     }
     // The scale bar (4 m plan: 1 m) and the note.
     assert!(has("1 m"), "{texts:?}");
-    assert!(texts.iter().any(|t| t.starts_with("seen from above, +Y up")));
+    assert!(
+        texts
+            .iter()
+            .any(|t| t.starts_with("seen from above, +Y up"))
+    );
     let title = &texts[0];
-    assert!(title.starts_with("working plane, 0.5 m above the floor: E avg "), "{title}");
+    assert!(
+        title.starts_with("working plane, 0.5 m above the floor: E avg "),
+        "{title}"
+    );
     assert!(title.contains(&format!("U\u{2080} = min/avg = {:.2}", plan.uniformity())));
     // The field: rectangles coloured by the scale.
     let middle = plan.scale.colour(plan.max);
@@ -232,7 +260,9 @@ fn png_has_the_layout_size_and_the_field_colours() {
     // label): its middle pixel has its colour.
     let widest = (drawing.field.iter())
         .filter_map(|i| match i {
-            plan::layout::Item::Rect { x, y, w, h, fill } => Some((*x + w / 2.0, *y + h / 2.0, *w, *fill)),
+            plan::layout::Item::Rect { x, y, w, h, fill } => {
+                Some((*x + w / 2.0, *y + h / 2.0, *w, *fill))
+            }
             _ => None,
         })
         .max_by(|a, b| a.2.total_cmp(&b.2))
@@ -264,7 +294,10 @@ fn plans_are_byte_identical_from_run_to_run() {
     }
     // The library gives the same bytes as the command.
     let plan = plan::build(&b.output, &Options::default()).unwrap();
-    assert_eq!(std::fs::read(dir.join("plan0.svg")).unwrap(), plan.svg().into_bytes());
+    assert_eq!(
+        std::fs::read(dir.join("plan0.svg")).unwrap(),
+        plan.svg().into_bytes()
+    );
 }
 
 #[test]
@@ -280,7 +313,10 @@ fn errors_name_the_file_and_what_is_wrong() {
     let run = plan(&b.without, &[]);
     assert_error_line(&run, &["lit.glb", "no working plane", "--working-plane"]);
     assert_eq!(run.code, Some(1));
-    assert_error_line(&plan(&b.file, &["--surface", "desk"]), &["lit.gltf", "unknown node 'desk'"]);
+    assert_error_line(
+        &plan(&b.file, &["--surface", "desk"]),
+        &["lit.gltf", "unknown node 'desk'"],
+    );
     assert_error_line(
         &plan(&b.file, &["--surface", "tent"]),
         &["lit.gltf", "/nodes/1", "node 'tent' is not planar"],

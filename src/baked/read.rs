@@ -177,7 +177,10 @@ fn probe_nodes(file: &GltfFile) -> Result<Vec<ProbeNode>> {
 
 /// A probe node's world position: `extras.luxbake.probe.position`, else the node's world origin.
 fn probe_position(node: &Node) -> DVec3 {
-    let extras = node.extras.as_ref().map(|e| &e["luxbake"]["probe"]["position"]);
+    let extras = node
+        .extras
+        .as_ref()
+        .map(|e| &e["luxbake"]["probe"]["position"]);
     let stored = extras.and_then(Value::as_array).and_then(|a| {
         let c: Vec<f64> = a.iter().filter_map(Value::as_f64).collect();
         (a.len() == 3 && c.len() == 3).then(|| DVec3::new(c[0], c[1], c[2]))

@@ -52,7 +52,11 @@ fn range(scale: &str) -> luxbake::Result<Option<[f64; 2]>> {
     if scale == "auto" {
         return Ok(None);
     }
-    let bad = || Error::Settings(format!("--scale {scale}: expected auto or LO:HI (e.g. 0:500)"));
+    let bad = || {
+        Error::Settings(format!(
+            "--scale {scale}: expected auto or LO:HI (e.g. 0:500)"
+        ))
+    };
     let (lo, hi) = scale.split_once(':').ok_or_else(bad)?;
     let lo: f64 = lo.trim().parse().map_err(|_| bad())?;
     let hi: f64 = hi.trim().parse().map_err(|_| bad())?;

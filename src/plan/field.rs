@@ -46,7 +46,11 @@ pub const CELLS: f64 = 200.0;
 
 /// The working plane's plan.
 pub fn working_plane(input: &BakedOutput) -> Result<Sampled> {
-    let Some(plane) = input.working_plane.as_ref().filter(|p| !p.points.is_empty()) else {
+    let Some(plane) = input
+        .working_plane
+        .as_ref()
+        .filter(|p| !p.points.is_empty())
+    else {
         return Err(Error::input(
             &input.file,
             "",
@@ -56,8 +60,12 @@ pub fn working_plane(input: &BakedOutput) -> Result<Sampled> {
     };
     let points = &plane.points;
     let grid = input.run_summary()?.and_then(|s| s.settings.working_plane);
-    let spacing = grid.map(|g| g.spacing).unwrap_or_else(|| inferred_spacing(points));
-    let lo = points.iter().fold(DVec3::INFINITY, |m, p| m.min(p.position));
+    let spacing = grid
+        .map(|g| g.spacing)
+        .unwrap_or_else(|| inferred_spacing(points));
+    let lo = points
+        .iter()
+        .fold(DVec3::INFINITY, |m, p| m.min(p.position));
     let index = |p: &PlanePoint| {
         let i = ((p.position.x - lo.x) / spacing).round() as usize;
         let k = ((p.position.z - lo.z) / spacing).round() as usize;

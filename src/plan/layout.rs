@@ -13,8 +13,8 @@
 //! its longest line's middle anyway).
 
 use super::Plan;
-use crate::picture::font::text_size;
 use crate::picture::contours::isolines;
+use crate::picture::font::text_size;
 use crate::picture::scale::ColourScale;
 use glam::DVec2;
 
@@ -280,7 +280,10 @@ pub fn draw(plan: &Plan) -> Drawing {
     for level in s.levels() {
         let y = bar_top + bar_h * (1.0 - s.position(level));
         items.push(Item::Line {
-            points: vec![DVec2::new(bar_x + bar_w, y), DVec2::new(bar_x + bar_w + 5.0, y)],
+            points: vec![
+                DVec2::new(bar_x + bar_w, y),
+                DVec2::new(bar_x + bar_w + 5.0, y),
+            ],
             colour: BLACK,
             width: 1.0,
         });
@@ -383,7 +386,11 @@ fn finite_range(v: &[f64]) -> (f64, f64) {
     let f = v.iter().copied().filter(|x| x.is_finite());
     let lo = f.clone().fold(f64::INFINITY, f64::min);
     let hi = f.fold(f64::NEG_INFINITY, f64::max);
-    if lo <= hi { (lo, hi) } else { (f64::NAN, f64::NAN) }
+    if lo <= hi {
+        (lo, hi)
+    } else {
+        (f64::NAN, f64::NAN)
+    }
 }
 
 fn length(l: &[DVec2]) -> f64 {

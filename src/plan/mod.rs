@@ -176,7 +176,12 @@ pub fn build(input: &BakedOutput, options: &Options) -> Result<Plan> {
         Some([lo, hi]) => ColourScale::fixed(lo, hi, options.log, options.steps)
             .map_err(|e| Error::Settings(format!("--scale {lo}:{hi}: {e}")))?,
         None => {
-            let values: Vec<f64> = field.values.iter().copied().filter(|v| v.is_finite()).collect();
+            let values: Vec<f64> = field
+                .values
+                .iter()
+                .copied()
+                .filter(|v| v.is_finite())
+                .collect();
             let values: Vec<f64> = if options.log {
                 values.into_iter().filter(|&v| v > 0.0).collect()
             } else {
@@ -188,8 +193,16 @@ pub fn build(input: &BakedOutput, options: &Options) -> Result<Plan> {
                     "",
                     format!(
                         "{name}: no {} to draw{}",
-                        if options.log { "positive value" } else { "value" },
-                        if options.log { " on a logarithmic scale" } else { "" }
+                        if options.log {
+                            "positive value"
+                        } else {
+                            "value"
+                        },
+                        if options.log {
+                            " on a logarithmic scale"
+                        } else {
+                            ""
+                        }
                     ),
                 ));
             }

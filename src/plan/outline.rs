@@ -13,7 +13,7 @@
 use super::frame::Frame;
 use crate::baked::{BakedOutput, Primitive};
 use glam::{DVec2, DVec3};
-use std::collections::{BTreeMap, BTreeSet};
+use std::collections::BTreeMap;
 
 /// How far below the working plane an upward-facing surface's edges are still drawn (m).
 pub const TOPS_BELOW: f64 = 0.1;
@@ -71,20 +71,21 @@ pub fn boundary(prim: &Primitive, chosen: &[usize], frame: &Frame) -> Vec<[DVec2
 /// Segments without zero-length ones and duplicates (endpoints compared at 10 µm), sorted.
 pub fn tidy(segments: Vec<[DVec2; 2]>) -> Vec<[DVec2; 2]> {
     let key = |p: DVec2| ((p.x * 1e5).round() as i64, (p.y * 1e5).round() as i64);
-    let mut seen = BTreeSet::new();
-    let mut out: Vec<([(i64, i64); 2], [DVec2; 2])> = Vec::new();
+    // Keyed by the endpoints in order (first the smaller): a BTreeMap sorts and deduplicates.
+    let mut out: BTreeMap<[(i64, i64); 2], [DVec2; 2]> = BTreeMap::new();
     for [a, b] in segments {
         let (ka, kb) = (key(a), key(b));
         if ka == kb {
             continue;
         }
-        let (k, s) = if ka <= kb { ([ka, kb], [a, b]) } else { ([kb, ka], [b, a]) };
-        if seen.insert(k) {
-            out.push((k, s));
-        }
+        let (k, s) = if ka <= kb {
+            ([ka, kb], [a, b])
+        } else {
+            ([kb, ka], [b, a])
+        };
+        out.entry(k).or_insert(s);
     }
-    out.sort_by(|x, y| x.0.cmp(&y.0));
-    out.into_iter().map(|(_, s)| s).collect()
+    out.into_values().collect()
 }
 
 /// A triangle's unit normal (zero when it has no area).

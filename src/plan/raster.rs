@@ -24,18 +24,33 @@ pub fn render(d: &Drawing) -> Rgb8Image {
                     img.fill_rect(x0 as i64, y0 as i64, cw, ch, *fill);
                 }
             }
-            Item::Line { points, colour, width } => {
+            Item::Line {
+                points,
+                colour,
+                width,
+            } => {
                 for w in points.windows(2) {
                     img.line(w[0], w[1], *colour);
                     if *width >= 1.5 {
                         // The second pixel: one pixel across the segment's main direction.
                         let d = w[1] - w[0];
-                        let off = if d.x.abs() >= d.y.abs() { DVec2::Y } else { DVec2::X };
+                        let off = if d.x.abs() >= d.y.abs() {
+                            DVec2::Y
+                        } else {
+                            DVec2::X
+                        };
                         img.line(w[0] + off, w[1] + off, *colour);
                     }
                 }
             }
-            Item::Text { x, y, size, text, colour, anchor } => {
+            Item::Text {
+                x,
+                y,
+                size,
+                text,
+                colour,
+                anchor,
+            } => {
                 let t = plain(text);
                 let (tw, _) = text_size(&t, *size);
                 let x = match anchor {
@@ -43,7 +58,14 @@ pub fn render(d: &Drawing) -> Rgb8Image {
                     Anchor::Middle => x - tw as f64 / 2.0,
                     Anchor::End => x - tw as f64,
                 };
-                draw_text(&mut img, x.round() as i64, y.round() as i64, &t, *size, *colour);
+                draw_text(
+                    &mut img,
+                    x.round() as i64,
+                    y.round() as i64,
+                    &t,
+                    *size,
+                    *colour,
+                );
             }
         }
     }

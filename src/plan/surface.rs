@@ -102,7 +102,12 @@ pub fn sample(input: &BakedOutput, node: &str, quantity: Quantity) -> Result<Sam
         let all: Vec<usize> = (0..p.triangles.len()).collect();
         edges.extend(outline::boundary(p, &all, &frame));
     }
-    let values: Vec<f64> = field.values.iter().copied().filter(|v| v.is_finite()).collect();
+    let values: Vec<f64> = field
+        .values
+        .iter()
+        .copied()
+        .filter(|v| v.is_finite())
+        .collect();
     if values.is_empty() {
         return Err(Error::input(
             &input.file,
@@ -130,7 +135,9 @@ fn find_node(input: &BakedOutput, name: &str) -> Result<usize> {
         [] => Err(Error::input(
             &input.file,
             "/nodes",
-            format!("unknown node '{name}': no node has that name or path (path: names from the root joined by '/')"),
+            format!(
+                "unknown node '{name}': no node has that name or path (path: names from the root joined by '/')"
+            ),
         )),
         _ => {
             let paths: Vec<String> = named.iter().take(4).map(|&i| input.node_path(i)).collect();
@@ -186,7 +193,10 @@ fn fill(
         Quantity::Illuminance => &p.illuminance,
         Quantity::Luminance => &p.luminance,
     };
-    let lightmap = p.lightmap.as_ref().map(|l| (l, &input.lightmaps[l.lightmap]));
+    let lightmap = p
+        .lightmap
+        .as_ref()
+        .map(|l| (l, &input.lightmaps[l.lightmap]));
     for t in &p.triangles {
         let v = t.map(|v| v as usize);
         let q = v.map(|v| frame.to_2d(p.positions[v]));
@@ -197,10 +207,15 @@ fn fill(
             }
             None => v.iter().all(|&v| p.illuminance[v] == 0.0),
         };
-        let lo = ((q[0].min(q[1]).min(q[2]) - field.origin) / field.cell - DVec2::splat(0.5)).ceil();
-        let hi = ((q[0].max(q[1]).max(q[2]) - field.origin) / field.cell - DVec2::splat(0.5)).floor();
+        let lo =
+            ((q[0].min(q[1]).min(q[2]) - field.origin) / field.cell - DVec2::splat(0.5)).ceil();
+        let hi =
+            ((q[0].max(q[1]).max(q[2]) - field.origin) / field.cell - DVec2::splat(0.5)).floor();
         let (c0, r0) = (lo.x.max(0.0) as usize, lo.y.max(0.0) as usize);
-        let (c1, r1) = (hi.x.min(field.w as f64 - 1.0), hi.y.min(field.h as f64 - 1.0));
+        let (c1, r1) = (
+            hi.x.min(field.w as f64 - 1.0),
+            hi.y.min(field.h as f64 - 1.0),
+        );
         if c1 < 0.0 || r1 < 0.0 {
             continue;
         }

@@ -16,7 +16,11 @@ pub fn render(d: &Drawing) -> String {
         h = d.height
     );
     let _ = writeln!(s, "<title>{}</title>", escape(&d.title));
-    let _ = writeln!(s, r##"<rect x="0" y="0" width="{}" height="{}" fill="#ffffff"/>"##, d.width, d.height);
+    let _ = writeln!(
+        s,
+        r##"<rect x="0" y="0" width="{}" height="{}" fill="#ffffff"/>"##,
+        d.width, d.height
+    );
     let _ = writeln!(s, r#"<g id="field" shape-rendering="crispEdges">"#);
     for item in &d.field {
         item_svg(&mut s, item);
@@ -42,7 +46,11 @@ fn item_svg(s: &mut String, item: &Item) {
                 hex(*fill)
             );
         }
-        Item::Line { points, colour, width } => {
+        Item::Line {
+            points,
+            colour,
+            width,
+        } => {
             let mut p = String::new();
             for (i, q) in points.iter().enumerate() {
                 if i > 0 {
@@ -57,7 +65,14 @@ fn item_svg(s: &mut String, item: &Item) {
                 n(*width)
             );
         }
-        Item::Text { x, y, size, text, colour, anchor } => {
+        Item::Text {
+            x,
+            y,
+            size,
+            text,
+            colour,
+            anchor,
+        } => {
             let anchor = match anchor {
                 Anchor::Start => "start",
                 Anchor::Middle => "middle",
@@ -89,7 +104,9 @@ fn hex(c: [u8; 3]) -> String {
 
 /// Text escaped for XML character data.
 fn escape(t: &str) -> String {
-    t.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
+    t.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
 }
 
 #[cfg(test)]
