@@ -54,13 +54,14 @@ pub enum Item {
     },
 }
 
-/// A laid-out plan. `field` items come first (SVG groups them with crisp edges).
+/// A laid-out plan. `field` items (the field's cells and the legend's colour bar) come first; SVG
+/// draws them with crisp edges, so that no seam shows between neighbours.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Drawing {
     pub width: u32,
     pub height: u32,
     pub title: String,
-    /// The field's cells.
+    /// The field's cells and the legend's colour bar.
     pub field: Vec<Item>,
     /// Everything else, in drawing order.
     pub items: Vec<Item>,
@@ -188,8 +189,7 @@ pub fn draw(plan: &Plan) -> Drawing {
             });
         }
         let label = format!("{} {unit}", plan.scale.label(level));
-        let (tw, th) = text_size(&label, text);
-        let half = DVec2::new(tw as f64 / 2.0 + 2.0, th as f64 / 2.0 + 1.0);
+        let half = DVec2::new(width(&label, text) / 2.0 + 2.0, text as f64 / 2.0 + 1.0);
         lines.sort_by(|a, b| length(b).total_cmp(&length(a)));
         let mut any = false;
         for l in lines.iter().take(4) {
@@ -252,17 +252,23 @@ pub fn draw(plan: &Plan) -> Drawing {
     let bar_h = (ph - text as f64 * 1.5).max(12.0 * text as f64);
     let s = &plan.scale;
     let strips = 256;
+    let mut start = 0;
     for i in 0..strips {
-        // Top strip = hi. Each strip shows the colour at its centre's position on the scale.
-        let t = 1.0 - (i as f64 + 0.5) / strips as f64;
-        let v = value_at(s, t);
-        items.push(Item::Rect {
+        // Top strip = hi; each strip shows the colour at its centre's position on the scale, and
+        // strips of one colour (a band) are one rectangle.
+        let colour_of = |i: usize| s.colour(value_at(s, 1.0 - (i as f64 + 0.5) / strips as f64));
+        if i + 1 < strips && colour_of(i + 1) == colour_of(start) {
+            continue;
+        }
+        let y0 = bar_top + bar_h * start as f64 / strips as f64;
+        cells.push(Item::Rect {
             x: bar_x,
-            y: bar_top + bar_h * i as f64 / strips as f64,
+            y: y0,
             w: bar_w,
-            h: bar_h / strips as f64,
-            fill: s.colour(v),
+            h: bar_top + bar_h * (i + 1) as f64 / strips as f64 - y0,
+            fill: colour_of(start),
         });
+        start = i + 1;
     }
     items.push(Item::Text {
         x: bar_x,
@@ -276,7 +282,7 @@ pub fn draw(plan: &Plan) -> Drawing {
         colour: BLACK,
         anchor: Anchor::Start,
     });
-    let mut label_w = text_size(&format!("{sym} ({unit}, log)"), text).0 as f64;
+    let mut label_w = width(&format!("{sym} ({unit}, log)"), text);
     for level in s.levels() {
         let y = bar_top + bar_h * (1.0 - s.position(level));
         items.push(Item::Line {
@@ -288,7 +294,7 @@ pub fn draw(plan: &Plan) -> Drawing {
             width: 1.0,
         });
         let l = s.label(level);
-        label_w = label_w.max(bar_w + 8.0 + text_size(&l, text).0 as f64);
+        label_w = label_w.max(bar_w + 8.0 + width(&l, text));
         items.push(Item::Text {
             x: bar_x + bar_w + 8.0,
             y: y - text as f64 / 2.0,
@@ -343,7 +349,7 @@ pub fn draw(plan: &Plan) -> Drawing {
     });
 
     let width = (bar_x + label_w.max(bar_w) + margin)
-        .max(left + text_size(&title, big).0 as f64 + margin)
+        .max(left + width(&title, big) + margin)
         .ceil();
     let height = (y + margin).max(legend_bottom + margin).ceil();
     Drawing {
@@ -353,6 +359,13 @@ pub fn draw(plan: &Plan) -> Drawing {
         field: cells,
         items,
     }
+}
+
+/// A text's width (px) on either page: the bitmap font's, or about 0.6 em a character for the
+/// SVG's proportional fonts, whichever is wider.
+fn width(t: &str, size: u32) -> f64 {
+    let chars = t.chars().count() as f64;
+    (text_size(t, size).0 as f64).max(0.6 * size as f64 * chars)
 }
 
 /// The value at position `t` (0..1) of the scale: the inverse of `ColourScale::position`.
