@@ -130,6 +130,7 @@ fn working_plane_contours_are_the_analytic_circles() {
     for level in [150.0, 200.0, 250.0, 300.0, 350.0, 400.0] {
         let (miss, n) = worst_miss(&plan, level, h);
         assert!(n > 100, "{level} lx: only {n} contour points");
+        eprintln!("working plane {level} lx: {n} points, worst {miss:.5} m");
         assert!(
             miss < 0.01,
             "{level} lx: a contour point {miss} m off the circle"
@@ -155,6 +156,7 @@ fn surface_contours_are_the_analytic_circles() {
     for level in [100.0, 150.0, 200.0] {
         let (miss, n) = worst_miss(&plan, level, LAMP_Y);
         assert!(n > 100, "{level} lx: only {n} contour points");
+        eprintln!("floor {level} lx: {n} points, worst {miss:.5} m");
         assert!(
             miss < 0.03,
             "{level} lx: a contour point {miss} m off the circle"
@@ -166,8 +168,13 @@ fn surface_contours_are_the_analytic_circles() {
         (200, 200, 0.02)
     );
     assert!(plan.field.values.iter().all(|v| v.is_finite()));
-    // Its outline is the square's four sides.
-    assert_eq!(plan.outline.len(), 4);
+    // Its outline is the square's four sides (cut where the patches' vertices are): 16 m.
+    let total: f64 = plan.outline.iter().map(|[a, b]| a.distance(*b)).sum();
+    assert!((total - 16.0).abs() < 1e-5, "{total}");
+    for [a, b] in &plan.outline {
+        let on_side = |p: DVec2| (p.x.abs() - 2.0).abs() < 1e-6 || (p.y.abs() - 2.0).abs() < 1e-6;
+        assert!(on_side(*a) && on_side(*b), "{a} {b}");
+    }
 }
 
 /// Every `<text>` of the SVG, which must parse as XML.
@@ -270,7 +277,24 @@ fn png_has_the_layout_size_and_the_field_colours() {
     assert!(widest.2 > 100.0, "{widest:?}");
     let at = (widest.1 as usize * info.width as usize + widest.0 as usize) * 3;
     assert_eq!(buf[at..at + 3], widest.3);
-    assert_eq!(widest.3, plan.scale.colour(plan.max));
+    // The light's foot, in the middle of the plan: the band of the highest values.
+    let f = &plan.field;
+    let (c, r) = (f.w / 2, f.h / 2);
+    let first = drawing.field.first().unwrap();
+    let plan::layout::Item::Rect { x, y, .. } = first else {
+        panic!()
+    };
+    let px_per_m = 800.0 / f.extent().max_element();
+    let (px, py) = (
+        x + (c as f64 + 0.5) * f.cell * px_per_m,
+        y + (r as f64 + 0.5) * f.cell * px_per_m,
+    );
+    let at = (py as usize * info.width as usize + px as usize) * 3;
+    assert_eq!(buf[at..at + 3], plan.scale.colour(f.values[r * f.w + c]));
+    assert_eq!(
+        plan.scale.colour(f.values[r * f.w + c]),
+        plan.scale.colour(440.0)
+    );
 }
 
 #[test]

@@ -79,6 +79,7 @@ pub fn run(a: &PlanArgs) -> Result<()> {
         size: a.size,
     };
     plan::check(&options)?;
+    luxbake::export::check_files(&[&a.file], &[&a.output])?;
     let ext = (a.output.extension().and_then(|e| e.to_str()))
         .map(str::to_ascii_lowercase)
         .unwrap_or_default();
@@ -89,7 +90,6 @@ pub fn run(a: &PlanArgs) -> Result<()> {
         ))
         .into());
     }
-    luxbake::export::check_files(&[&a.file], &[&a.output])?;
     let input = luxbake::baked::read(&a.file)?;
     let plan = plan::build(&input, &options)?;
     let bytes = if ext == "svg" {
