@@ -361,11 +361,11 @@ pub fn draw(plan: &Plan) -> Drawing {
     }
 }
 
-/// A text's width (px) on either page: the bitmap font's, or about 0.6 em a character for the
+/// A text's width (px) on either page: the bitmap font's, or about 0.55 em a character for the
 /// SVG's proportional fonts, whichever is wider.
 fn width(t: &str, size: u32) -> f64 {
     let chars = t.chars().count() as f64;
-    (text_size(t, size).0 as f64).max(0.6 * size as f64 * chars)
+    (text_size(t, size).0 as f64).max(0.55 * size as f64 * chars)
 }
 
 /// The value at position `t` (0..1) of the scale: the inverse of `ColourScale::position`.
