@@ -1,8 +1,8 @@
 //! `bake plan` (`src/plan/`): isolux contours against the closed form of a point light over a
-//! floor (the working plane and the floor itself), the SVG well-formed with its labels, legend and
-//! scale bar, the PNG of the right size with the field's colours, byte-identical repeats, and the
-//! errors (no working plane, unknown or ambiguous node, non-planar node, output = input, bad
-//! options).
+//! floor (the working plane, the floor from its vertices and from its lightmap), the SVG
+//! well-formed with its labels, legend and scale bar, the PNG of the right size with the field's
+//! colours, byte-identical repeats, and the errors (no working plane, unknown node, non-planar
+//! node, output = input, bad options).
 
 mod support;
 
@@ -11,7 +11,7 @@ use luxbake::baked::BakedOutput;
 use luxbake::fixtures::SceneBuilder;
 use luxbake::plan::{self, Options, Plan, Quantity, Source};
 use luxbake::scene::Scene;
-use luxbake::settings::{ProbeGrid, Quality, Settings};
+use luxbake::settings::{LightmapSettings, ProbeGrid, Quality, Settings};
 use std::path::PathBuf;
 use std::sync::OnceLock;
 use support::cli::{assert_error_line, bake as run_bake};
@@ -61,6 +61,8 @@ fn settings(working_plane: bool) -> Settings {
 /// The bake with a working plane, in memory and as `lit.gltf` on disk; and one without.
 struct Baked {
     output: BakedOutput,
+    /// With 5 cm lightmaps, no working plane.
+    lightmapped: BakedOutput,
     file: PathBuf,
     without: PathBuf,
 }
@@ -73,8 +75,19 @@ fn baked() -> &'static Baked {
         let file = support::bakes::write(&dir, "wp", "gltf", &scene, &settings(true));
         let without = support::bakes::write(&dir, "none", "glb", &scene, &settings(false));
         let output = luxbake::baked::read(&file).unwrap();
+        let lightmaps = Settings {
+            lightmaps: Some(LightmapSettings {
+                texel_size: Some(0.05),
+                max_size: 2048,
+                tolerance: None,
+            }),
+            ..settings(false)
+        };
+        let lm = support::bakes::write(&dir, "lm", "gltf", &scene, &lightmaps);
+        let lightmapped = luxbake::baked::read(&lm).unwrap();
         Baked {
             output,
+            lightmapped,
             file,
             without,
         }
@@ -174,6 +187,20 @@ fn surface_contours_are_the_analytic_circles() {
     for [a, b] in &plan.outline {
         let on_side = |p: DVec2| (p.x.abs() - 2.0).abs() < 1e-6 || (p.y.abs() - 2.0).abs() < 1e-6;
         assert!(on_side(*a) && on_side(*b), "{a} {b}");
+    }
+}
+
+#[test]
+fn lightmapped_surface_contours_are_the_analytic_circles() {
+    let output = &baked().lightmapped;
+    assert!(output.primitives.iter().any(|p| p.lightmap.is_some()));
+    let plan = plan::build(output, &options(Source::Surface("floor".into()))).unwrap();
+    // Texels 5 cm apart, read bilinearly: closer than the vertices' values.
+    for level in [100.0, 150.0, 200.0, 250.0, 300.0] {
+        let (miss, n) = worst_miss(&plan, level, LAMP_Y);
+        eprintln!("lightmapped floor {level} lx: {n} points, worst {miss:.5} m");
+        assert!(n > 100, "{level} lx: only {n} contour points");
+        assert!(miss < 0.01, "{level} lx: a contour point {miss} m off the circle");
     }
 }
 

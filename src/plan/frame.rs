@@ -82,9 +82,9 @@ mod tests {
         let f = Frame::of_normal(DVec3::Z);
         assert!((f.right - DVec3::X).length() < 1e-12);
         assert!((f.down + DVec3::Y).length() < 1e-12);
-        // Facing −x: the viewer at −x looking +x sees +z... to the left, −z to the right.
+        // Facing −x: the viewer at −x looking along +x, +Y up, has +z on the right.
         let f = Frame::of_normal(-DVec3::X);
-        assert!((f.right + DVec3::Z).length() < 1e-12);
+        assert!((f.right - DVec3::Z).length() < 1e-12);
         // Right × up = toward the viewer (the normal).
         for n in [DVec3::Z, -DVec3::X, DVec3::new(0.3, 0.5, 0.8).normalize()] {
             let f = Frame::of_normal(n);

@@ -86,8 +86,9 @@ pub fn sample(input: &BakedOutput, node: &str, quantity: Quantity) -> Result<Sam
     }
     let extent = b - a;
     let cell = round_up(extent.max_element() / CELLS);
-    let w = ((extent.x / cell).ceil() as usize).max(1);
-    let h = ((extent.y / cell).ceil() as usize).max(1);
+    // Whole cells over the extent (an extent of 64.000001 cells is 64: f32 positions).
+    let w = ((extent.x / cell - 1e-4).ceil() as usize).max(1);
+    let h = ((extent.y / cell - 1e-4).ceil() as usize).max(1);
     let mut field = Field {
         values: vec![f64::NAN; w * h],
         w,
