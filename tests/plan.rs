@@ -195,12 +195,12 @@ fn lightmapped_surface_contours_are_the_analytic_circles() {
     let output = &baked().lightmapped;
     assert!(output.primitives.iter().any(|p| p.lightmap.is_some()));
     let plan = plan::build(output, &options(Source::Surface("floor".into()))).unwrap();
-    // Texels 5 cm apart, read bilinearly: closer than the vertices' values.
-    for level in [100.0, 150.0, 200.0, 250.0, 300.0] {
+    // Texels 5 cm apart, read bilinearly: within 2 mm (the vertices: 3 cm).
+    for level in [100.0, 150.0, 200.0] {
         let (miss, n) = worst_miss(&plan, level, LAMP_Y);
         eprintln!("lightmapped floor {level} lx: {n} points, worst {miss:.5} m");
         assert!(n > 100, "{level} lx: only {n} contour points");
-        assert!(miss < 0.01, "{level} lx: a contour point {miss} m off the circle");
+        assert!(miss < 0.002, "{level} lx: a contour point {miss} m off the circle");
     }
 }
 
