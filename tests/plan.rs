@@ -200,7 +200,10 @@ fn lightmapped_surface_contours_are_the_analytic_circles() {
         let (miss, n) = worst_miss(&plan, level, LAMP_Y);
         eprintln!("lightmapped floor {level} lx: {n} points, worst {miss:.5} m");
         assert!(n > 100, "{level} lx: only {n} contour points");
-        assert!(miss < 0.002, "{level} lx: a contour point {miss} m off the circle");
+        assert!(
+            miss < 0.002,
+            "{level} lx: a contour point {miss} m off the circle"
+        );
     }
 }
 
