@@ -176,12 +176,12 @@ pub fn band_edges(values: &[f64], w: u32, h: u32, scale: &ColourScale) -> Vec<bo
     let n = (w * h).min(values.len());
     let band = |k: usize| (!values[k].is_nan()).then(|| scale.band(values[k]));
     let mut out = vec![false; w * h];
-    for k in 0..n {
+    for (k, edge) in out.iter_mut().enumerate().take(n) {
         let Some(b) = band(k) else { continue };
         let (x, y) = (k % w, k / w);
         let right = x + 1 < w && k + 1 < n && band(k + 1).is_some_and(|r| r != b);
         let below = y + 1 < h && k + w < n && band(k + w).is_some_and(|r| r != b);
-        out[k] = right || below;
+        *edge = right || below;
     }
     out
 }

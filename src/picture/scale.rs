@@ -104,6 +104,16 @@ impl ColourScale {
         if p.is_nan() { 0.0 } else { p.clamp(0.0, 1.0) }
     }
 
+    /// The value at position t ∈ [0, 1] (the inverse of [`ColourScale::position`]).
+    pub fn value_at(&self, t: f64) -> f64 {
+        let t = t.clamp(0.0, 1.0);
+        if self.log {
+            10f64.powf(self.lo.log10() + t * (self.hi.log10() - self.lo.log10()))
+        } else {
+            self.lo + t * (self.hi - self.lo)
+        }
+    }
+
     /// The band of `v` (0 … bands − 1; the top edge belongs to the last band).
     pub fn band(&self, v: f64) -> u32 {
         let n = self.bands();
@@ -132,12 +142,10 @@ impl ColourScale {
         (0..=n)
             .map(|i| {
                 let t = f64::from(i) / f64::from(n);
-                if i == n {
-                    self.hi
-                } else if self.log {
-                    10f64.powf(self.lo.log10() + t * (self.hi.log10() - self.lo.log10()))
-                } else {
-                    self.lo + t * (self.hi - self.lo)
+                match i {
+                    0 => self.lo,
+                    _ if i == n => self.hi,
+                    _ => self.value_at(t),
                 }
             })
             .collect()
