@@ -163,17 +163,20 @@ pub struct PlaneInput {
     pub points: Vec<PlanePoint>,
 }
 
-/// The `+y` face of one working-plane probe (lx), rounded to `f32`.
+/// The `+y` face of one working-plane probe (lx), rounded to `f32`, and where the probe is.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PlanePoint {
+    /// World position (m, +Y up): `extras.luxbake.probe.position`, else the node's world origin.
+    pub position: DVec3,
     pub total: f32,
     pub direct: f32,
     pub indirect: f32,
 }
 
 impl PlanePoint {
-    pub fn new(total: f64, direct: f64, indirect: f64) -> Self {
+    pub fn new(position: DVec3, total: f64, direct: f64, indirect: f64) -> Self {
         PlanePoint {
+            position,
             total: total as f32,
             direct: direct as f32,
             indirect: indirect as f32,

@@ -14,7 +14,7 @@
 //!   `faces` (lx, as stored);
 //! - the working plane: the children of the scene root node `probes` → child `working_plane`,
 //!   each probe node carrying `extras.luxbake.faces["+y"]`, `facesDirect["+y"]` and
-//!   `facesIndirect["+y"]` (lx);
+//!   `facesIndirect["+y"]` (lx), and its position (as a probe node's);
 //! - the run summary as stored (read typed by whoever needs it: `BakedOutput::run_summary`);
 //! - the lightmap atlases its materials name ([`super::lightmaps`]) and, per primitive whose
 //!   material names one, its layout (`TEXCOORD_<texCoord>`) and the texels it stands on
@@ -177,19 +177,26 @@ fn probe_nodes(file: &GltfFile) -> Result<Vec<ProbeNode>> {
                 )
             })?;
         }
-        let stored = luxbake["probe"]["position"].as_array().and_then(|a| {
-            let c: Vec<f64> = a.iter().filter_map(Value::as_f64).collect();
-            (a.len() == 3 && c.len() == 3).then(|| DVec3::new(c[0], c[1], c[2]))
-        });
-        let position =
-            stored.unwrap_or_else(|| nodes[i].world_from_local.transform_point3(DVec3::ZERO));
         probes.push(ProbeNode {
             node: i,
-            position,
+            position: probe_position(&nodes[i]),
             faces: values,
         });
     }
     Ok(probes)
+}
+
+/// A probe node's world position: `extras.luxbake.probe.position`, else the node's world origin.
+fn probe_position(node: &Node) -> DVec3 {
+    let extras = node
+        .extras
+        .as_ref()
+        .map(|e| &e["luxbake"]["probe"]["position"]);
+    let stored = extras.and_then(Value::as_array).and_then(|a| {
+        let c: Vec<f64> = a.iter().filter_map(Value::as_f64).collect();
+        (a.len() == 3 && c.len() == 3).then(|| DVec3::new(c[0], c[1], c[2]))
+    });
+    stored.unwrap_or_else(|| node.world_from_local.transform_point3(DVec3::ZERO))
 }
 
 /// A material's display factors as written.
@@ -333,6 +340,7 @@ fn working_plane(file: &GltfFile) -> Result<Vec<PlanePoint>> {
             })
         };
         points.push(PlanePoint::new(
+            probe_position(&nodes[i]),
             face("faces")?,
             face("facesDirect")?,
             face("facesIndirect")?,
