@@ -63,14 +63,16 @@ SPOT_TARGET = (2.5, 1.6, ROOM_L)
 
 # The seed's three viewpoints (its Appendix C, HELIOS synthetic cameras; see README "Cameras").
 # Seed axes: Z up, room X 0..5, Y 0..8 (front wall Y = 0, back wall Y = 8), Z 0..3.2.
-# (name, view distance, front plane, X size, Y size, eye, focus), seed coordinates; tilt 0,
-# window scale 1.1 / 1.9 / 1.1 not used (see README).
+# (name, view distance, front plane, X size, Y size, eye, focus) in seed coordinates, then our
+# znear: the front plane where it clips nothing in the room at any aspect up to 2:1, else
+# 0.01 m (side: -1.99 is behind the eye) or 0.1 m (interior: 1.7 m would clip the left wall
+# at the image's left edge from an aspect of about 1.7, e.g. 1280 x 720). Tilt 0; the window
+# scale (1.1 / 1.9 / 1.1) is not used (see README).
 SEED_CAMERAS = [
-    ("camera_front", 3.5, 7.25, 820, 530, (2.5, -10.0, 1.6), (2.5, 0.1, 1.6)),
-    ("camera_side", 2.0, -1.99, 800, 380, (14.0, 4.0, 1.6), (2.5, 4.0, 1.6)),
-    ("camera_interior", 1.2, 1.7, 900, 600, (0.6, 0.1, 1.6), (5.0, 8.0, 1.6)),
+    ("camera_front", 3.5, 7.25, 820, 530, (2.5, -10.0, 1.6), (2.5, 0.1, 1.6), 7.25),
+    ("camera_side", 2.0, -1.99, 800, 380, (14.0, 4.0, 1.6), (2.5, 4.0, 1.6), 0.01),
+    ("camera_interior", 1.2, 1.7, 900, 600, (0.6, 0.1, 1.6), (5.0, 8.0, 1.6), 0.1),
 ]
-SEED_ZNEAR_MIN = 0.01      # a front plane at or behind the eye becomes 1 cm
 
 # --------------------------------------------------------------- vector math
 
@@ -292,15 +294,13 @@ def look_at_rotation(eye, target, up=(0.0, 1.0, 0.0)):
     return quat_from_basis(right, cross(right, f), scale(f, -1.0))
 
 
-def seed_camera(vd, front, xs, ys):
+def seed_camera(vd, xs, ys, znear):
     """glTF perspective camera of a HELIOS camera. Assumed HELIOS window: +-1 on the view
-    plane in the image's larger direction, so tan(half fov) = 1 / view distance there; the
-    front plane as a distance from the eye (a negative one becomes SEED_ZNEAR_MIN)."""
+    plane in the image's larger direction, so tan(half fov) = 1 / view distance there."""
     aspect = xs / ys
     tan_half_x = 1.0 / vd if xs >= ys else aspect / vd
     yfov = 2.0 * math.atan(tan_half_x / aspect)
-    return {"aspectRatio": r6(aspect), "yfov": r6(yfov),
-            "znear": front if front > 0 else SEED_ZNEAR_MIN}
+    return {"aspectRatio": r6(aspect), "yfov": r6(yfov), "znear": znear}
 
 
 def rotate(q, v):
@@ -465,7 +465,7 @@ def build(variant):
 
     # ---- cameras: the seed's Appendix C viewpoints, root nodes after every other node
     cameras = []
-    for cname, vd, front, xs, ys, eye_s, focus_s in SEED_CAMERAS:
+    for cname, vd, _front, xs, ys, eye_s, focus_s, znear in SEED_CAMERAS:
         eye, focus = seed_to_gltf(eye_s), seed_to_gltf(focus_s)
         qc = look_at_rotation(eye, focus)
         got = rotate(qc, (0.0, 0.0, -1.0))
@@ -473,7 +473,7 @@ def build(variant):
         assert abs(rotate(qc, (1.0, 0.0, 0.0))[1]) < 1e-12, cname       # no roll (tilt 0)
         assert rotate(qc, (0.0, 1.0, 0.0))[1] > 0, cname                 # image up is +Y
         cameras.append({"name": cname, "type": "perspective",
-                        "perspective": seed_camera(vd, front, xs, ys)})
+                        "perspective": seed_camera(vd, xs, ys, znear)})
         scene_nodes.append(add_node({"name": cname, "camera": len(cameras) - 1,
                                      "translation": [r6(c) for c in eye],
                                      "rotation": [r6(c) for c in qc]}))
