@@ -8,9 +8,13 @@
 //! ([`texels`]), at read time. Both give a [`BakedOutput`] ([`model`]); the run summary in it is read typed only
 //! by those who need it ([`BakedOutput::run_summary`]).
 //!
-//! Below the consumers (`report`, `diff`), above the edges it reads through (`import`'s glTF
+//! Also the scene's cameras ([`cameras`]), each material's display factors ([`Look`]) and
+//! `COLOR_0`, for the views.
+//!
+//! Below the consumers (`report`, `diff`, `view`), above the edges it reads through (`import`'s glTF
 //! file layer, `export` for the bytes of a bake in memory) and the summary's format.
 
+pub mod cameras;
 mod lightmaps;
 pub mod model;
 mod read;
@@ -18,7 +22,8 @@ mod texels;
 
 pub use lightmaps::CHANNELS as LIGHTMAP_CHANNELS;
 pub use model::{
-    BakedOutput, Lightmap, LightmapUse, MaterialInfo, NodeInfo, PlaneInput, PlanePoint, Primitive,
+    BakedOutput, Lightmap, LightmapUse, Look, MaterialInfo, NodeInfo, PlaneInput, PlanePoint, Primitive,
     ProbeNode, Texel,
 };
+pub use cameras::{Camera, Projection};
 pub use read::{as_written, from_glb, from_prepared, read};

@@ -4,6 +4,7 @@
 //! Whichever way it arrives (read from a file, or as the exporter would write a bake in
 //! memory), a consumer sees the same values.
 
+use super::cameras::Camera;
 use crate::summary::RunSummary;
 use crate::{Error, Result};
 use glam::{DVec2, DVec3};
@@ -27,6 +28,8 @@ pub struct BakedOutput {
     /// The lightmap atlases the materials name (`LUXBAKE_lightmap`), in order of their `atlas`
     /// number; empty for a bake without lightmaps.
     pub lightmaps: Vec<Lightmap>,
+    /// The camera nodes of the scene, in node order.
+    pub cameras: Vec<Camera>,
     /// The run summary as stored (the scene's `extras.luxbake`), read typed by
     /// [`BakedOutput::run_summary`] only where it is needed: comparing two bakes needs none, so
     /// bakes of other versions still compare.
@@ -46,8 +49,25 @@ pub struct MaterialInfo {
     pub name: Option<String>,
     /// Photometric reflectance: Y of the linear RGB reflectance the bake used.
     pub reflectance: f64,
+    /// The linear RGB reflectance the bake used (grey `reflectance` when written as one number).
+    pub reflectance_rgb: DVec3,
     /// For a lightmapped variant (`extras.luxbake.variantOf`): the material it was made from.
     pub variant_of: Option<usize>,
+    /// What a glTF viewer shows of it (for `bake view --display`).
+    pub look: Look,
+}
+
+/// The display part of a material as written (what a glTF viewer multiplies and shows).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Look {
+    /// `pbrMetallicRoughness.baseColorFactor`, linear RGBA (glTF's default 1, 1, 1, 1).
+    pub base_color: [f64; 4],
+    /// `emissiveFactor`, linear RGB (default 0).
+    pub emissive: [f64; 3],
+    /// `emissiveTexture`: (texture index, `texCoord`).
+    pub emissive_texture: Option<(usize, u32)>,
+    /// `KHR_materials_unlit`.
+    pub unlit: bool,
 }
 
 /// One baked primitive in world space (m, +Y up); values per vertex.
@@ -64,6 +84,9 @@ pub struct Primitive {
     pub illuminance_direct: Vec<f32>,
     /// cd/m².
     pub luminance: Vec<f32>,
+    /// `COLOR_0` (linear RGB display colour, the exposure rule of the run summary), when
+    /// written (not on lightmapped primitives).
+    pub color: Option<Vec<[f32; 3]>>,
     /// Its lightmap, when its material has `LUXBAKE_lightmap`.
     pub lightmap: Option<LightmapUse>,
 }

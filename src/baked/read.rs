@@ -18,13 +18,15 @@
 //! - the run summary as stored (read typed by whoever needs it: `BakedOutput::run_summary`);
 //! - the lightmap atlases its materials name ([`super::lightmaps`]) and, per primitive whose
 //!   material names one, its layout (`TEXCOORD_<texCoord>`) and the texels it stands on
-//!   ([`super::texels`]); a lightmapped variant's `extras.luxbake.variantOf`.
+//!   ([`super::texels`]); a lightmapped variant's `extras.luxbake.variantOf`;
+//! - each material's display factors ([`Look`]) and each baked primitive's `COLOR_0`; the
+//!   scene's camera nodes ([`super::cameras`]).
 //!
 //! A file with no `_ILLUMINANCE` anywhere is not a luxbake output: an error saying so.
 
 use super::lightmaps::{self, Layouts};
 use super::model::{
-    BakedOutput, LightmapUse, MaterialInfo, NodeInfo, PlaneInput, PlanePoint, Primitive, ProbeNode,
+    BakedOutput, LightmapUse, Look, MaterialInfo, NodeInfo, PlaneInput, PlanePoint, Primitive, ProbeNode,
     parents,
 };
 use super::texels::{Scratch, rasterise};
@@ -90,8 +92,14 @@ fn from_file(file: &mut GltfFile, memory: Option<&Lightmaps>) -> Result<BakedOut
         .collect();
     let json = file.json();
     let names = file.material_names();
-    let reflectances: Vec<Option<f64>> = (0..names.len())
+    let reflectances_rgb: Vec<Option<DVec3>> = (0..names.len())
         .map(|i| reflectance(&json["materials"][i]["extras"]["luxbake"]["reflectance"]))
+        .collect();
+    let reflectances: Vec<Option<f64>> = (0..names.len())
+        .map(|i| {
+            let v = &json["materials"][i]["extras"]["luxbake"]["reflectance"];
+            v.as_f64().or(reflectances_rgb[i].map(luma))
+        })
         .collect();
     let variant_of = |i: usize| {
         let v = json["materials"][i]["extras"]["luxbake"]["variantOf"].as_u64();
@@ -128,7 +136,9 @@ fn from_file(file: &mut GltfFile, memory: Option<&Lightmaps>) -> Result<BakedOut
         .map(|(i, name)| MaterialInfo {
             name: name.clone(),
             reflectance: reflectances[i].unwrap_or(0.0),
+            reflectance_rgb: reflectances_rgb[i].unwrap_or(DVec3::ZERO),
             variant_of: variant_of(i),
+            look: look(&json["materials"][i]),
         })
         .collect();
     Ok(BakedOutput {
@@ -138,6 +148,7 @@ fn from_file(file: &mut GltfFile, memory: Option<&Lightmaps>) -> Result<BakedOut
         probes,
         working_plane: (!points.is_empty()).then_some(PlaneInput { points }),
         lightmaps: layouts.lightmaps,
+        cameras: super::cameras::read(file)?,
         summary: file
             .scene_extras()
             .map(|e| e["luxbake"].clone())
@@ -181,14 +192,35 @@ fn probe_nodes(file: &GltfFile) -> Result<Vec<ProbeNode>> {
     Ok(probes)
 }
 
-/// Y of a reflectance written as `[r, g, b]` (or a single number).
-fn reflectance(v: &Value) -> Option<f64> {
+/// A material's display factors as written.
+fn look(m: &Value) -> Look {
+    let numbers = |v: &Value, default: &[f64]| -> Vec<f64> {
+        let got: Vec<f64> = (v.as_array().into_iter().flatten())
+            .filter_map(Value::as_f64)
+            .collect();
+        if got.len() == default.len() { got } else { default.to_vec() }
+    };
+    let b = numbers(&m["pbrMetallicRoughness"]["baseColorFactor"], &[1.0; 4]);
+    let e = numbers(&m["emissiveFactor"], &[0.0; 3]);
+    let t = &m["emissiveTexture"];
+    Look {
+        base_color: [b[0], b[1], b[2], b[3]],
+        emissive: [e[0], e[1], e[2]],
+        emissive_texture: t["index"]
+            .as_u64()
+            .map(|i| (i as usize, t["texCoord"].as_u64().unwrap_or(0) as u32)),
+        unlit: !m["extensions"]["KHR_materials_unlit"].is_null(),
+    }
+}
+
+/// A reflectance written as `[r, g, b]` (or a single number, grey).
+fn reflectance(v: &Value) -> Option<DVec3> {
     if let Some(x) = v.as_f64() {
-        return Some(x);
+        return Some(DVec3::splat(x));
     }
     let a = v.as_array().filter(|a| a.len() == 3)?;
     let c: Vec<f64> = a.iter().filter_map(Value::as_f64).collect();
-    (c.len() == 3).then(|| luma(DVec3::new(c[0], c[1], c[2])))
+    (c.len() == 3).then(|| DVec3::new(c[0], c[1], c[2]))
 }
 
 /// A baked primitive, or `None` when it has no `_ILLUMINANCE` or is not made of triangles.
@@ -215,6 +247,10 @@ fn primitive(
     let illuminance = scalar("_ILLUMINANCE")?;
     let illuminance_direct = scalar("_ILLUMINANCE_DIRECT")?;
     let luminance = scalar("_LUMINANCE")?;
+    let color = match p.has("COLOR_0") {
+        true => Some(colors(p)?),
+        false => None,
+    };
     let positions: Vec<DVec3> = p
         .positions()?
         .into_iter()
@@ -251,8 +287,21 @@ fn primitive(
         illuminance,
         illuminance_direct,
         luminance,
+        color,
         lightmap,
     }))
+}
+
+/// `COLOR_0` as RGB (a VEC4's alpha dropped).
+fn colors(p: &GltfPrimitive) -> Result<Vec<[f32; 3]>> {
+    let (raw, n) = match p.read("COLOR_0", 3) {
+        Ok(raw) => (raw, 3),
+        Err(_) => (p.read("COLOR_0", 4)?, 4),
+    };
+    Ok(raw
+        .chunks_exact(n)
+        .map(|c| [c[0] as f32, c[1] as f32, c[2] as f32])
+        .collect())
 }
 
 /// The `+y` faces of the probes under the root `probes` → `working_plane`.

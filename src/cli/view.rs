@@ -1,8 +1,21 @@
-//! `bake view LIT.gltf|.glb -o VIEW.exr …`: a luminance image of a finished bake.
+//! `bake view LIT.gltf|.glb -o VIEW.exr [--camera NAME | --eye X,Y,Z --target X,Y,Z [--up X,Y,Z]
+//! --fov DEG] [--size WxH] [--near M] [--samples N] [--threads N] [--png OUT.png]
+//! [--false-colour OUT.png [--quantity luminance|illuminance] [--scale auto|LO:HI] [--log]
+//! [--steps N] [--contours]] [--display OUT.png]`: a luminance image of a finished bake.
+//!
+//! Every output path is checked against the files the bake is made of before any work; all
+//! outputs are written together at the end (atomically). A camera that seems to be inside a
+//! solid is a warning on stderr.
 
-use anyhow::{Result, bail};
-use clap::Args;
-use std::path::PathBuf;
+use anyhow::{Context, Result};
+use clap::{Args, ValueEnum};
+use glam::DVec3;
+use luxbake::Error;
+use luxbake::export::{self, ViewImage};
+use luxbake::import::{self, ImportOptions};
+use luxbake::picture::{Rgb8Image, legend, scale::ColourScale, tonemap};
+use luxbake::view::{self, Camera, ViewOptions, camera};
+use std::path::{Path, PathBuf};
 
 /// Render a luminance image (EXR, cd/m²) of a luxbake output from a camera.
 #[derive(Args, Debug)]
@@ -12,8 +25,261 @@ pub struct ViewArgs {
     /// The EXR to write (R, G, B and luminance in cd/m²).
     #[arg(short, long, value_name = "VIEW.exr")]
     output: PathBuf,
+    /// A glTF camera node of the file, by name (perspective).
+    #[arg(long, value_name = "NAME", conflicts_with_all = ["eye", "target", "up", "fov"])]
+    camera: Option<String>,
+    /// Eye position (m, glTF axes, +Y up).
+    #[arg(long, value_name = "X,Y,Z", requires = "target")]
+    eye: Option<String>,
+    /// The point looked at (m).
+    #[arg(long, value_name = "X,Y,Z", requires = "eye")]
+    target: Option<String>,
+    /// Up direction of the image [default: 0,1,0].
+    #[arg(long, value_name = "X,Y,Z")]
+    up: Option<String>,
+    /// Vertical field of view (degrees) [default: 60].
+    #[arg(long, value_name = "DEG")]
+    fov: Option<f64>,
+    /// Image size in pixels [default: 1280x720, or 1280 wide at a camera's aspect ratio].
+    #[arg(long, value_name = "WxH")]
+    size: Option<String>,
+    /// Rays start this far in front of the eye (m) [default: the camera's znear, or 0].
+    #[arg(long, value_name = "M")]
+    near: Option<f64>,
+    /// Antialiasing rays per pixel (1: the centre only; 4: rotated grid).
+    #[arg(long, value_name = "N", default_value_t = 4)]
+    samples: u32,
+    /// Worker threads (default: all cores); the image does not depend on it.
+    #[arg(long, value_name = "N")]
+    threads: Option<usize>,
+    /// Also write the view tone mapped for the adapted eye (histogram adjustment), sRGB PNG.
+    #[arg(long, value_name = "OUT.png")]
+    png: Option<PathBuf>,
+    /// Also write a false-colour PNG with a legend.
+    #[arg(long = "false-colour", visible_alias = "false-color", value_name = "OUT.png")]
+    false_colour: Option<PathBuf>,
+    /// What the false colours show: luminance (cd/m²) or the illuminance of the surface seen (lx).
+    #[arg(long, value_enum, default_value_t = Quantity::Luminance)]
+    quantity: Quantity,
+    /// False-colour range: 'auto' (a round range) or LO:HI.
+    #[arg(long, value_name = "auto|LO:HI", default_value = "auto")]
+    scale: String,
+    /// Logarithmic false-colour scale.
+    #[arg(long)]
+    log: bool,
+    /// False colours in this many bands (0: smooth).
+    #[arg(long, value_name = "N", default_value_t = 0)]
+    steps: u32,
+    /// Draw contour lines between the bands.
+    #[arg(long)]
+    contours: bool,
+    /// Also write what a glTF viewer shows with the bake's unlit materials (COLOR_0, lightmap
+    /// display textures), sRGB PNG.
+    #[arg(long, value_name = "OUT.png")]
+    display: Option<PathBuf>,
 }
 
-pub fn run(_a: &ViewArgs) -> Result<()> {
-    bail!("bake view: not built yet")
+#[derive(Clone, Copy, Debug, ValueEnum, PartialEq)]
+pub enum Quantity {
+    Luminance,
+    Illuminance,
+}
+
+fn usage(message: String) -> anyhow::Error {
+    Error::Settings(message).into()
+}
+
+/// `X,Y,Z` as a vector.
+fn vector(option: &str, s: &str) -> Result<DVec3> {
+    let parts: Vec<Option<f64>> = s
+        .split(',')
+        .map(|p| p.trim().parse::<f64>().ok().filter(|v| v.is_finite()))
+        .collect();
+    match parts.as_slice() {
+        [Some(x), Some(y), Some(z)] => Ok(DVec3::new(*x, *y, *z)),
+        _ => Err(usage(format!(
+            "--{option} {s}: three finite numbers X,Y,Z are expected"
+        ))),
+    }
+}
+
+/// `WxH` as a checked size.
+fn size(s: &str) -> Result<(u32, u32)> {
+    let bad = || usage(format!("--size {s}: WxH in pixels is expected, e.g. 1280x720"));
+    let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
+    let w: u32 = w.trim().parse().map_err(|_| bad())?;
+    let h: u32 = h.trim().parse().map_err(|_| bad())?;
+    camera::check_size(w, h)?;
+    Ok((w, h))
+}
+
+/// The false-colour scale of `values`.
+fn colour_scale(args: &ViewArgs, values: &[f64]) -> Result<ColourScale> {
+    if args.scale == "auto" {
+        let positive: Vec<f64> = match args.log {
+            true => values.iter().copied().filter(|v| *v > 0.0).collect(),
+            false => values.iter().copied().filter(|v| v.is_finite()).collect(),
+        };
+        return Ok(ColourScale::auto(&positive, args.log, args.steps));
+    }
+    let bad = |m: String| usage(format!("--scale {}: {m}", args.scale));
+    let (lo, hi) = args
+        .scale
+        .split_once(':')
+        .ok_or_else(|| bad("'auto' or LO:HI is expected".into()))?;
+    let number = |v: &str| {
+        v.trim()
+            .parse::<f64>()
+            .map_err(|_| bad(format!("'{v}' is not a number")))
+    };
+    ColourScale::fixed(number(lo)?, number(hi)?, args.log, args.steps).map_err(bad)
+}
+
+/// The camera the arguments describe.
+fn camera_of(args: &ViewArgs, baked: &luxbake::baked::BakedOutput) -> Result<Camera> {
+    let size = args.size.as_deref().map(size).transpose()?;
+    if let Some(name) = &args.camera {
+        return Ok(view::named_camera(baked, name, size, args.near)?);
+    }
+    let (Some(eye), Some(target)) = (&args.eye, &args.target) else {
+        return Err(usage(
+            "a view needs --camera NAME or --eye X,Y,Z --target X,Y,Z".into(),
+        ));
+    };
+    let up = args.up.as_deref().map_or(Ok(DVec3::Y), |u| vector("up", u))?;
+    Ok(Camera::look_at(
+        vector("eye", eye)?,
+        vector("target", target)?,
+        up,
+        args.fov.unwrap_or(60.0),
+        size.unwrap_or((camera::DEFAULT_WIDTH, camera::DEFAULT_HEIGHT)),
+        args.near.unwrap_or(0.0),
+    )?)
+}
+
+/// The camera as the EXR header records it (JSON, ASCII).
+fn camera_text(c: &Camera, samples: u32) -> String {
+    let v = |p: DVec3| [p.x, p.y, p.z];
+    export::ascii_json(&serde_json::json!({
+        "eye": v(c.eye),
+        "forward": v(c.forward),
+        "up": v(c.up),
+        "target": v(c.target()),
+        "yfovDeg": c.yfov.to_degrees(),
+        "width": c.width,
+        "height": c.height,
+        "near": c.near,
+        "samplesPerPixel": samples,
+        "axes": "glTF, +Y up, m; image row 0 at the top",
+    }))
+}
+
+pub fn run(args: &ViewArgs) -> Result<()> {
+    if args.samples == 0 || args.samples > view::MAX_SAMPLES {
+        return Err(usage(format!(
+            "--samples {}: must be 1 to {}",
+            args.samples,
+            view::MAX_SAMPLES
+        )));
+    }
+    if let Some(s) = &args.size {
+        size(s)?;
+    }
+    if args.scale != "auto" {
+        colour_scale(args, &[])?;
+    }
+    let outputs: Vec<&Path> = [
+        Some(&args.output),
+        args.png.as_ref(),
+        args.false_colour.as_ref(),
+        args.display.as_ref(),
+    ]
+    .into_iter()
+    .flatten()
+    .map(PathBuf::as_path)
+    .collect();
+    export::check_files(&[&args.file], &outputs)?;
+    let baked = luxbake::baked::read(&args.file)?;
+    if baked.summary.is_none() {
+        return Err(Error::input(
+            &args.file,
+            "/scenes/0/extras/luxbake",
+            "not a luxbake output: no run summary",
+        )
+        .into());
+    }
+    let camera = camera_of(args, &baked)?;
+    let scene = import::load(&args.file, &ImportOptions::default())?;
+    let inputs: Vec<&Path> = scene.input_files.iter().map(PathBuf::as_path).collect();
+    export::check_files(&inputs, &outputs)?;
+
+    let threads = args.threads.unwrap_or(0);
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .context("cannot start worker threads")?;
+    let options = ViewOptions {
+        samples: args.samples,
+        display: args.display.is_some(),
+    };
+    let v = pool.install(|| view::render(&baked, &scene, &camera, &options))?;
+    if v.inside_solid {
+        eprintln!(
+            "warning: the camera at ({}, {}, {}) m seems to be inside a solid: every direction \
+             from it meets the back of a surface first",
+            v.camera.eye.x, v.camera.eye.y, v.camera.eye.z
+        );
+    }
+    let (w, h) = (camera.width, camera.height);
+    let rgb = v.rgb();
+    let luminance = v.luminance();
+    let exr = export::encode_view(&ViewImage {
+        width: w,
+        height: h,
+        rgb: &rgb,
+        luminance: &luminance,
+        texts: vec![
+            ("luxbake.camera".into(), camera_text(&camera, args.samples)),
+            (
+                "luxbake.tool".into(),
+                concat!("luxbake ", env!("CARGO_PKG_VERSION")).into(),
+            ),
+            (
+                "luxbake.units".into(),
+                r#"{"R":"cd/m2","G":"cd/m2","B":"cd/m2","luminance":"cd/m2"}"#.into(),
+            ),
+        ],
+    })
+    .map_err(|m| Error::output(&args.output, m))?;
+    let mut files: Vec<(&Path, Vec<u8>)> = vec![(&args.output, exr)];
+    let png = |path: &Path, img: &Rgb8Image| -> Result<Vec<u8>> {
+        Ok(export::display::png_rgb8(img).map_err(|m| Error::output(path, m))?)
+    };
+    if let Some(path) = &args.png {
+        let mapped = tonemap::histogram_adjustment(&rgb, w, h, camera.yfov.to_degrees());
+        files.push((path, png(path, &mapped.image)?));
+    }
+    if let Some(path) = &args.false_colour {
+        let (values, unit): (Vec<f64>, &str) = match args.quantity {
+            Quantity::Luminance => (luminance.iter().map(|&y| y as f64).collect(), "cd/m²"),
+            Quantity::Illuminance => (
+                v.illuminance().iter().map(|&e| e as f64).collect(),
+                "lx",
+            ),
+        };
+        let scale = colour_scale(args, &values)?;
+        let img = legend::false_colour(&values, w, h, &scale, unit, args.contours);
+        files.push((path, png(path, &img)?));
+    }
+    if let Some(path) = &args.display {
+        let img = Rgb8Image {
+            width: w,
+            height: h,
+            pixels: v.display(),
+        };
+        files.push((path, png(path, &img)?));
+    }
+    let refs: Vec<(&Path, &[u8])> = files.iter().map(|(p, b)| (*p, b.as_slice())).collect();
+    export::atomic::write_atomic_all(&refs)?;
+    Ok(())
 }

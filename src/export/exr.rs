@@ -1,4 +1,6 @@
-//! One lightmap atlas as an OpenEXR file (the only user of the `exr` crate).
+//! One lightmap atlas as an OpenEXR file (the only user of the `exr` crate); also a view's
+//! luminance image ([`encode_view`]: channels `R`, `G`, `B`, `luminance` in cd/m², the camera in
+//! text attributes).
 //!
 //! Input: an [`Atlas`] and the texts of its header ([`Header`]). Output: the bytes of a
 //! single-part, scan-line, uncompressed EXR whose data window is the atlas (W × H), with 32-bit
@@ -118,6 +120,67 @@ pub fn encode_with(
         .non_parallel()
         .to_buffered(&mut bytes)
         .map_err(|e| format!("cannot encode atlas {}: {e}", header.atlas))?;
+    let mut bytes = bytes.into_inner();
+    sort_attributes(&mut bytes)?;
+    Ok(bytes)
+}
+
+/// A luminance image of `bake view` (row 0 at the top).
+#[derive(Debug, Clone)]
+pub struct ViewImage<'a> {
+    pub width: u32,
+    pub height: u32,
+    /// Linear Rec. 709 luminance per channel (cd/m²).
+    pub rgb: &'a [[f32; 3]],
+    /// Photometric luminance Y (cd/m²).
+    pub luminance: &'a [f32],
+    /// Text attributes (`luxbake.camera`, …), ASCII values.
+    pub texts: Vec<(String, String)>,
+}
+
+/// The EXR bytes of a view: channels `R`, `G`, `B` and `luminance` (f32, cd/m²), scan line 0 =
+/// image row 0 (the top), `whiteLuminance` 1, the texts as attributes sorted by name.
+pub fn encode_view(v: &ViewImage) -> std::result::Result<Vec<u8>, String> {
+    let (w, h) = (v.width as usize, v.height as usize);
+    let n = w * h;
+    if n == 0 || v.rgb.len() != n || v.luminance.len() != n {
+        return Err(format!(
+            "a {w} × {h} view with {} colours and {} luminances",
+            v.rgb.len(),
+            v.luminance.len()
+        ));
+    }
+    let rgb = |c: usize| FlatSamples::F32(v.rgb.iter().map(|p| p[c]).collect());
+    let channels = AnyChannels::sort(SmallVec::from_vec(vec![
+        AnyChannel::new("R", rgb(0)),
+        AnyChannel::new("G", rgb(1)),
+        AnyChannel::new("B", rgb(2)),
+        AnyChannel::new("luminance", FlatSamples::F32(v.luminance.to_vec())),
+    ]));
+    let mut attributes = LayerAttributes {
+        white_luminance: Some(1.0),
+        ..LayerAttributes::default()
+    };
+    for (name, value) in &v.texts {
+        let text = Text::new_or_none(value)
+            .filter(|_| value.is_ascii())
+            .ok_or_else(|| format!("header attribute {name} is not ASCII: {value}"))?;
+        attributes
+            .other
+            .insert(Text::from(name.as_str()), AttributeValue::Text(text));
+    }
+    let encoding = Encoding {
+        compression: COMPRESSION,
+        blocks: Blocks::ScanLines,
+        line_order: LineOrder::Increasing,
+    };
+    let image = Image::from_layer(Layer::new((w, h), attributes, encoding, channels));
+    let mut bytes = Cursor::new(Vec::new());
+    image
+        .write()
+        .non_parallel()
+        .to_buffered(&mut bytes)
+        .map_err(|e| format!("cannot encode the view: {e}"))?;
     let mut bytes = bytes.into_inner();
     sort_attributes(&mut bytes)?;
     Ok(bytes)

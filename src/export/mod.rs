@@ -20,7 +20,7 @@
 pub mod atomic;
 mod buffer;
 mod container;
-mod display;
+pub mod display;
 mod document;
 mod exr;
 mod extras;
@@ -36,6 +36,7 @@ mod probes;
 pub mod summary;
 mod target;
 
+pub use exr::{ViewImage, ascii_json, encode_view};
 pub use glyphs::scale as glyph_scale;
 pub use target::content_hash;
 

@@ -1,7 +1,8 @@
 //! Encoded images (PNG, JPEG): recognising their type and computing their mean linear colour.
 //!
-//! Inputs: encoded bytes. Outputs: the media type (`image/png`, `image/jpeg`) and the mean over
-//! all texels of the sRGB-decoded (linear) RGB values, alpha ignored.
+//! Inputs: encoded bytes. Outputs: the media type (`image/png`, `image/jpeg`), the mean over
+//! all texels of the sRGB-decoded (linear) RGB values, alpha ignored, and the 8-bit texels
+//! themselves (`decode_rgb8`, for the views' display mode).
 //! Invariant: the type comes from the bytes' signature, never from a file name or a declared
 //! media type (those can be wrong); decoding errors become messages, never panics.
 
@@ -68,6 +69,21 @@ pub(crate) fn mean_linear_rgb(bytes: &[u8]) -> Result<DVec3, String> {
         return Err("the image has no texels".into());
     }
     Ok(sum / texels as f64)
+}
+
+/// An encoded PNG/JPEG image decoded to 8-bit RGB (alpha dropped): (width, height, texels
+/// row-major from the top), the bytes as stored (sRGB-encoded for colour textures).
+pub fn decode_rgb8(bytes: &[u8]) -> Result<(u32, u32, Vec<[u8; 3]>), String> {
+    let format = match sniff_mime(bytes) {
+        Some("image/png") => image::ImageFormat::Png,
+        Some(_) => image::ImageFormat::Jpeg,
+        None => return Err("not a PNG or JPEG image".into()),
+    };
+    let rgb = image::load_from_memory_with_format(bytes, format)
+        .map_err(|e| format!("cannot decode the image: {e}"))?
+        .to_rgb8();
+    let texels = rgb.pixels().map(|p| p.0).collect();
+    Ok((rgb.width(), rgb.height(), texels))
 }
 
 #[cfg(test)]

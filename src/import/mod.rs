@@ -24,6 +24,7 @@ mod resources;
 pub use checks::{MAX_COORDINATE, MAX_PHOTOMETRIC};
 pub(crate) use glb::{is_glb, parse as parse_glb};
 pub use gltf::file::{GltfFile, Primitive as GltfPrimitive};
+pub use images::decode_rgb8;
 
 use crate::{Error, Result, scene::Scene};
 use std::path::Path;

@@ -286,6 +286,39 @@ impl Occluder {
         })
     }
 
+    /// The nearest triangle whose FRONT (counter-clockwise side) a ray from `origin` along the
+    /// unit `dir` hits, back-facing triangles culled inside the traversal (as a glTF viewer
+    /// culls the back faces of single-sided surfaces): index (as given to the constructor),
+    /// distance (m) and unit geometric normal. The ray starts at `origin` itself, not pulled off
+    /// anything, so of a front and a back triangle in one plane the front one is found.
+    pub fn closest_front(&self, origin: DVec3, dir: DVec3) -> Option<Hit> {
+        self.closest_facing(origin, dir, true)
+    }
+
+    /// [`Occluder::closest_front`] for the triangles whose BACK the ray meets (the front faces
+    /// culled): the first back face along the ray.
+    pub fn closest_back(&self, origin: DVec3, dir: DVec3) -> Option<Hit> {
+        self.closest_facing(origin, dir, false)
+    }
+
+    fn closest_facing(&self, origin: DVec3, dir: DVec3, front: bool) -> Option<Hit> {
+        let bvh = self.all.bvh.as_ref()?;
+        self.rays.add();
+        let ray = self.ray(origin, dir, f64::INFINITY);
+        let mut hit = RayHit::none();
+        let tris = &self.all.triangles;
+        if !bvh.ray_traverse(ray, &mut hit, |r, id| intersect_facing(&tris[id], r, front)) {
+            return None;
+        }
+        let t = &tris[hit.primitive_id as usize];
+        let n = (t.v1 - t.v0).cross(t.v2 - t.v0);
+        Some(Hit {
+            triangle: self.all.ids[hit.primitive_id as usize] as usize,
+            distance: hit.t as f64 / self.scale,
+            normal: n.as_dvec3().normalize_or_zero(),
+        })
+    }
+
     /// The nearest hit of a ray (in BVH units) among all triangles.
     fn nearest(&self, ray: Ray) -> Option<RayHit> {
         let bvh = self.all.bvh.as_ref()?;
@@ -377,6 +410,17 @@ impl Boundable for Padded {
             b.max + Vec3A::splat(self.pad),
         )
     }
+}
+
+/// [`intersect`] for a triangle seen from its front only (`front`; ∞ when the ray meets its
+/// back), or from its back only.
+fn intersect_facing(t: &Triangle, ray: &Ray, front: bool) -> f32 {
+    let n = (t.v1.as_dvec3() - t.v0.as_dvec3()).cross(t.v2.as_dvec3() - t.v0.as_dvec3());
+    let towards = n.dot(ray.direction.as_dvec3());
+    if (front && towards >= 0.0) || (!front && towards <= 0.0) {
+        return f32::INFINITY;
+    }
+    intersect(t, ray)
 }
 
 /// Ray–triangle distance (∞ for a miss), Möller–Trumbore evaluated in f64 with barycentric
@@ -562,4 +606,37 @@ mod tests {
             assert!(occ.clear(q(-4., 0., 4.), DVec3::Y, q(4., 0., -4.), DVec3::Y));
         }
     }
+
+    #[test]
+    fn closest_front_culls_back_faces_and_keeps_coincident_fronts() {
+        // A double-sided plate at y = 1 as two coincident triangles, one facing +y, one −y, and
+        // a floor at y = 0 facing +y.
+        let up = [
+            DVec3::new(-1.0, 1.0, 1.0),
+            DVec3::new(1.0, 1.0, 1.0),
+            DVec3::new(0.0, 1.0, -1.0),
+        ];
+        let down = [up[0], up[2], up[1]];
+        let floor = [
+            DVec3::new(-5.0, 0.0, 5.0),
+            DVec3::new(5.0, 0.0, 5.0),
+            DVec3::new(0.0, 0.0, -5.0),
+        ];
+        for tris in [[up, down, floor], [down, up, floor]] {
+            let occ = Occluder::from_triangles(&tris, false);
+            let id = |t: [DVec3; 3]| tris.iter().position(|x| *x == t).unwrap();
+            let from_above = occ.closest_front(DVec3::new(0.0, 3.0, 0.0), -DVec3::Y).unwrap();
+            assert_eq!(from_above.triangle, id(up));
+            assert!((from_above.distance - 2.0).abs() < 1e-6);
+            let from_below = occ.closest_front(DVec3::new(0.0, 0.5, 0.0), DVec3::Y).unwrap();
+            assert_eq!(from_below.triangle, id(down));
+            assert!((from_below.distance - 0.5).abs() < 1e-6);
+            // Under the floor, looking up: the floor's back is culled, the plate's underside seen.
+            let under = occ.closest_front(DVec3::new(0.0, -1.0, 0.0), DVec3::Y).unwrap();
+            assert_eq!(under.triangle, id(down));
+            // Looking down from under the floor: nothing faces the ray.
+            assert!(occ.closest_front(DVec3::new(0.0, -1.0, 0.0), -DVec3::Y).is_none());
+        }
+    }
+
 }

@@ -135,12 +135,13 @@ impl Primitive<'_> {
         )
     }
 
-    /// The accessor of an attribute named as in the file (`POSITION`, `TEXCOORD_1`,
+    /// The accessor of an attribute named as in the file (`POSITION`, `TEXCOORD_1`, `COLOR_0`,
     /// `_ILLUMINANCE`).
     fn attribute(&self, name: &str) -> Option<::gltf::Accessor<'_>> {
         let semantic = match name {
             "POSITION" => Semantic::Positions,
             _ if name.starts_with("TEXCOORD_") => Semantic::TexCoords(name[9..].parse().ok()?),
+            _ if name.starts_with("COLOR_") => Semantic::Colors(name[6..].parse().ok()?),
             custom => Semantic::Extras(custom.strip_prefix('_')?.into()),
         };
         self.prim.get(&semantic)
