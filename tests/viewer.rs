@@ -61,25 +61,44 @@ fn write_difference(a: &[u8], b: &[u8], path: &Path) {
     writer.write_image_data(&diff).unwrap();
 }
 
-/// Mean absolute difference per channel (in 1/255 steps) and the fraction of pixels whose
-/// three channels all differ by at most `within`.
-fn compare(a: &[u8], b: &[u8], within: u8) -> ([f64; 3], f64) {
+/// What the comparison measured.
+struct Stats {
+    /// Mean |a − b| per channel, in 1/255 steps.
+    mean: [f64; 3],
+    /// Fraction of pixels whose three channels all differ by at most 1/255, and by 8/255.
+    within_1: f64,
+    within_8: f64,
+    /// Mean and standard deviation of the three.js image's values (is there a picture at all).
+    level: f64,
+    spread: f64,
+}
+
+fn compare(a: &[u8], b: &[u8]) -> Stats {
     let mut sum = [0u64; 3];
-    let mut close = 0usize;
+    let (mut within_1, mut within_8) = (0usize, 0usize);
     for (p, q) in a.chunks(3).zip(b.chunks(3)) {
         let d: Vec<u8> = p.iter().zip(q).map(|(x, y)| x.abs_diff(*y)).collect();
         for c in 0..3 {
             sum[c] += d[c] as u64;
         }
-        close += usize::from(d.iter().all(|&x| x <= within));
+        let worst = *d.iter().max().unwrap();
+        within_1 += usize::from(worst <= 1);
+        within_8 += usize::from(worst <= 8);
     }
     let n = (WIDTH * HEIGHT) as f64;
-    (sum.map(|s| s as f64 / n), close as f64 / n)
+    let level = a.iter().map(|&v| v as f64).sum::<f64>() / a.len() as f64;
+    let var = a.iter().map(|&v| (v as f64 - level).powi(2)).sum::<f64>() / a.len() as f64;
+    Stats {
+        mean: sum.map(|s| s as f64 / n),
+        within_1: within_1 as f64 / n,
+        within_8: within_8 as f64 / n,
+        level,
+        spread: var.sqrt(),
+    }
 }
 
-/// Bake the office with `extra`, render `CAMERA` both ways, compare; returns (mean per
-/// channel, fraction within 8/255).
-fn both_renders(variant: &str, extra: &[&str]) -> Option<([f64; 3], f64)> {
+/// Bake the office with `extra`, render `CAMERA` both ways, compare.
+fn both_renders(variant: &str, extra: &[&str]) -> Option<Stats> {
     if !tools::have_three() {
         return None;
     }
@@ -115,26 +134,51 @@ fn both_renders(variant: &str, extra: &[&str]) -> Option<([f64; 3], f64)> {
             std::fs::copy(from, target).unwrap();
         }
     }
-    let stats = compare(&a, &b, 8);
+    let s = compare(&a, &b);
     eprintln!(
-        "{variant}: mean |three − view| = {:.3} {:.3} {:.3} (1/255), {:.3} % of pixels within 8/255",
-        stats.0[0],
-        stats.0[1],
-        stats.0[2],
-        100.0 * stats.1
+        "{variant}: mean |three − view| = {:.3} {:.3} {:.3} (1/255); pixels within 1/255 {:.3} %, \
+         within 8/255 {:.3} %; three.js image mean {:.1}, sd {:.1}",
+        s.mean[0],
+        s.mean[1],
+        s.mean[2],
+        100.0 * s.within_1,
+        100.0 * s.within_8,
+        s.level,
+        s.spread
     );
-    Some(stats)
+    Some(s)
 }
 
-/// The tolerance (TODO: measured).
-fn assert_close(variant: &str, (mean, within): ([f64; 3], f64)) {
-    for (c, m) in mean.iter().enumerate() {
-        assert!(*m <= 2.0, "{variant}: channel {c} mean difference {m:.3}/255 > 2/255");
+/// The tolerance. Measured (2026-12-02, three 0.187.0, Chromium 156 SwiftShader, 600 × 400,
+/// draft bakes; vertex / lightmapped): mean |difference| 0.067 / 0.057 (1/255) per channel;
+/// 97.1 / 97.9 % of pixels identical, 99.38 / 99.44 % within 1/255 (interior pixels: 8-bit
+/// rounding of the same interpolated value), 99.85 % within 8/255, largest 55/255. The pixels
+/// beyond 8/255 are all on edges (the difference image shows only outlines): WebGL's MSAA
+/// averages sRGB-encoded samples at its own sample positions, `bake view` averages 4 linear
+/// rays on a rotated grid. Asserted with room for another Chromium's rasteriser, and still
+/// failing on a half-pixel camera shift (every edge, ~2–3 % of pixels, beyond 8/255), a wrong
+/// transfer curve or exposure (every pixel off), or a wrong camera/yfov/aspect: mean ≤ 0.25/255,
+/// ≥ 99.5 % within 8/255, ≥ 98.5 % within 1/255; and there must be a picture (mean level
+/// 40…200, spread ≥ 10: not blank, not one flat colour).
+fn assert_close(variant: &str, s: Stats) {
+    for (c, m) in s.mean.iter().enumerate() {
+        assert!(*m <= 0.25, "{variant}: channel {c} mean difference {m:.3}/255 > 0.25/255");
     }
     assert!(
-        within >= 0.99,
-        "{variant}: {:.3} % of pixels within 8/255, want ≥ 99 %",
-        100.0 * within
+        s.within_8 >= 0.995,
+        "{variant}: {:.3} % of pixels within 8/255, want ≥ 99.5 %",
+        100.0 * s.within_8
+    );
+    assert!(
+        s.within_1 >= 0.985,
+        "{variant}: {:.3} % of pixels within 1/255, want ≥ 98.5 %",
+        100.0 * s.within_1
+    );
+    assert!(
+        (40.0..=200.0).contains(&s.level) && s.spread >= 10.0,
+        "{variant}: no picture (mean {:.1}, sd {:.1})",
+        s.level,
+        s.spread
     );
 }
 
