@@ -23,8 +23,9 @@ What it does:
   -lw 1e-4, fine direct sampling) at the centre ray of every STEP-th pixel in x and y, each ray
   twice (independent estimates: their spread gives the reference's own noise).
 - Mask: a sampled pixel counts when its centre ray and those of its four neighbours hit the same
-  glTF node and none is a luminaire (rtrace -os -om, polygon names carry the node index), so
-  edges (antialiasing, pixel-footprint averaging) and luminaires are left out.
+  glTF node and none is a luminaire (rtrace -os -om, polygon names carry the node index; the
+  luminaires' ies2rad `illum`s are named L<node>.*), so edges (antialiasing, pixel-footprint
+  averaging) and luminaires are left out.
 - Error: per sampled pixel (L - L_ref) / L_ref on the luminance (cd/m^2: bake view's EXR
   `luminance` channel; RADIANCE 179 x (0.265 R + 0.670 G + 0.065 B)); RMS, mean and 95th
   percentile of |.|.
@@ -199,8 +200,9 @@ def bake_view(bake_bin, lit, exr, camera_name, size, work):
 
 # ---------------------------------------------------------------- errors
 
-def errors(image, samples, ref):
-    rel = np.array([(image[row, col] - r) / r for (col, row), r in zip(samples, ref)])
+def errors(image, samples, ref, lum):
+    rel = np.array([(image[row, col] - r) / r
+                    for (col, row), r, out in zip(samples, ref, lum) if not out])
     a = np.abs(rel)
     return {"rms": float(np.sqrt(np.mean(rel ** 2))), "mean": float(np.mean(rel)),
             "p95": float(np.percentile(a, 95)), "max": float(a.max())}
@@ -257,15 +259,19 @@ def main():
     with open(OFFICE, encoding="utf-8") as f:
         materials = json.load(f)["materials"]
     lum_mods = {f"mat{k}" for k, m in enumerate(materials) if m["name"] in LUMINAIRE_MATERIALS}
-    keep = []
+    keep, seen_lum = [], []
     for k in range(len(samples)):
         hits = lines[5 * k:5 * k + 5]
         nodes = {h[0].split("_t")[0] if len(h) == 2 else "void" for h in hits}
-        mods = {h[1] if len(h) == 2 else "void" for h in hits}
-        if len(nodes) == 1 and "void" not in nodes and not (mods & lum_mods):
+        if len(nodes) == 1 and "void" not in nodes:
             keep.append(k)
+            # a luminaire: its housing or diffuser, or the ies2rad `illum` in front of it
+            # (xform names it L<node>.…; it passes view rays on to the diffuser)
+            seen_lum.append(any(h[1] in lum_mods or (h[0].startswith("L") and "." in h[0])
+                                for h in hits))
     samples = [samples[k] for k in keep]
-    log(f"{len(samples)} sampled pixels kept of {len(probe) // 5} (edges and luminaires out)")
+    log(f"{len(samples)} sampled pixels off edges of {len(probe) // 5}, "
+        f"{sum(seen_lum)} of them luminaires (left out of the errors)")
     rays = pixel_rays(cam, width, height, samples)
     # the reference is dear (minutes): reused when the work folder holds one for the same
     # scene, rays and options (ref.rays, ref.key, ref.out)
@@ -295,10 +301,12 @@ def main():
             f.write(f"{ref_wall}\n")
     est = np.array([luminance(ln[:3]) for ln in lines]).reshape(2, len(rays))
     ref = est.mean(axis=0)
-    ref_noise = float(np.sqrt(np.mean(((est[0] - est[1]) / 2 / ref) ** 2)))
+    on = ~np.array(seen_lum)
+    ref_noise = float(np.sqrt(np.mean(((est[0] - est[1])[on] / 2 / ref[on]) ** 2)))
     results["reference"] = {"options": " ".join(REFERENCE), "pixels": len(rays),
+                            "pixelsCompared": len(rays) - sum(seen_lum),
                             "wall": ref_wall, "relNoiseRms": ref_noise,
-                            "meanLuminance": float(ref.mean())}
+                            "meanLuminance": float(ref[on].mean())}
     log(f"reference: {ref_wall:.0f} s, its own noise {fmt_pct(ref_noise)} RMS")
 
     # ---- rpict sweep
@@ -309,7 +317,7 @@ def main():
         m, cmd = rpict_image(bin_dir, env, rd, "scene.oct", cam, width, height,
                              opts.split() + DIRECT, path)
         image = read_hdr_luminance(bin_dir, path, width, height)
-        err = errors(image, samples, ref)
+        err = errors(image, samples, ref, seen_lum)
         rec = {"label": label, "options": opts, "wall": m["wall"] + m_oconv["wall"],
                "cpu": m["cpu"] + m_oconv["cpu"], "rpictWall": m["wall"],
                "peakMiB": m["peakMiB"], **err}
@@ -330,7 +338,7 @@ def main():
                 os.remove(exr)
             runs.append(bake_view(a.bake, lit, exr, a.camera, a.size, work))
         image = read_exr_luminance(exr)
-        err = errors(image, samples, ref)
+        err = errors(image, samples, ref, seen_lum)
         walls = sorted(r["wall"] for r in runs)
         rec = {"bake": tag, "bakeWall": mb["wall"], "viewWallBest": walls[0],
                "viewWallMedian": walls[len(walls) // 2],
