@@ -3,10 +3,13 @@
 // as loaded) in headless Chromium with software GL (SwiftShader). No network: a local server
 // on 127.0.0.1 serves page.html, three from node_modules and the glTF's folder.
 //
-//   node bench/render/render.mjs LIT.gltf OUT.png --eye X,Y,Z --target X,Y,Z
-//        [--fov DEG] [--size WxH] [--up X,Y,Z] [--near M] [--chromium PATH]
+//   node bench/render/render.mjs LIT.gltf OUT.png (--eye X,Y,Z --target X,Y,Z [--fov DEG]
+//        [--up X,Y,Z] | --camera NAME) [--size WxH] [--near M] [--chromium PATH]
 //
 // Camera: perspective, vertical field of view in degrees, world axes of glTF (+Y up), metres.
+// --camera NAME uses the glTF camera node of that name (its world matrix, yfov and znear, unless
+// --near is given); the aspect is always the image's W/H, not the camera's aspectRatio, as
+// `bake view --camera` does.
 import { spawn } from 'node:child_process';
 import { createServer } from 'node:http';
 import { mkdtempSync, readFileSync, rmSync, statSync, writeFileSync } from 'node:fs';
@@ -16,26 +19,41 @@ import { fileURLToPath } from 'node:url';
 import { deflateSync } from 'node:zlib';
 
 const HERE = dirname(fileURLToPath(import.meta.url));
-const USAGE = 'usage: render.mjs LIT.gltf OUT.png --eye X,Y,Z --target X,Y,Z [--fov DEG] ' +
-  '[--size WxH] [--up X,Y,Z] [--near M] [--chromium PATH]';
+const USAGE = 'usage: render.mjs LIT.gltf OUT.png (--eye X,Y,Z --target X,Y,Z [--fov DEG] ' +
+  '[--up X,Y,Z] | --camera NAME) [--size WxH] [--near M] [--chromium PATH]';
 const TIMEOUT_MS = 120_000;
 
 function die(msg) { console.error(`render.mjs: ${msg}`); process.exit(2); }
 
 function parseArgs(argv) {
-  const opt = { fov: '50', size: '1000x750', up: '0,1,0', near: '0.01', chromium: 'chromium' };
+  const defaults = { fov: '50', size: '1000x750', up: '0,1,0', near: '0.01', chromium: 'chromium' };
+  const opt = {};
   const pos = [];
   for (let i = 0; i < argv.length; i++) {
     if (argv[i].startsWith('--')) {
       const key = argv[i].slice(2);
-      if (!(key in opt) && key !== 'eye' && key !== 'target') die(`unknown option ${argv[i]}\n${USAGE}`);
+      if (!(key in defaults) && !['eye', 'target', 'camera'].includes(key)) {
+        die(`unknown option ${argv[i]}\n${USAGE}`);
+      }
       if (i + 1 >= argv.length) die(`${argv[i]} needs a value`);
       opt[key] = argv[++i];
     } else pos.push(argv[i]);
   }
-  if (pos.length !== 2 || !opt.eye || !opt.target) die(USAGE);
+  if (pos.length !== 2) die(USAGE);
+  if (opt.camera !== undefined) {
+    const clash = ['eye', 'target', 'fov', 'up'].filter((k) => k in opt);
+    if (clash.length) die(`--camera takes the view from the glTF: drop --${clash.join(', --')}`);
+    if (!opt.camera) die('--camera wants a node name');
+  } else if (!opt.eye || !opt.target) die(USAGE);
+  // --near given: it wins; else the camera's znear with --camera, 0.01 m without.
+  const nearGiven = 'near' in opt;
+  for (const [k, v] of Object.entries(defaults)) if (!(k in opt)) opt[k] = v;
+  if (!nearGiven && opt.camera !== undefined) opt.near = '';
   const triple = /^-?[\d.e+-]+,-?[\d.e+-]+,-?[\d.e+-]+$/;
-  for (const k of ['eye', 'target', 'up']) if (!triple.test(opt[k])) die(`--${k} wants X,Y,Z`);
+  for (const k of ['eye', 'target', 'up']) {
+    if (opt[k] !== undefined && !triple.test(opt[k])) die(`--${k} wants X,Y,Z`);
+  }
+  if (opt.near !== '' && !(Number(opt.near) > 0)) die('--near wants metres > 0');
   if (!/^\d+x\d+$/.test(opt.size)) die('--size wants WxH');
   if (!(Number(opt.fov) > 0 && Number(opt.fov) < 180)) die('--fov wants degrees in (0, 180)');
   const [w, h] = opt.size.split('x').map(Number);
@@ -162,8 +180,10 @@ async function main() {
     }
   });
   await new Promise((ok) => server.listen(0, '127.0.0.1', ok));
-  const query = new URLSearchParams({ file: basename(a.input), size: a.size, fov: a.fov,
-    eye: a.eye, target: a.target, up: a.up, near: a.near });
+  const query = new URLSearchParams(a.camera !== undefined
+    ? { file: basename(a.input), size: a.size, camera: a.camera, near: a.near }
+    : { file: basename(a.input), size: a.size, fov: a.fov, eye: a.eye, target: a.target,
+      up: a.up, near: a.near });
   const url = `http://127.0.0.1:${server.address().port}/?${query}`;
 
   browser = spawn(a.chromium, [

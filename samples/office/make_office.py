@@ -61,6 +61,19 @@ LIGHT_ROTATION = [-0.5, -0.5, -0.5, 0.5]
 SPOT_POS = (2.5, 3.1, 6.0)
 SPOT_TARGET = (2.5, 1.6, ROOM_L)
 
+# The seed's three viewpoints (its Appendix C, HELIOS synthetic cameras; see README "Cameras").
+# Seed axes: Z up, room X 0..5, Y 0..8 (front wall Y = 0, back wall Y = 8), Z 0..3.2.
+# (name, view distance, front plane, X size, Y size, eye, focus) in seed coordinates, then our
+# znear: the front plane where it clips nothing in the room at any aspect up to 2:1, else
+# 0.01 m (side: -1.99 is behind the eye) or 0.1 m (interior: 1.7 m would clip the left wall
+# at the image's left edge from an aspect of about 1.7, e.g. 1280 x 720). Tilt 0; the window
+# scale (1.1 / 1.9 / 1.1) is not used (see README).
+SEED_CAMERAS = [
+    ("camera_front", 3.5, 7.25, 820, 530, (2.5, -10.0, 1.6), (2.5, 0.1, 1.6), 7.25),
+    ("camera_side", 2.0, -1.99, 800, 380, (14.0, 4.0, 1.6), (2.5, 4.0, 1.6), 0.01),
+    ("camera_interior", 1.2, 1.7, 900, 600, (0.6, 0.1, 1.6), (5.0, 8.0, 1.6), 0.1),
+]
+
 # --------------------------------------------------------------- vector math
 
 
@@ -246,6 +259,50 @@ def look_rotation_minus_z(direction):
     return [axis[0] * h, axis[1] * h, axis[2] * h, math.cos(ang / 2.0)]
 
 
+def seed_to_gltf(p):
+    """Seed point (X, Y, Z), Z up -> glTF (x, y, z), +Y up: x = 5 - X, y = Z, z = Y.
+    A proper rotation (180 deg about (0, 1, 1)/sqrt 2, det +1) plus a shift of 5 m in x: keeps
+    handedness, the front wall at z = 0 and the back wall at z = 8."""
+    return (ROOM_W - p[0], p[2], p[1])
+
+
+def quat_from_basis(x, y, z):
+    """Unit quaternion [x,y,z,w] of the rotation whose matrix has columns x, y, z."""
+    m = [[x[0], y[0], z[0]], [x[1], y[1], z[1]], [x[2], y[2], z[2]]]
+    tr = m[0][0] + m[1][1] + m[2][2]
+    if tr > 0:
+        s = 2.0 * math.sqrt(1.0 + tr)
+        q = [(m[2][1] - m[1][2]) / s, (m[0][2] - m[2][0]) / s, (m[1][0] - m[0][1]) / s, s / 4]
+    elif m[0][0] >= m[1][1] and m[0][0] >= m[2][2]:
+        s = 2.0 * math.sqrt(1.0 + m[0][0] - m[1][1] - m[2][2])
+        q = [s / 4, (m[0][1] + m[1][0]) / s, (m[0][2] + m[2][0]) / s, (m[2][1] - m[1][2]) / s]
+    elif m[1][1] >= m[2][2]:
+        s = 2.0 * math.sqrt(1.0 + m[1][1] - m[0][0] - m[2][2])
+        q = [(m[0][1] + m[1][0]) / s, s / 4, (m[1][2] + m[2][1]) / s, (m[0][2] - m[2][0]) / s]
+    else:
+        s = 2.0 * math.sqrt(1.0 + m[2][2] - m[0][0] - m[1][1])
+        q = [(m[0][2] + m[2][0]) / s, (m[1][2] + m[2][1]) / s, s / 4, (m[1][0] - m[0][1]) / s]
+    if q[3] < 0:
+        q = [-c for c in q]
+    return q
+
+
+def look_at_rotation(eye, target, up=(0.0, 1.0, 0.0)):
+    """Camera node rotation: local -Z toward target, local +Y toward `up` (+X right)."""
+    f = norm(sub(target, eye))
+    right = norm(cross(f, up))
+    return quat_from_basis(right, cross(right, f), scale(f, -1.0))
+
+
+def seed_camera(vd, xs, ys, znear):
+    """glTF perspective camera of a HELIOS camera. Assumed HELIOS window: +-1 on the view
+    plane in the image's larger direction, so tan(half fov) = 1 / view distance there."""
+    aspect = xs / ys
+    tan_half_x = 1.0 / vd if xs >= ys else aspect / vd
+    yfov = 2.0 * math.atan(tan_half_x / aspect)
+    return {"aspectRatio": r6(aspect), "yfov": r6(yfov), "znear": znear}
+
+
 def rotate(q, v):
     x, y, z, w = q
     u = (x, y, z)
@@ -406,6 +463,21 @@ def build(variant):
                           "extensions": ext})
         nodes[parent]["children"] = [child]
 
+    # ---- cameras: the seed's Appendix C viewpoints, root nodes after every other node
+    cameras = []
+    for cname, vd, _front, xs, ys, eye_s, focus_s, znear in SEED_CAMERAS:
+        eye, focus = seed_to_gltf(eye_s), seed_to_gltf(focus_s)
+        qc = look_at_rotation(eye, focus)
+        got = rotate(qc, (0.0, 0.0, -1.0))
+        assert all(abs(a - b_) < 1e-12 for a, b_ in zip(got, norm(sub(focus, eye)))), cname
+        assert abs(rotate(qc, (1.0, 0.0, 0.0))[1]) < 1e-12, cname       # no roll (tilt 0)
+        assert rotate(qc, (0.0, 1.0, 0.0))[1] > 0, cname                 # image up is +Y
+        cameras.append({"name": cname, "type": "perspective",
+                        "perspective": seed_camera(vd, xs, ys, znear)})
+        scene_nodes.append(add_node({"name": cname, "camera": len(cameras) - 1,
+                                     "translation": [r6(c) for c in eye],
+                                     "rotation": [r6(c) for c in qc]}))
+
     # ---- the profiles, embedded after all geometry
     root_ext = {}
     if variant == "ies":
@@ -445,6 +517,7 @@ def build(variant):
         "scene": 0,
         "scenes": [{"name": "office", "nodes": scene_nodes}],
         "nodes": nodes,
+        "cameras": cameras,
         "meshes": meshes,
         "materials": materials,
         "accessors": b.accessors,

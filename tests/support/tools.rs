@@ -1,8 +1,10 @@
 //! External tools run by the tests: the Khronos glTF-Validator (npm `gltf-validator` in
-//! `tests/tools/node_modules`, after `npm ci --prefix tests/tools`) and Blender's glTF importer
-//! (a Python with PyPI `bpy` 5.0.1: `$LUXBAKE_BPY_PYTHON`, else `<repo>/.venv-bpy/bin/python`).
+//! `tests/tools/node_modules`, after `npm ci --prefix tests/tools`), Blender's glTF importer
+//! (a Python with PyPI `bpy` 5.0.1: `$LUXBAKE_BPY_PYTHON`, else `<repo>/.venv-bpy/bin/python`)
+//! and three.js in headless Chromium (`bench/render/render.mjs`: npm `three` in
+//! `bench/render/node_modules` after `npm ci --prefix bench/render`, and Debian `chromium`).
 //!
-//! Call `have_validator()` / `have_blender()` first: when the tool is absent they print
+//! Call `have_validator()` / `have_blender()` / `have_three()` first: when the tool is absent they print
 //! `skipping: ...` to stderr and return false, except under CI (`CI` set to anything but empty,
 //! `false` or `0`), where they panic with what to install. `.ci/run` installs both.
 
@@ -162,4 +164,40 @@ fn blender_script(script: &str, path: &Path) -> Value {
             String::from_utf8_lossy(&out.stdout)
         )
     })
+}
+
+/// Whether `bench/render/render.mjs` can run: node, npm `three` in `bench/render/node_modules`
+/// and a `chromium` on PATH (see the module docs for what happens when it cannot).
+pub fn have_three() -> bool {
+    let installed = repo()
+        .join("bench/render/node_modules/three/build/three.module.js")
+        .is_file();
+    let runs = |program: &str| {
+        Command::new(program)
+            .arg("--version")
+            .output()
+            .is_ok_and(|o| o.status.success())
+    };
+    (installed && runs("node") && runs("chromium"))
+        || missing(
+            "three.js in headless Chromium",
+            "needs node, Debian `chromium` and `npm ci --prefix bench/render`",
+        )
+}
+
+/// Render `gltf` as three.js's GLTFLoader shows it, from its camera node `camera`, into the PNG
+/// `out` (8-bit RGB, `size` = `WxH`).
+pub fn render_three(gltf: &Path, out: &Path, camera: &str, size: &str) {
+    let run = Command::new("node")
+        .arg(repo().join("bench/render/render.mjs"))
+        .args([gltf, out])
+        .args(["--camera", camera, "--size", size])
+        .output()
+        .expect("cannot run node");
+    assert!(
+        run.status.success(),
+        "render.mjs failed on {}:\n{}",
+        gltf.display(),
+        String::from_utf8_lossy(&run.stderr)
+    );
 }
