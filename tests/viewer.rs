@@ -162,7 +162,10 @@ fn both_renders(variant: &str, extra: &[&str]) -> Option<Stats> {
 /// 40…200, spread ≥ 10: not blank, not one flat colour).
 fn assert_close(variant: &str, s: Stats) {
     for (c, m) in s.mean.iter().enumerate() {
-        assert!(*m <= 0.25, "{variant}: channel {c} mean difference {m:.3}/255 > 0.25/255");
+        assert!(
+            *m <= 0.25,
+            "{variant}: channel {c} mean difference {m:.3}/255 > 0.25/255"
+        );
     }
     assert!(
         s.within_8 >= 0.995,

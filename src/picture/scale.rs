@@ -34,16 +34,24 @@ const PALETTE: [[u8; 3]; 9] = [
 const MAX_DECADES: i32 = 6;
 
 impl ColourScale {
-    /// A round range covering the finite values: linear lo = 0, hi the smallest 1, 2, 2.5 or
-    /// 5 × 10^k at or above the maximum (1 when no value is positive); log: whole decades from
-    /// the one at or below the smallest positive value to the one at or above the largest, at
-    /// most 6 decades (values further below are clamped to the bottom colour); 1 … 10 when no
-    /// value is positive.
+    /// A round range covering the finite values: linear lo = 0 and hi = bands × the smallest
+    /// round band width (1, 1.25, 1.5, 2, 2.5, 3, 4, 5, 6, 7.5 or 8 × 10^k) that covers the maximum,
+    /// so every band edge is a short number (1 when no value is positive); log: whole decades
+    /// from the one at or below the smallest positive value to the one at or above the largest,
+    /// at most 6 decades (values further below are clamped to the bottom colour), with `steps`
+    /// (when not 0) rounded to a whole number of bands per decade; 1 … 10 when no value is
+    /// positive.
     pub fn auto(values: &[f64], log: bool, steps: u32) -> ColourScale {
         let finite = values.iter().copied().filter(|v| v.is_finite());
         let max = finite.clone().fold(f64::NEG_INFINITY, f64::max);
         if !log {
-            let hi = if max > 0.0 { round_up(max) } else { 1.0 };
+            // Round band edges: hi = bands × a round step, the smallest covering the maximum.
+            let bands = if steps == 0 { 8 } else { steps };
+            let hi = if max > 0.0 {
+                f64::from(bands) * round_step(max / f64::from(bands))
+            } else {
+                1.0
+            };
             return ColourScale {
                 lo: 0.0,
                 hi,
@@ -65,6 +73,12 @@ impl ColourScale {
         if bottom >= top {
             bottom = top - 1;
         }
+        // Bands a whole number per decade, so every decade is a band edge.
+        let decades = (top - bottom) as u32;
+        let steps = match steps {
+            0 => 0,
+            n => decades * ((f64::from(n) / f64::from(decades)).round() as u32).max(1),
+        };
         ColourScale {
             lo: pow10(bottom),
             hi: pow10(top),
@@ -190,10 +204,25 @@ pub fn palette(t: f64) -> [u8; 3] {
 }
 
 /// The smallest 1, 2, 2.5 or 5 × 10^k ≥ v (v > 0), robust to rounding (1000 stays 1000).
-fn round_up(v: f64) -> f64 {
+pub fn round_up(v: f64) -> f64 {
     let k = v.log10().floor() as i32;
     for e in [k - 1, k, k + 1] {
         for m in [1.0, 2.0, 2.5, 5.0] {
+            let c = if e >= 0 { m * pow10(e) } else { m / pow10(-e) };
+            if c >= v * (1.0 - 1e-12) {
+                return c;
+            }
+        }
+    }
+    pow10(k + 2)
+}
+
+/// The smallest 1, 1.25, 1.5, 2, 2.5, 3, 4, 5, 6, 7.5 or 8 × 10^k ≥ v (v > 0): a band width whose
+/// multiples print short.
+fn round_step(v: f64) -> f64 {
+    let k = v.log10().floor() as i32;
+    for e in [k - 1, k, k + 1] {
+        for m in [1.0, 1.25, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 7.5, 8.0] {
             let c = if e >= 0 { m * pow10(e) } else { m / pow10(-e) };
             if c >= v * (1.0 - 1e-12) {
                 return c;
@@ -243,10 +272,27 @@ mod tests {
         let s = |m: f64| ColourScale::auto(&[0.001, m, f64::NAN], false, 8);
         assert_eq!((s(870.0).lo, s(870.0).hi), (0.0, 1000.0));
         assert_eq!(s(1000.0).hi, 1000.0);
-        assert_eq!(s(1001.0).hi, 2000.0);
-        assert_eq!(s(2100.0).hi, 2500.0);
-        assert_eq!(s(3.2).hi, 5.0);
-        assert_eq!(s(0.012).hi, 0.02);
+        assert_eq!(s(1001.0).hi, 1200.0);
+        assert_eq!(s(2100.0).hi, 2400.0);
+        assert_eq!(s(3.2).hi, 3.2);
+        assert_eq!(s(0.0121).hi, 0.016);
+        // every band edge a short number
+        for m in [0.37, 12.0, 498.0, 870.0, 1234.5, 7777.0] {
+            for l in s(m).levels() {
+                assert!(
+                    label(l)
+                        .trim_start_matches('0')
+                        .trim_start_matches('.')
+                        .len()
+                        <= 4,
+                    "{l}"
+                );
+                assert!(
+                    (label(l).parse::<f64>().unwrap() - l).abs() <= 1e-9 * s(m).hi,
+                    "{l}"
+                );
+            }
+        }
         assert_eq!(ColourScale::auto(&[], false, 8).hi, 1.0);
         assert_eq!(ColourScale::auto(&[-3.0, 0.0], false, 8).hi, 1.0);
     }
@@ -261,6 +307,10 @@ mod tests {
         assert_eq!((s.lo, s.hi), (1e-2, 1e4)); // at most 6 decades
         let s = ColourScale::auto(&[0.0], true, 8);
         assert_eq!((s.lo, s.hi), (1.0, 10.0));
+        // bands a whole number per decade: 3 decades and 8 asked → 9, each decade an edge
+        let s = ColourScale::auto(&[0.37, 45.0], true, 8);
+        assert_eq!(s.steps, 9);
+        assert!((s.levels()[3] - 1.0).abs() < 1e-12 && (s.levels()[6] - 10.0).abs() < 1e-12);
     }
 
     #[test]

@@ -20,6 +20,7 @@ use super::field::{CELLS, Field, Sampled};
 use super::frame::Frame;
 use super::outline::{self, normal};
 use crate::baked::{BakedOutput, Primitive};
+use crate::picture::scale::round_up;
 use crate::{Error, Result};
 use glam::{DVec2, DVec3};
 
@@ -168,17 +169,6 @@ fn largest(p: &Primitive) -> Option<(DVec3, DVec3)> {
         }
     }
     best.map(|(_, n, p)| (n, p))
-}
-
-/// The smallest of 1, 2, 2.5, 5 × 10^k at least `x` (> 0).
-pub fn round_up(x: f64) -> f64 {
-    let k = x.log10().floor();
-    let base = 10f64.powf(k);
-    [1.0, 2.0, 2.5, 5.0, 10.0]
-        .into_iter()
-        .map(|m| m * base)
-        .find(|&v| v >= x * (1.0 - 1e-12))
-        .unwrap_or(10.0 * base)
 }
 
 /// Set the cells of `field` whose centres `p`'s triangles hold (first triangle wins).
