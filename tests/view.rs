@@ -347,6 +347,21 @@ fn same_bytes_on_one_and_two_threads() {
     for (k, (one, two)) in outputs[0].iter().zip(&outputs[1]).enumerate() {
         assert!(one == two, "output {k} differs between thread counts");
     }
+    // --zip: the same values, smaller, deterministic
+    let dir = lit.parent().unwrap().join("t1");
+    let args = [
+        "--eye", "1,2,3", "--target", "0,0,0", "--size", "64x48", "--zip",
+    ];
+    for n in ["z1.exr", "z2.exr"] {
+        assert!(view(&lit, &dir.join(n), &args).ok());
+    }
+    let (zipped, plain) = (dir.join("z1.exr"), dir.join("v.exr"));
+    assert_eq!(
+        std::fs::read(&zipped).unwrap(),
+        std::fs::read(dir.join("z2.exr")).unwrap()
+    );
+    assert!(std::fs::metadata(&zipped).unwrap().len() < std::fs::metadata(&plain).unwrap().len());
+    assert_eq!(read_exr(&zipped), read_exr(&plain));
 }
 
 /// The floor scene with a camera node `overview` 3 m above the floor looking down (its −Z is

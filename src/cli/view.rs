@@ -53,6 +53,9 @@ pub struct ViewArgs {
     /// Worker threads (default: all cores); the image does not depend on it.
     #[arg(long, value_name = "N")]
     threads: Option<usize>,
+    /// Write the EXR ZIP-compressed (lossless, smaller, slower to write).
+    #[arg(long)]
+    zip: bool,
     /// Also write the view tone mapped for the adapted eye (histogram adjustment), sRGB PNG.
     #[arg(long, value_name = "OUT.png")]
     png: Option<PathBuf>,
@@ -126,7 +129,13 @@ fn size(s: &str) -> Result<(u32, u32)> {
 fn colour_scale(args: &ViewArgs, values: &[f64]) -> Result<ColourScale> {
     if args.scale == "auto" {
         let positive: Vec<f64> = match args.log {
-            true => values.iter().copied().filter(|v| *v > 0.0).collect(),
+            true => {
+                // From the 1st percentile of the lit pixels up: a few pixels that see almost
+                // nothing (a luminaire's back, a grazing edge) would stretch the scale by decades.
+                let mut lit: Vec<f64> = values.iter().copied().filter(|v| *v > 0.0).collect();
+                lit.sort_by(f64::total_cmp);
+                lit.split_off(lit.len() / 100)
+            }
             false => values.iter().copied().filter(|v| v.is_finite()).collect(),
         };
         return Ok(ColourScale::auto(&positive, args.log, args.steps));
@@ -244,6 +253,7 @@ pub fn run(args: &ViewArgs) -> Result<()> {
         height: h,
         rgb: &rgb,
         luminance: &luminance,
+        zip: args.zip,
         texts: vec![
             ("luxbake.camera".into(), camera_text(&camera, args.samples)),
             (
