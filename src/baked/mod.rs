@@ -27,3 +27,4 @@ pub use model::{
     Primitive, ProbeNode, Texel,
 };
 pub use read::{as_written, from_glb, from_prepared, read};
+pub use texels::bilinear;

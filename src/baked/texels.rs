@@ -128,22 +128,32 @@ fn span(q: &[DVec2; 3], y: f64) -> Option<(f64, f64)> {
     out
 }
 
+/// `value` (of a row-major texel index of a `width` × `height` image, row 0 at the top) read
+/// bilinearly between texel centres at `uv`, clamped at the edges (a viewer's CLAMP_TO_EDGE,
+/// LINEAR sampler): lightmap channels, display textures.
+pub fn bilinear<T>(width: u32, height: u32, value: impl Fn(usize) -> T, uv: DVec2) -> T
+where
+    T: Copy + std::ops::Mul<f64, Output = T> + std::ops::Add<Output = T>,
+{
+    let (w, h) = (width as f64, height as f64);
+    let x = (uv.x * w - 0.5).clamp(0.0, w - 1.0);
+    let y = (uv.y * h - 0.5).clamp(0.0, h - 1.0);
+    let (x0, y0) = (x.floor(), y.floor());
+    let (fx, fy) = (x - x0, y - y0);
+    let at = |c: f64, r: f64| {
+        let (c, r) = (c.min(w - 1.0) as usize, r.min(h - 1.0) as usize);
+        value(r * width as usize + c)
+    };
+    let top = at(x0, y0) * (1.0 - fx) + at(x0 + 1.0, y0) * fx;
+    let bottom = at(x0, y0 + 1.0) * (1.0 - fx) + at(x0 + 1.0, y0 + 1.0) * fx;
+    top * (1.0 - fy) + bottom * fy
+}
+
 impl Lightmap {
     /// `value` (of a texel index) read bilinearly between texel centres at `uv`, clamped at the
     /// atlas's edges (as a viewer's CLAMP_TO_EDGE, LINEAR sampler reads it).
     pub fn bilinear(&self, value: impl Fn(usize) -> f64, uv: DVec2) -> f64 {
-        let (w, h) = (self.width as f64, self.height as f64);
-        let x = (uv.x * w - 0.5).clamp(0.0, w - 1.0);
-        let y = (uv.y * h - 0.5).clamp(0.0, h - 1.0);
-        let (x0, y0) = (x.floor(), y.floor());
-        let (fx, fy) = (x - x0, y - y0);
-        let at = |c: f64, r: f64| {
-            let (c, r) = (c.min(w - 1.0) as usize, r.min(h - 1.0) as usize);
-            value(r * self.width as usize + c)
-        };
-        let top = at(x0, y0) * (1.0 - fx) + at(x0 + 1.0, y0) * fx;
-        let bottom = at(x0, y0 + 1.0) * (1.0 - fx) + at(x0 + 1.0, y0 + 1.0) * fx;
-        top * (1.0 - fy) + bottom * fy
+        bilinear(self.width, self.height, value, uv)
     }
 
     /// Column and row of texel `index`.

@@ -60,19 +60,9 @@ pub fn png(atlas: &Atlas) -> Result<Vec<u8>, String> {
     Ok(out)
 }
 
-/// A linear component as an 8-bit sRGB-encoded byte.
+/// A linear component as an 8-bit sRGB-encoded byte (`picture::srgb8`).
 pub fn srgb8(linear: f32) -> u8 {
-    let c = if linear.is_nan() {
-        0.0
-    } else {
-        f64::from(linear).clamp(0.0, 1.0)
-    };
-    let encoded = if c <= 0.003_130_8 {
-        12.92 * c
-    } else {
-        1.055 * c.powf(1.0 / 2.4) - 0.055
-    };
-    (encoded * 255.0).round() as u8
+    crate::picture::srgb8(f64::from(linear))
 }
 
 #[cfg(test)]

@@ -47,19 +47,11 @@ impl DisplayTexture {
 
     /// Bilinear between texel centres, clamped at the edges (LINEAR, CLAMP_TO_EDGE).
     fn bilinear(&self, uv: DVec2) -> DVec3 {
-        let (w, h) = (self.width as f64, self.height as f64);
-        let x = (uv.x * w - 0.5).clamp(0.0, w - 1.0);
-        let y = (uv.y * h - 0.5).clamp(0.0, h - 1.0);
-        let (x0, y0) = (x.floor(), y.floor());
-        let (fx, fy) = (x - x0, y - y0);
-        let at = |c: f64, r: f64| {
-            let (c, r) = (c.min(w - 1.0) as usize, r.min(h - 1.0) as usize);
-            let t = self.texels[r * self.width as usize + c];
+        let texel = |k: usize| {
+            let t = self.texels[k];
             DVec3::new(t[0] as f64, t[1] as f64, t[2] as f64)
         };
-        let top = at(x0, y0) * (1.0 - fx) + at(x0 + 1.0, y0) * fx;
-        let bottom = at(x0, y0 + 1.0) * (1.0 - fx) + at(x0 + 1.0, y0 + 1.0) * fx;
-        top * (1.0 - fy) + bottom * fy
+        crate::baked::bilinear(self.width, self.height, texel, uv)
     }
 }
 
