@@ -269,12 +269,11 @@ fn svg_holds_labels_legend_scale_bar_and_title() {
             .iter()
             .any(|t| t.starts_with("seen from above, +Y up"))
     );
-    let title = &texts[0];
-    assert!(
-        title.starts_with("working plane, 0.5 m above the floor: E avg "),
-        "{title}"
-    );
-    assert!(title.contains(&format!("U\u{2080} = min/avg = {:.2}", plan.uniformity())));
+    // The title: the name, then the figures on a line of their own.
+    assert_eq!(texts[0], "working plane, 0.5 m above the floor");
+    let figures = &texts[1];
+    assert!(figures.starts_with("E avg "), "{figures}");
+    assert!(figures.contains(&format!("U\u{2080} = min/avg = {:.2}", plan.uniformity())));
     // The field: rectangles coloured by the scale.
     let middle = plan.scale.colour(plan.max);
     let hex = format!("#{:02x}{:02x}{:02x}", middle[0], middle[1], middle[2]);

@@ -1,7 +1,7 @@
 //! A plan laid out on the page once, as a device-neutral [`Drawing`] (page pixels, y down) that
 //! [`super::svg`] and [`super::raster`] render alike.
 //!
-//! Layout: a title line (name, E avg / min / max, U₀) and the frame's note on top; the plan
+//! Layout: the name, a line of figures (E avg / min / max, U₀) and the frame's note on top; the plan
 //! below at `size / (longer side)` px per metre, with the field's cells (runs of equal colour in
 //! a row as one rectangle), the outline, the contours at the scale's levels inside the values'
 //! range (marching squares on the cell centres: `picture::isolines`) and their labels; the legend
@@ -97,34 +97,39 @@ pub fn draw(plan: &Plan) -> Drawing {
     let (pw, ph) = (extent.x * k, extent.y * k);
     let unit = plan.quantity.unit();
     let sym = plan.quantity.symbol();
-    let title = format!(
-        "{}: {sym} avg {} {unit}, min {}, max {}, U\u{2080} = min/avg = {:.2}",
-        plan.name,
+    let figures = format!(
+        "{sym} avg {} {unit}, min {}, max {}, U\u{2080} = min/avg = {:.2}",
         figure(plan.avg),
         figure(plan.min),
         figure(plan.max),
         plan.uniformity()
     );
+    let title = format!("{}: {figures}", plan.name);
     let note = plan.frame.note();
-    let top = margin + big as f64 + text as f64 * 0.6 + text as f64 + margin;
+    let line = text as f64 * 1.6;
+    let top = margin + big as f64 + text as f64 * 0.6 + 2.0 * line + margin;
     let left = margin;
     let mut items = Vec::new();
+    // The name on the first line, the figures and the note below it: three short lines, so the
+    // page's width is the plan's and the legend's, not a long title's.
     items.push(Item::Text {
         x: left,
         y: margin,
         size: big,
-        text: title.clone(),
+        text: plan.name.clone(),
         colour: BLACK,
         anchor: Anchor::Start,
     });
-    items.push(Item::Text {
-        x: left,
-        y: margin + big as f64 + text as f64 * 0.6,
-        size: text,
-        text: note,
-        colour: BLACK,
-        anchor: Anchor::Start,
-    });
+    for (k, t) in [figures.clone(), note.clone()].into_iter().enumerate() {
+        items.push(Item::Text {
+            x: left,
+            y: margin + big as f64 + text as f64 * 0.6 + k as f64 * line,
+            size: text,
+            text: t,
+            colour: BLACK,
+            anchor: Anchor::Start,
+        });
+    }
     let to_page = |p: DVec2| DVec2::new(left, top) + (p - field.origin) * k;
 
     // The field: runs of one colour along each row.
@@ -349,7 +354,9 @@ pub fn draw(plan: &Plan) -> Drawing {
     });
 
     let width = (bar_x + label_w.max(bar_w) + margin)
-        .max(left + width(&title, big) + margin)
+        .max(left + width(&plan.name, big) + margin)
+        .max(left + width(&figures, text) + margin)
+        .max(left + width(&note, text) + margin)
         .ceil();
     let height = (y + margin).max(legend_bottom + margin).ceil();
     Drawing {

@@ -1,6 +1,6 @@
 //! False-colour plans of a finished bake (`bake plan`): the working plane or one planar node seen
 //! square-on, with isolux (or isoluminance) contours labelled in their unit, the room outline, a
-//! scale bar, a legend and a title line with E avg / min / max and U₀ = min/avg.
+//! scale bar, a legend and a title with E avg / min / max and U₀ = min/avg.
 //!
 //! Input: a [`BakedOutput`] and [`Options`]. Output: a [`Plan`] (the sampled [`field::Field`] in
 //! the plane's 2-D frame, outline segments, figures), drawn once into a device-neutral
