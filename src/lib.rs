@@ -12,6 +12,7 @@
 pub mod bake;
 pub mod baked;
 pub mod contacts;
+pub mod design;
 pub mod diff;
 pub mod direct;
 pub mod error;

@@ -38,6 +38,9 @@ enum Command {
     View(Box<cli::view::ViewArgs>),
     /// Draw a false-colour isolux plan of the working plane or of a planar node (SVG or PNG).
     Plan(cli::plan::PlanArgs),
+    /// Print the flux table of a design (Lynes' method): the direct flux each surface needs for
+    /// its design illuminance.
+    Design(cli::design::DesignArgs),
     /// Write a scene built in code as an input glTF (e.g. the benchmark's open-plan office).
     Generate(cli::generate::GenerateArgs),
 }
@@ -77,6 +80,7 @@ fn main() {
         Some(Command::Generate(a)) => cli::generate::run(a),
         Some(Command::View(a)) => cli::view::run(a),
         Some(Command::Plan(a)) => cli::plan::run(a),
+        Some(Command::Design(a)) => cli::design::run(a),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");

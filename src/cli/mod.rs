@@ -2,6 +2,7 @@
 //! them).
 
 pub mod bake;
+pub mod design;
 pub mod diff;
 pub mod generate;
 pub mod luminaire;

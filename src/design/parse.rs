@@ -1,0 +1,204 @@
+//! Reading a design table from CSV text.
+//!
+//! Input: the file's name (for messages only) and its text. Output: one [`DesignRow`] per data
+//! row in file order, or the first error as [`Error::Input`] naming the file and `line N`
+//! (1-based).
+//!
+//! Format: a header row naming the columns [`COLUMNS`] (any order, case-insensitive), then one
+//! row per surface. Fields are trimmed and may be wrapped in double quotes (`""` inside is a
+//! quote), so a name may hold a comma. Blank lines and lines starting with `#` are skipped.
+//! Errors: no header, an unknown, repeated or missing column, a row with too few or too many
+//! fields, an empty name, a name used twice, a number that is not finite, an area not > 0 m²,
+//! a reflectance outside [0, 1), a negative illuminance, no data row.
+
+use super::DesignRow;
+use crate::{Error, Result};
+use std::collections::HashMap;
+use std::path::Path;
+
+/// The header's column names, in the order the seed's table has them.
+pub const COLUMNS: [&str; 4] = ["name", "area_m2", "reflectance", "illuminance_lx"];
+
+/// Parse a design table's text (`file` names it in errors).
+pub fn parse(file: &Path, text: &str) -> Result<Vec<DesignRow>> {
+    let err = |line: usize, message: String| Error::input(file, format!("line {line}"), message);
+    let text = text.strip_prefix('\u{feff}').unwrap_or(text);
+    // Column k of the file holds COLUMNS[order[k]].
+    let mut order: Option<Vec<usize>> = None;
+    let mut rows: Vec<DesignRow> = Vec::new();
+    let mut names: HashMap<String, usize> = HashMap::new();
+    for (i, raw) in text.lines().enumerate() {
+        let line = i + 1;
+        let content = raw.trim();
+        if content.is_empty() || content.starts_with('#') {
+            continue;
+        }
+        let fields = split(content).map_err(|m| err(line, m))?;
+        let Some(order) = &order else {
+            order = Some(header(&fields).map_err(|m| err(line, m))?);
+            continue;
+        };
+        if fields.len() > order.len() {
+            return Err(err(
+                line,
+                format!(
+                    "{} fields, the header has {} ({})",
+                    fields.len(),
+                    order.len(),
+                    COLUMNS.join(",")
+                ),
+            ));
+        }
+        let mut value: [&str; 4] = [""; 4];
+        for (k, &column) in order.iter().enumerate() {
+            match fields.get(k) {
+                Some(f) => value[column] = f,
+                None => {
+                    return Err(err(line, format!("missing column '{}'", COLUMNS[column])));
+                }
+            }
+        }
+        let name = value[0].to_string();
+        if name.is_empty() {
+            return Err(err(line, "the surface name is empty".into()));
+        }
+        let area = number(value[1]).filter(|a| *a > 0.0).ok_or_else(|| {
+            err(
+                line,
+                format!("area_m2 must be a number of m² > 0, got '{}'", value[1]),
+            )
+        })?;
+        let reflectance = number(value[2])
+            .filter(|r| (0.0..1.0).contains(r))
+            .ok_or_else(|| {
+                err(
+                    line,
+                    format!("reflectance must be a number in [0, 1), got '{}'", value[2]),
+                )
+            })?;
+        let illuminance = number(value[3]).filter(|e| *e >= 0.0).ok_or_else(|| {
+            err(
+                line,
+                format!(
+                    "illuminance_lx must be a number of lx ≥ 0, got '{}'",
+                    value[3]
+                ),
+            )
+        })?;
+        if let Some(first) = names.insert(name.clone(), line) {
+            return Err(err(
+                line,
+                format!("surface '{name}' is already on line {first}"),
+            ));
+        }
+        rows.push(DesignRow {
+            name,
+            area,
+            reflectance,
+            illuminance,
+            line,
+        });
+    }
+    if order.is_none() {
+        return Err(Error::input(
+            file,
+            "",
+            format!("no header row (expected {})", COLUMNS.join(",")),
+        ));
+    }
+    if rows.is_empty() {
+        return Err(Error::input(file, "", "no surface rows after the header"));
+    }
+    Ok(rows)
+}
+
+/// The header's columns as indices into [`COLUMNS`].
+fn header(fields: &[String]) -> Result<Vec<usize>, String> {
+    let expected = || COLUMNS.join(",");
+    let mut order = Vec::new();
+    for f in fields {
+        let Some(k) = COLUMNS.iter().position(|c| c.eq_ignore_ascii_case(f)) else {
+            return Err(if number(f).is_some() {
+                format!("expected the header row {}, found data", expected())
+            } else {
+                format!("unknown column '{f}' (expected {})", expected())
+            });
+        };
+        if order.contains(&k) {
+            return Err(format!("column '{}' twice", COLUMNS[k]));
+        }
+        order.push(k);
+    }
+    if let Some(missing) = (0..COLUMNS.len()).find(|k| !order.contains(k)) {
+        return Err(format!(
+            "missing column '{}' in the header (expected {})",
+            COLUMNS[missing],
+            expected()
+        ));
+    }
+    Ok(order)
+}
+
+/// A finite number, or `None`.
+fn number(field: &str) -> Option<f64> {
+    field.parse::<f64>().ok().filter(|v| v.is_finite())
+}
+
+/// One CSV record's fields, trimmed, quotes removed (`""` in a quoted field is a quote).
+fn split(line: &str) -> Result<Vec<String>, String> {
+    let mut fields = Vec::new();
+    let mut chars = line.chars().peekable();
+    loop {
+        while chars.peek().is_some_and(|c| *c == ' ' || *c == '\t') {
+            chars.next();
+        }
+        let mut field = String::new();
+        if chars.peek() == Some(&'"') {
+            chars.next();
+            loop {
+                match chars.next() {
+                    Some('"') if chars.peek() == Some(&'"') => {
+                        chars.next();
+                        field.push('"');
+                    }
+                    Some('"') => break,
+                    Some(c) => field.push(c),
+                    None => return Err("a quoted field is not closed".into()),
+                }
+            }
+            while chars.peek().is_some_and(|c| *c == ' ' || *c == '\t') {
+                chars.next();
+            }
+            if chars.peek().is_some_and(|c| *c != ',') {
+                return Err(format!("text after the quoted field \"{field}\""));
+            }
+            fields.push(field);
+        } else {
+            while let Some(&c) = chars.peek() {
+                if c == ',' {
+                    break;
+                }
+                field.push(c);
+                chars.next();
+            }
+            fields.push(field.trim().to_string());
+        }
+        if chars.next().is_none() {
+            return Ok(fields);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::split;
+
+    #[test]
+    fn fields_split_with_quotes() {
+        assert_eq!(split("a, 1 ,2").unwrap(), ["a", "1", "2"]);
+        assert_eq!(split("\"x, \"\"y\"\"\" ,3").unwrap(), ["x, \"y\"", "3"]);
+        assert_eq!(split("a,").unwrap(), ["a", ""]);
+        assert!(split("\"open,1").is_err());
+        assert!(split("\"a\"b,1").is_err());
+    }
+}
