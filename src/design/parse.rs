@@ -115,14 +115,13 @@ pub fn parse(file: &Path, text: &str) -> Result<Vec<DesignRow>> {
 /// The header's columns as indices into [`COLUMNS`].
 fn header(fields: &[String]) -> Result<Vec<usize>, String> {
     let expected = || COLUMNS.join(",");
+    if fields.iter().any(|f| number(f).is_some()) {
+        return Err(format!("expected the header row {}, found data", expected()));
+    }
     let mut order = Vec::new();
     for f in fields {
         let Some(k) = COLUMNS.iter().position(|c| c.eq_ignore_ascii_case(f)) else {
-            return Err(if number(f).is_some() {
-                format!("expected the header row {}, found data", expected())
-            } else {
-                format!("unknown column '{f}' (expected {})", expected())
-            });
+            return Err(format!("unknown column '{f}' (expected {})", expected()));
         };
         if order.contains(&k) {
             return Err(format!("column '{}' twice", COLUMNS[k]));
