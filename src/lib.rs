@@ -34,6 +34,7 @@ pub mod settings;
 pub mod solution;
 pub mod solve;
 pub mod summary;
+pub mod table;
 pub mod transport;
 pub mod view;
 pub mod visibility;

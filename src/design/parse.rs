@@ -116,7 +116,10 @@ pub fn parse(file: &Path, text: &str) -> Result<Vec<DesignRow>> {
 fn header(fields: &[String]) -> Result<Vec<usize>, String> {
     let expected = || COLUMNS.join(",");
     if fields.iter().any(|f| number(f).is_some()) {
-        return Err(format!("expected the header row {}, found data", expected()));
+        return Err(format!(
+            "expected the header row {}, found data",
+            expected()
+        ));
     }
     let mut order = Vec::new();
     for f in fields {

@@ -147,73 +147,17 @@ fn num(x: f64) -> String {
 
 /// One CSV record, fields quoted when they hold a comma, a quote or a line break.
 fn line<S: AsRef<str>>(fields: &[S]) -> String {
-    let quoted: Vec<String> = fields
-        .iter()
-        .map(|f| {
-            let f = f.as_ref();
-            if f.contains([',', '"', '\n', '\r']) {
-                format!("\"{}\"", f.replace('"', "\"\""))
-            } else {
-                f.to_string()
-            }
-        })
-        .collect();
-    quoted.join(",") + "\n"
-}
-
-fn width(s: &str) -> usize {
-    s.chars().count()
+    crate::table::csv_record(fields)
 }
 
 /// Title, header, a rule of dashes, rows; columns two spaces apart (as `bake report`).
 fn to_table(s: &Section) -> String {
-    let mut widths: Vec<usize> = s.headers.iter().map(|h| width(h)).collect();
-    for row in &s.cells {
-        for (w, c) in widths.iter_mut().zip(row) {
-            *w = (*w).max(width(c));
-        }
-    }
-    let line = |cells: &[String]| {
-        let padded: Vec<String> = cells
-            .iter()
-            .zip(&widths)
-            .enumerate()
-            .map(|(k, (c, &w))| {
-                let pad = " ".repeat(w - width(c));
-                if k == 0 {
-                    format!("{c}{pad}")
-                } else {
-                    format!("{pad}{c}")
-                }
-            })
-            .collect();
-        padded.join("  ").trim_end().to_string() + "\n"
-    };
-    let headers: Vec<String> = s.headers.iter().map(|h| h.to_string()).collect();
-    let rule: Vec<String> = widths.iter().map(|&w| "-".repeat(w)).collect();
-    let mut out = format!("{}\n", s.title);
-    out += &line(&headers);
-    out += &line(&rule);
-    for row in &s.cells {
-        out += &line(row);
-    }
-    out
+    crate::table::aligned(s.title, &s.headers, &s.cells)
 }
 
 /// `### Title`, then a Markdown table (numbers right-aligned).
 fn to_markdown(s: &Section) -> String {
-    let escape = |c: &str| c.replace('|', "\\|");
-    let mut out = format!("### {}\n\n", s.title);
-    out += &format!("| {} |\n", s.headers.join(" | "));
-    let aligns: Vec<&str> = (0..s.headers.len())
-        .map(|k| if k == 0 { "---" } else { "---:" })
-        .collect();
-    out += &format!("| {} |\n", aligns.join(" | "));
-    for row in &s.cells {
-        let cells: Vec<String> = row.iter().map(|c| escape(c)).collect();
-        out += &format!("| {} |\n", cells.join(" | "));
-    }
-    out
+    crate::table::markdown(s.title, &s.headers, &s.cells)
 }
 
 #[cfg(test)]

@@ -111,16 +111,5 @@ fn opt(x: Option<f64>) -> String {
 
 /// One record, fields quoted when they hold a comma, a quote or a line break.
 fn line<S: AsRef<str>>(fields: &[S]) -> String {
-    let quoted: Vec<String> = fields
-        .iter()
-        .map(|f| {
-            let f = f.as_ref();
-            if f.contains([',', '"', '\n', '\r']) {
-                format!("\"{}\"", f.replace('"', "\"\""))
-            } else {
-                f.to_string()
-            }
-        })
-        .collect();
-    quoted.join(",") + "\n"
+    crate::table::csv_record(fields)
 }
