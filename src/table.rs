@@ -4,6 +4,29 @@
 //! Invariants: the first column is left-aligned and the others right-aligned (numbers); widths
 //! count characters, not bytes (`m²`, `ρ`); no trailing spaces; every record ends in `\n`.
 
+/// One table: a title, column headers (the first column left-aligned, the others right) and
+/// rows of cells.
+pub struct Section {
+    pub title: String,
+    pub headers: Vec<&'static str>,
+    pub cells: Vec<Vec<String>>,
+}
+
+/// The sections as Markdown or aligned tables, separated by blank lines.
+pub fn render(sections: &[Section], markdown: bool) -> String {
+    let blocks: Vec<String> = sections
+        .iter()
+        .map(|s| {
+            if markdown {
+                self::markdown(&s.title, &s.headers, &s.cells)
+            } else {
+                aligned(&s.title, &s.headers, &s.cells)
+            }
+        })
+        .collect();
+    blocks.join("\n")
+}
+
 /// Title, header, a rule of dashes, rows; columns two spaces apart.
 pub fn aligned<S: AsRef<str>>(title: &str, headers: &[S], cells: &[Vec<String>]) -> String {
     let width = |s: &str| s.chars().count();

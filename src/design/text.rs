@@ -8,19 +8,13 @@
 //! full (shortest round-trip decimal) with the JSON field names as columns.
 
 use super::FluxTable;
-
-/// Title, column headers (first column left-aligned, the others right), rows of cells.
-struct Section {
-    title: &'static str,
-    headers: Vec<&'static str>,
-    cells: Vec<Vec<String>>,
-}
+use crate::table::Section;
 
 pub(super) fn render(table: &FluxTable, markdown: bool) -> String {
     let t = &table.totals;
     let sections = [
         Section {
-            title: "Flux table (Lynes: direct flux each surface needs)",
+            title: "Flux table (Lynes: direct flux each surface needs)".into(),
             headers: vec![
                 "surface",
                 "area m²",
@@ -47,7 +41,7 @@ pub(super) fn render(table: &FluxTable, markdown: bool) -> String {
                 .collect(),
         },
         Section {
-            title: "Totals",
+            title: "Totals".into(),
             headers: vec!["total", "value"],
             cells: vec![
                 vec!["area m²".into(), short(t.area, 2)],
@@ -60,17 +54,7 @@ pub(super) fn render(table: &FluxTable, markdown: bool) -> String {
             ],
         },
     ];
-    let blocks: Vec<String> = sections
-        .iter()
-        .map(|s| {
-            if markdown {
-                to_markdown(s)
-            } else {
-                to_table(s)
-            }
-        })
-        .collect();
-    let mut out = blocks.join("\n");
+    let mut out = crate::table::render(&sections, markdown);
     if !table.warnings.is_empty() {
         out.push('\n');
         for w in &table.warnings {
@@ -148,16 +132,6 @@ fn num(x: f64) -> String {
 /// One CSV record, fields quoted when they hold a comma, a quote or a line break.
 fn line<S: AsRef<str>>(fields: &[S]) -> String {
     crate::table::csv_record(fields)
-}
-
-/// Title, header, a rule of dashes, rows; columns two spaces apart (as `bake report`).
-fn to_table(s: &Section) -> String {
-    crate::table::aligned(s.title, &s.headers, &s.cells)
-}
-
-/// `### Title`, then a Markdown table (numbers right-aligned).
-fn to_markdown(s: &Section) -> String {
-    crate::table::markdown(s.title, &s.headers, &s.cells)
 }
 
 #[cfg(test)]

@@ -82,10 +82,6 @@ pub fn encode_with(
         ),
         AnyChannel::new("footprint", FlatSamples::F32(atlas.area.clone())),
     ]));
-    let mut attributes = LayerAttributes {
-        white_luminance: Some(1.0),
-        ..LayerAttributes::default()
-    };
     let units = serde_json::Value::Object(
         CHANNEL_UNITS
             .iter()
@@ -100,26 +96,49 @@ pub fn encode_with(
         ("luxbake.texelSize", format!("{} m", header.texel_size)),
         ("luxbake.exposure", header.exposure.clone()),
     ];
+    let texts = texts.map(|(name, value)| (name.to_string(), value));
+    write_layer(
+        (w, h),
+        channels,
+        &texts,
+        compression,
+        &format!("atlas {}", header.atlas),
+    )
+}
+
+/// One scan-line layer of `channels` written to bytes (`whiteLuminance` 1, the texts as
+/// attributes sorted by name, so the bytes do not depend on attribute order).
+fn write_layer(
+    size: (usize, usize),
+    channels: AnyChannels<FlatSamples>,
+    texts: &[(String, String)],
+    compression: Compression,
+    what: &str,
+) -> std::result::Result<Vec<u8>, String> {
+    let mut attributes = LayerAttributes {
+        white_luminance: Some(1.0),
+        ..LayerAttributes::default()
+    };
     for (name, value) in texts {
-        let text = Text::new_or_none(&value)
+        let text = Text::new_or_none(value)
             .filter(|_| value.is_ascii())
             .ok_or_else(|| format!("header attribute {name} is not ASCII: {value}"))?;
         attributes
             .other
-            .insert(Text::from(name), AttributeValue::Text(text));
+            .insert(Text::from(name.as_str()), AttributeValue::Text(text));
     }
     let encoding = Encoding {
         compression,
         blocks: Blocks::ScanLines,
         line_order: LineOrder::Increasing,
     };
-    let image = Image::from_layer(Layer::new((w, h), attributes, encoding, channels));
+    let image = Image::from_layer(Layer::new(size, attributes, encoding, channels));
     let mut bytes = Cursor::new(Vec::new());
     image
         .write()
         .non_parallel()
         .to_buffered(&mut bytes)
-        .map_err(|e| format!("cannot encode atlas {}: {e}", header.atlas))?;
+        .map_err(|e| format!("cannot encode {what}: {e}"))?;
     let mut bytes = bytes.into_inner();
     sort_attributes(&mut bytes)?;
     Ok(bytes)
@@ -159,37 +178,12 @@ pub fn encode_view(v: &ViewImage) -> std::result::Result<Vec<u8>, String> {
         AnyChannel::new("B", rgb(2)),
         AnyChannel::new("luminance", FlatSamples::F32(v.luminance.to_vec())),
     ]));
-    let mut attributes = LayerAttributes {
-        white_luminance: Some(1.0),
-        ..LayerAttributes::default()
+    let compression = if v.zip {
+        Compression::ZIP16
+    } else {
+        COMPRESSION
     };
-    for (name, value) in &v.texts {
-        let text = Text::new_or_none(value)
-            .filter(|_| value.is_ascii())
-            .ok_or_else(|| format!("header attribute {name} is not ASCII: {value}"))?;
-        attributes
-            .other
-            .insert(Text::from(name.as_str()), AttributeValue::Text(text));
-    }
-    let encoding = Encoding {
-        compression: if v.zip {
-            Compression::ZIP16
-        } else {
-            COMPRESSION
-        },
-        blocks: Blocks::ScanLines,
-        line_order: LineOrder::Increasing,
-    };
-    let image = Image::from_layer(Layer::new((w, h), attributes, encoding, channels));
-    let mut bytes = Cursor::new(Vec::new());
-    image
-        .write()
-        .non_parallel()
-        .to_buffered(&mut bytes)
-        .map_err(|e| format!("cannot encode the view: {e}"))?;
-    let mut bytes = bytes.into_inner();
-    sort_attributes(&mut bytes)?;
-    Ok(bytes)
+    write_layer((w, h), channels, &v.texts, compression, "the view")
 }
 
 /// `value` as JSON with every non-ASCII character escaped (`\uXXXX`), so it fits an EXR text.

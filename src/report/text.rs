@@ -5,14 +5,7 @@
 
 use super::rows::source_of;
 use super::{PlaneRow, Report, Row, TargetRow};
-
-/// One section: a title, column headers (the first column left-aligned, the others right) and
-/// rows of cells.
-struct Section {
-    title: String,
-    headers: Vec<&'static str>,
-    cells: Vec<Vec<String>>,
-}
+use crate::table::Section;
 
 pub(super) fn render(report: &Report, markdown: bool) -> String {
     let mut sections = Vec::new();
@@ -28,17 +21,7 @@ pub(super) fn render(report: &Report, markdown: bool) -> String {
     if let Some(t) = &report.targets {
         sections.push(targets(t));
     }
-    let blocks: Vec<String> = sections
-        .iter()
-        .map(|s| {
-            if markdown {
-                to_markdown(s)
-            } else {
-                to_table(s)
-            }
-        })
-        .collect();
-    blocks.join("\n")
+    crate::table::render(&sections, markdown)
 }
 
 fn surfaces(title: &'static str, what: &'static str, rows: &[Row]) -> Section {
@@ -134,14 +117,4 @@ fn lux(x: f64) -> String {
     } else {
         format!("{x:.0}")
     }
-}
-
-/// Title, header, a rule of dashes, rows; columns two spaces apart.
-fn to_table(s: &Section) -> String {
-    crate::table::aligned(&s.title, &s.headers, &s.cells)
-}
-
-/// `### Title`, then a Markdown table (numbers right-aligned).
-fn to_markdown(s: &Section) -> String {
-    crate::table::markdown(&s.title, &s.headers, &s.cells)
 }
