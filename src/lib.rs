@@ -17,6 +17,7 @@ pub mod diff;
 pub mod direct;
 pub mod error;
 pub mod export;
+pub mod fit;
 pub mod fixtures;
 pub mod geom;
 pub mod import;

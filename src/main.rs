@@ -41,6 +41,9 @@ enum Command {
     /// Print the flux table of a design (Lynes' method): the direct flux each surface needs for
     /// its design illuminance.
     Design(cli::design::DesignArgs),
+    /// Fit dimming factors of luminaire groups to a design (least squares on relative error)
+    /// and write the fitted scene.
+    Fit(Box<cli::fit::FitArgs>),
     /// Write a scene built in code as an input glTF (e.g. the benchmark's open-plan office).
     Generate(cli::generate::GenerateArgs),
 }
@@ -81,6 +84,7 @@ fn main() {
         Some(Command::View(a)) => cli::view::run(a),
         Some(Command::Plan(a)) => cli::plan::run(a),
         Some(Command::Design(a)) => cli::design::run(a),
+        Some(Command::Fit(a)) => cli::fit::run(a),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");

@@ -117,3 +117,15 @@ mod tests {
         assert_eq!(csv_record(&["a,b", "q\"", "c"]), "\"a,b\",\"q\"\"\",c\n");
     }
 }
+
+/// How a table is written (`bake design`, `bake fit`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Format {
+    /// Aligned columns for the terminal.
+    #[default]
+    Table,
+    Markdown,
+    /// One CSV table per section, separated by blank lines, numbers in full.
+    Csv,
+    Json,
+}

@@ -97,6 +97,27 @@ pub fn stage<'a>(
     }
 }
 
+/// `base`'s mesh lit by the sources of `scene` instead: a scene with the same surfaces and
+/// materials whose sources differ (`bake fit` lights one mesh by one group of sources at a
+/// time). Punctual lights of zero intensity are left out (they would cost rays for nothing).
+pub fn relight<'a>(base: &Meshed, scene: &'a Scene, tau_direct: f64) -> Meshed<'a> {
+    let mesh = base.mesh.clone();
+    let bounds = ProfileBounds::new(scene);
+    let emitted = emitters::patch_exitance(scene, &mesh);
+    let exitance = emitters::diffuse_part(scene, &mesh, &emitted);
+    let mut sources = DirectSource::all(scene, &mesh, &emitted, &bounds);
+    sources.retain(|s| !matches!(s, DirectSource::Punctual(l) if l.intensity == 0.0));
+    let lights = DirectLight::new(sources, &mesh, &exitance, tau_direct);
+    Meshed {
+        mesh,
+        adaptive: base.adaptive.clone(),
+        contacts: base.contacts,
+        emitted,
+        exitance,
+        lights,
+    }
+}
+
 /// Build the patch mesh for patch size `h`.
 fn mesh(
     scene: &Scene,

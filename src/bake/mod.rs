@@ -21,6 +21,7 @@ pub mod budget;
 mod direct;
 mod display;
 mod energy;
+mod groups;
 mod links;
 mod meshing;
 mod output;
@@ -37,6 +38,7 @@ use crate::solution::{PlaneLight, Solution, solved};
 use crate::summary::{Counts, EnergyBalance, RunSummary, SettingsRecord, Units};
 use crate::visibility::{Occluder, OccluderOptions};
 use glam::DVec3;
+pub use groups::bake_groups;
 use run::{RayStage, Run, Stage};
 
 /// A solved scene, and the run summary of the stages so far.
@@ -49,11 +51,22 @@ pub struct Solved<'a> {
 
 /// Run the whole bake.
 pub fn bake(scene: &Scene, settings: &Settings, progress: &dyn Progress) -> Result<BakeResult> {
+    let solved = solve(scene, settings, progress)?;
+    Ok(finish(scene, settings, solved, progress))
+}
+
+/// The stages after the solve: probes, the output's vertex values, lightmaps.
+fn finish(
+    scene: &Scene,
+    settings: &Settings,
+    solved: Solved,
+    progress: &dyn Progress,
+) -> BakeResult {
     let Solved {
         solution,
         mut summary,
         mut run,
-    } = solve(scene, settings, progress)?;
+    } = solved;
     let wanted = crate::probes::place::Wanted {
         grid: settings.probe_grid,
         explicit: &settings.extra_probes,
@@ -87,13 +100,13 @@ pub fn bake(scene: &Scene, settings: &Settings, progress: &dyn Progress) -> Resu
     if settings.record_timings {
         summary.timings_seconds = Some(run.seconds);
     }
-    Ok(BakeResult {
+    BakeResult {
         surfaces,
         probes,
         lightmaps,
         summary,
         timings: run.seconds,
-    })
+    }
 }
 
 /// Mesh, light and solve the scene (everything but probes and the output).

@@ -28,7 +28,7 @@ pub enum RayStage {
     Energy,
 }
 
-#[derive(Debug, Default)]
+#[derive(Debug, Clone, Default)]
 pub struct Run {
     pub seconds: StageSeconds,
     pub rays: RaysByStage,

@@ -58,65 +58,99 @@ impl Radiosity {
 
 /// `light_flux`: the direct flux of lights and luminaires into each patch's front (lm, RGB).
 pub fn stage(meshed: &Meshed, rows: Rows, light_flux: Vec<DVec3>, tolerance: f64) -> Radiosity {
+    let mut one = stage_many(meshed, rows, vec![(meshed, light_flux)], tolerance);
+    one.pop().expect("one right-hand side, one solution")
+}
+
+/// The solve for several right-hand sides on one operator: each `(lit, light_flux)` is the same
+/// mesh lit by other sources (its emitting patches and its direct flux). The operator is built
+/// from `rows` and balanced once, for `base` (which patches are black), so the solutions add:
+/// the light of two groups of sources together is the sum of their solutions.
+pub fn stage_many(
+    base: &Meshed,
+    rows: Rows,
+    rhs: Vec<(&Meshed, Vec<DVec3>)>,
+    tolerance: f64,
+) -> Vec<Radiosity> {
     let Rows {
         tree,
         rho,
         dark,
         mut links,
     } = rows;
-    let mesh = &meshed.mesh;
+    let mesh = &base.mesh;
     let areas: Vec<f64> = mesh.patches.iter().map(|p| p.area).collect();
     let mut operator = PatchOperator::new(mesh, &tree, &links);
-    let black = |p: usize| dark.is_some() && links::black(&rho, &meshed.exitance, p);
+    let black = |p: usize| dark.is_some() && links::black(&rho, &base.exitance, p);
     let balance = operator.balance(40, 1e-6, &black);
-    // Direct irradiance of each patch: punctual lights exactly (solid angle), emitting surfaces
-    // through the balanced operator (so a closed room receives exactly what they emit).
-    let from_emitters = match meshed.lights.has_emitting_surfaces() {
-        true => operator.apply(&meshed.exitance),
-        false => vec![DVec3::ZERO; mesh.patches.len()],
-    };
-    let direct_patch: Vec<DVec3> = (0..mesh.patches.len())
-        .map(|i| light_flux[i] / areas[i] + from_emitters[i])
-        .collect();
-    // Not needed past here: two patch-sized vectors fewer while the solver runs.
-    drop(from_emitters);
-    drop(light_flux);
-    let b: Vec<DVec3> = (0..mesh.patches.len())
-        .map(|i| rho[i] * direct_patch[i])
-        .collect();
-    let apply = |x: &[DVec3], out: &mut [DVec3]| {
-        operator.apply_into(x, out);
-        out.par_iter_mut()
-            .enumerate()
-            .for_each(|(i, o)| *o = x[i] - rho[i] * *o);
-    };
-    let (reflected, stats) = solve::gmres(apply, &b, &areas, tolerance, 2_000, 40);
-    let indirect_patch = operator.apply(&reflected);
-    let indirect_vertex = operator.gather_receivers(&reflected);
+    let mut solved = Vec::with_capacity(rhs.len());
+    for (lit, light_flux) in rhs {
+        // Direct irradiance of each patch: punctual lights exactly (solid angle), emitting
+        // surfaces through the balanced operator (so a closed room receives exactly what they
+        // emit).
+        let from_emitters = match lit.lights.has_emitting_surfaces() {
+            true => operator.apply(&lit.exitance),
+            false => vec![DVec3::ZERO; mesh.patches.len()],
+        };
+        let direct_patch: Vec<DVec3> = (0..mesh.patches.len())
+            .map(|i| light_flux[i] / areas[i] + from_emitters[i])
+            .collect();
+        // Not needed past here: two patch-sized vectors fewer while the solver runs.
+        drop(from_emitters);
+        drop(light_flux);
+        let b: Vec<DVec3> = (0..mesh.patches.len())
+            .map(|i| rho[i] * direct_patch[i])
+            .collect();
+        let apply = |x: &[DVec3], out: &mut [DVec3]| {
+            operator.apply_into(x, out);
+            out.par_iter_mut()
+                .enumerate()
+                .for_each(|(i, o)| *o = x[i] - rho[i] * *o);
+        };
+        let (reflected, stats) = solve::gmres(apply, &b, &areas, tolerance, 2_000, 40);
+        let indirect_patch = operator.apply(&reflected);
+        let indirect_vertex = operator.gather_receivers(&reflected);
+        solved.push((reflected, direct_patch, indirect_patch, indirect_vertex, stats));
+    }
     drop(operator);
     // The rows are done with: keep what the energy report needs.
-    let counts = LinkCounts {
+    let counts = || LinkCounts {
         links: links.link_count(),
         cluster_links: links.far_links().filter(|l| l.is_cluster()).count(),
         closed_receivers: links.closed.iter().filter(|c| **c).count(),
     };
+    let counts_each: Vec<LinkCounts> = solved.iter().map(|_| counts()).collect();
     let back = std::mem::take(&mut links.back);
     let closed = std::mem::take(&mut links.closed);
     drop(links);
-    Radiosity {
-        tree,
-        rho,
-        dark,
-        reflected,
-        direct_patch,
-        indirect_patch,
-        indirect_vertex,
-        stats,
-        balance,
-        back,
-        closed,
-        counts,
+    // Every solution but the last gets a tree of its own (built again: the same tree), the last
+    // takes this one.
+    let n = solved.len();
+    let mut tree = Some(tree);
+    let mut out = Vec::with_capacity(n);
+    for (k, ((reflected, direct_patch, indirect_patch, indirect_vertex, stats), counts)) in
+        solved.into_iter().zip(counts_each).enumerate()
+    {
+        let tree = match k + 1 == n {
+            true => tree.take().expect("the last solution takes the tree"),
+            false => PatchTree::build(mesh, (0..mesh.patches.len() as u32).collect()),
+        };
+        out.push(Radiosity {
+            tree,
+            rho: rho.clone(),
+            dark: dark.clone(),
+            reflected,
+            direct_patch,
+            indirect_patch,
+            indirect_vertex,
+            stats,
+            balance,
+            back: back.clone(),
+            closed: closed.clone(),
+            counts,
+        });
     }
+    out
 }
 
 /// The warning for a solve that stopped before reaching `tolerance` (`None` when it converged).

@@ -25,6 +25,36 @@ pub struct BakeArgs {
     /// Output file: .gltf (+ .bin beside it) or .glb.
     #[arg(short, long, required = true)]
     output: Option<PathBuf>,
+    #[command(flatten)]
+    pub settings: SettingsArgs,
+    /// Up axis of an OBJ input (glTF is always +Y up).
+    #[arg(long, value_enum, default_value_t = UpArg::Y)]
+    obj_up: UpArg,
+    /// No progress bar and no summary on stderr (errors and warnings still print).
+    #[arg(short, long)]
+    quiet: bool,
+    /// Also write the run summary (settings, counts, energy balance, timings) as JSON here.
+    #[arg(long, value_name = "FILE")]
+    summary_json: Option<PathBuf>,
+    /// Print the lighting report after baking, as `bake report OUT` would (FORMAT: table,
+    /// markdown, csv, json; default table).
+    #[arg(long, value_enum, value_name = "FORMAT", num_args = 0..=1, default_missing_value = "table")]
+    report: Option<FormatArg>,
+    /// Write the report to this file instead of standard output (implies --report).
+    #[arg(long, value_name = "FILE")]
+    report_out: Option<PathBuf>,
+    /// The report's surface sections (implies --report; default both).
+    #[arg(long, value_enum, value_name = "BY")]
+    report_by: Option<ByArg>,
+    /// Design targets for the report: a JSON object of average illuminances in lx (implies
+    /// --report).
+    #[arg(long, value_name = "FILE")]
+    targets: Option<PathBuf>,
+}
+
+/// What the bake computes and how: the options `bake` and `bake fit` share.
+#[derive(Args, Debug)]
+pub struct SettingsArgs {
     /// Speed/accuracy trade-off.
     #[arg(long, value_enum, default_value_t = QualityArg::Default)]
     quality: QualityArg,
@@ -87,51 +117,28 @@ pub struct BakeArgs {
     /// gather (default per quality: 0.03, 0.01, 0); 0 gathers at every texel.
     #[arg(long, value_name = "FRACTION", requires = "lightmaps", hide = true)]
     lightmap_tolerance: Option<f64>,
-    /// Up axis of an OBJ input (glTF is always +Y up).
-    #[arg(long, value_enum, default_value_t = UpArg::Y)]
-    obj_up: UpArg,
-    /// No progress bar and no summary on stderr (errors and warnings still print).
-    #[arg(short, long)]
-    quiet: bool,
-    /// Also write the run summary (settings, counts, energy balance, timings) as JSON here.
-    #[arg(long, value_name = "FILE")]
-    summary_json: Option<PathBuf>,
     /// Record stage timings in the output's extras (makes bakes differ from run to run).
     #[arg(long)]
     timings_in_output: bool,
     #[command(flatten)]
-    probes: super::probes::ProbeArgs,
-    /// Print the lighting report after baking, as `bake report OUT` would (FORMAT: table,
-    /// markdown, csv, json; default table).
-    #[arg(long, value_enum, value_name = "FORMAT", num_args = 0..=1, default_missing_value = "table")]
-    report: Option<FormatArg>,
-    /// Write the report to this file instead of standard output (implies --report).
-    #[arg(long, value_name = "FILE")]
-    report_out: Option<PathBuf>,
-    /// The report's surface sections (implies --report; default both).
-    #[arg(long, value_enum, value_name = "BY")]
-    report_by: Option<ByArg>,
-    /// Design targets for the report: a JSON object of average illuminances in lx (implies
-    /// --report).
-    #[arg(long, value_name = "FILE")]
-    targets: Option<PathBuf>,
+    pub probes: super::probes::ProbeArgs,
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
-enum QualityArg {
+pub enum QualityArg {
     Draft,
     Default,
     High,
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
-enum UpArg {
+pub enum UpArg {
     Y,
     Z,
 }
 
 /// Validate the raw arguments into settings (no work done yet).
-fn settings(args: &BakeArgs) -> Result<Settings> {
+pub fn settings(args: &SettingsArgs) -> Result<Settings> {
     let exposure = match args.exposure.trim() {
         "auto" => Exposure::Auto,
         s => Exposure::White {
@@ -180,7 +187,7 @@ pub fn run(args: &BakeArgs) -> Result<()> {
         .into());
     };
     let start = Instant::now();
-    let settings = settings(args)?;
+    let settings = settings(&args.settings)?;
     let progress = CliProgress::new(!args.quiet && std::io::stderr().is_terminal());
     let obj_up = match args.obj_up {
         UpArg::Y => UpAxis::Y,
@@ -191,14 +198,14 @@ pub fn run(args: &BakeArgs) -> Result<()> {
     let read: Vec<&Path> = [Some(input.as_path()), args.targets.as_deref()]
         .into_iter()
         .flatten()
-        .chain(args.probes.in_path())
+        .chain(args.settings.probes.in_path())
         .collect();
     let extra: Vec<&Path> = args
         .summary_json
         .iter()
         .chain(&args.report_out)
         .map(|p| p.as_path())
-        .chain(args.probes.out_path())
+        .chain(args.settings.probes.out_path())
         .collect();
     export::check_run(output, &luxbake::scene::Scene::default(), &read, &extra)?;
     let scene = import::load(input, &ImportOptions { obj_up })?;
@@ -255,7 +262,7 @@ pub fn run(args: &BakeArgs) -> Result<()> {
         None => None,
     };
     let staged = prepared.stage(&scene, &mut batch)?;
-    args.probes.stage_out(&result.probes, &mut batch)?;
+    args.settings.probes.stage_out(&result.probes, &mut batch)?;
     let total = start.elapsed().as_secs_f64();
     if let Some(path) = &args.summary_json {
         let summary = RunSummary {

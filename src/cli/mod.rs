@@ -3,6 +3,7 @@
 
 pub mod bake;
 pub mod design;
+pub mod fit;
 pub mod diff;
 pub mod generate;
 pub mod luminaire;

@@ -16,19 +16,23 @@
 mod parse;
 mod text;
 
-pub use parse::{COLUMNS, parse};
+pub use crate::table::Format;
+pub use parse::{COLUMNS, OPTIONAL, parse};
 
 /// One surface of the design: the input row.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
 #[serde(rename_all = "camelCase")]
 pub struct DesignRow {
     pub name: String,
-    /// m².
-    pub area: f64,
+    /// m²; `None` when the table leaves it to a bake (`bake design --scene`).
+    pub area: Option<f64>,
     /// Diffuse reflectance, in [0, 1).
     pub reflectance: f64,
     /// Design illuminance, lx.
     pub illuminance: f64,
+    /// What the row names in a bake (`--scene`, `bake fit`); the name itself when `None`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub surface: Option<String>,
     /// 1-based line of the row in its file.
     #[serde(skip)]
     pub line: usize,
@@ -76,25 +80,20 @@ pub struct FluxTable {
     pub warnings: Vec<String>,
 }
 
-/// How the table is written.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum Format {
-    /// Aligned columns for the terminal.
-    #[default]
-    Table,
-    Markdown,
-    /// Two tables (`surfaces`, `totals`) separated by a blank line, numbers in full.
-    Csv,
-    Json,
-}
-
 impl FluxTable {
-    /// The flux table of `rows` (at least one row with positive area: [`parse`] ensures it).
-    pub fn compute(rows: &[DesignRow]) -> FluxTable {
-        let area: f64 = rows.iter().map(|r| r.area).sum();
+    /// The flux table of `rows` (at least one row: [`parse`] ensures it); the first row without
+    /// an area is the error.
+    pub fn compute(rows: &[DesignRow]) -> Result<FluxTable, &DesignRow> {
+        if let Some(r) = rows.iter().find(|r| r.area.is_none()) {
+            return Err(r);
+        }
+        let rows: Vec<(&DesignRow, f64)> = (rows.iter())
+            .map(|r| (r, r.area.expect("checked above")))
+            .collect();
+        let area: f64 = rows.iter().map(|(_, a)| a).sum();
         let reflected: Vec<f64> = rows
             .iter()
-            .map(|r| r.area * r.reflectance * r.illuminance)
+            .map(|(r, a)| a * r.reflectance * r.illuminance)
             .collect();
         let reflected_flux: f64 = reflected.iter().sum();
         let e_r = if area > 0.0 {
@@ -105,14 +104,14 @@ impl FluxTable {
         let rows: Vec<FluxRow> = rows
             .iter()
             .zip(&reflected)
-            .map(|(r, &reflected_flux)| FluxRow {
+            .map(|(&(r, area), &reflected_flux)| FluxRow {
                 name: r.name.clone(),
-                area: r.area,
+                area,
                 reflectance: r.reflectance,
                 illuminance: r.illuminance,
                 reflected_flux,
                 direct_illuminance: r.illuminance - e_r,
-                direct_flux: (r.illuminance - e_r) * r.area,
+                direct_flux: (r.illuminance - e_r) * area,
             })
             .collect();
         let warnings = rows
@@ -129,7 +128,7 @@ impl FluxTable {
             })
             .collect();
         let direct_flux = rows.iter().map(|r| r.direct_flux).sum();
-        FluxTable {
+        Ok(FluxTable {
             rows,
             totals: Totals {
                 area,
@@ -138,7 +137,7 @@ impl FluxTable {
                 direct_flux,
             },
             warnings,
-        }
+        })
     }
 
     /// The table as text in `format` (ends with a newline).

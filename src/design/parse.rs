@@ -19,6 +19,11 @@ use std::path::Path;
 /// The header's column names, in the order the seed's table has them.
 pub const COLUMNS: [&str; 4] = ["name", "area_m2", "reflectance", "illuminance_lx"];
 
+/// Columns a header may add: `surface`, what the row names in a bake (`bake design --scene`,
+/// `bake fit`): a node path, `material:NAME`, either with a face (`desk_dark/top[+y]`), or
+/// `working_plane`.
+pub const OPTIONAL: [&str; 1] = ["surface"];
+
 /// Parse a design table's text (`file` names it in errors).
 pub fn parse(file: &Path, text: &str) -> Result<Vec<DesignRow>> {
     let err = |line: usize, message: String| Error::input(file, format!("line {line}"), message);
@@ -49,12 +54,12 @@ pub fn parse(file: &Path, text: &str) -> Result<Vec<DesignRow>> {
                 ),
             ));
         }
-        let mut value: [&str; 4] = [""; 4];
+        let mut value: [&str; 5] = [""; 5];
         for (k, &column) in order.iter().enumerate() {
             match fields.get(k) {
                 Some(f) => value[column] = f,
                 None => {
-                    return Err(err(line, format!("missing column '{}'", COLUMNS[column])));
+                    return Err(err(line, format!("missing column '{}'", column_name(column))));
                 }
             }
         }
@@ -62,12 +67,16 @@ pub fn parse(file: &Path, text: &str) -> Result<Vec<DesignRow>> {
         if name.is_empty() {
             return Err(err(line, "the surface name is empty".into()));
         }
-        let area = number(value[1]).filter(|a| *a > 0.0).ok_or_else(|| {
-            err(
-                line,
-                format!("area_m2 must be a number of m² > 0, got '{}'", value[1]),
-            )
-        })?;
+        // An empty area is taken from a bake (`--scene`).
+        let area = match value[1] {
+            "" => None,
+            a => Some(number(a).filter(|a| *a > 0.0).ok_or_else(|| {
+                err(
+                    line,
+                    format!("area_m2 must be a number of m² > 0 (or empty: from --scene), got '{a}'"),
+                )
+            })?),
+        };
         let reflectance = number(value[2])
             .filter(|r| (0.0..1.0).contains(r))
             .ok_or_else(|| {
@@ -91,11 +100,13 @@ pub fn parse(file: &Path, text: &str) -> Result<Vec<DesignRow>> {
                 format!("surface '{name}' is already on line {first}"),
             ));
         }
+        let surface = (!value[4].is_empty()).then(|| value[4].to_string());
         rows.push(DesignRow {
             name,
             area,
             reflectance,
             illuminance,
+            surface,
             line,
         });
     }
@@ -112,7 +123,7 @@ pub fn parse(file: &Path, text: &str) -> Result<Vec<DesignRow>> {
     Ok(rows)
 }
 
-/// The header's columns as indices into [`COLUMNS`].
+/// The header's columns as indices into [`COLUMNS`] then [`OPTIONAL`].
 fn header(fields: &[String]) -> Result<Vec<usize>, String> {
     let expected = || COLUMNS.join(",");
     if fields.iter().any(|f| number(f).is_some()) {
@@ -123,11 +134,16 @@ fn header(fields: &[String]) -> Result<Vec<usize>, String> {
     }
     let mut order = Vec::new();
     for f in fields {
-        let Some(k) = COLUMNS.iter().position(|c| c.eq_ignore_ascii_case(f)) else {
-            return Err(format!("unknown column '{f}' (expected {})", expected()));
+        let Some(k) = (0..COLUMNS.len() + OPTIONAL.len()).find(|&k| column_name(k).eq_ignore_ascii_case(f))
+        else {
+            return Err(format!(
+                "unknown column '{f}' (expected {}, optionally {})",
+                expected(),
+                OPTIONAL.join(",")
+            ));
         };
         if order.contains(&k) {
-            return Err(format!("column '{}' twice", COLUMNS[k]));
+            return Err(format!("column '{}' twice", column_name(k)));
         }
         order.push(k);
     }
@@ -139,6 +155,11 @@ fn header(fields: &[String]) -> Result<Vec<usize>, String> {
         ));
     }
     Ok(order)
+}
+
+/// Column `k` of [`COLUMNS`] then [`OPTIONAL`].
+fn column_name(k: usize) -> &'static str {
+    COLUMNS.get(k).copied().unwrap_or_else(|| OPTIONAL[k - COLUMNS.len()])
 }
 
 /// A finite number, or `None`.

@@ -126,7 +126,7 @@ impl CoveredPart {
     }
 }
 
-#[derive(Debug, Default)]
+#[derive(Debug, Clone, Default)]
 pub struct PatchMesh {
     pub groups: Vec<Group>,
     pub patches: Vec<Patch>,

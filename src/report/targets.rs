@@ -116,6 +116,12 @@ impl Targets {
 
     /// The average illuminance over the surfaces `key` names.
     fn surface_average(&self, input: &BakedOutput, key: &str) -> Result<f64> {
+        self.surface_row(input, key).map(|r| r.e_avg)
+    }
+
+    /// The report row of the surfaces `key` names (a node path, `material:NAME`, either with a
+    /// face); errors name the key and this file.
+    pub fn surface_row(&self, input: &BakedOutput, key: &str) -> Result<super::Row> {
         let err = |m: String| Error::input(&self.file, "", format!("target '{key}': {m}"));
         let (name, filter) = split_face(key).map_err(&err)?;
         let prims: Vec<_> = match name.strip_prefix("material:") {
@@ -145,9 +151,7 @@ impl Targets {
                     .into(),
             ));
         }
-        row(input, key, &prims, &filter)
-            .map(|r| r.e_avg)
-            .ok_or_else(|| err("no face of it faces that way".into()))
+        row(input, key, &prims, &filter).ok_or_else(|| err("no face of it faces that way".into()))
     }
 }
 
