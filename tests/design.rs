@@ -344,3 +344,86 @@ fn bad_tables_are_refused_naming_the_file_and_line() {
     assert_eq!(code, Some(2));
     std::fs::remove_dir_all(&dir).ok();
 }
+
+#[test]
+fn areas_come_from_a_bake_with_scene() {
+    let dir = std::env::temp_dir().join(format!("luxbake-design-scene-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let lit = dir.join("office-lit.gltf");
+    let (code, _, err) = bake(&[
+        "--quality".as_ref(),
+        "draft".as_ref(),
+        table1().with_file_name("office.gltf").as_os_str(),
+        "-o".as_ref(),
+        lit.as_os_str(),
+        "-q".as_ref(),
+    ]);
+    assert_eq!(code, Some(0), "{err}");
+    // Areas left empty are the bake's; a given one is replaced (and noted when it differs).
+    let table = dir.join("t.csv");
+    std::fs::write(
+        &table,
+        "name,area_m2,reflectance,illuminance_lx,surface\n\
+         Left Wall,,0.5,200,wall_left\n\
+         Front Wall,99,0.5,200,wall_front\n\
+         Floor,,0.3,280,floor\n\
+         Dark Desk,,0.2,500,desk_dark/top[+y]\n",
+    )
+    .unwrap();
+    let (code, out, err) = bake(&[
+        "design".as_ref(),
+        table.as_os_str(),
+        "--scene".as_ref(),
+        lit.as_os_str(),
+        "--format".as_ref(),
+        "json".as_ref(),
+    ]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(err.contains("Front Wall: area 99 m² in the table, 16.000 m²"), "{err}");
+    let v: Value = serde_json::from_str(&out).unwrap();
+    let area = |k: usize| v["rows"][k]["area"].as_f64().unwrap();
+    // The office (samples/office/README.md): 8 m deep, 5 m wide, 3.2 m high, +Y up.
+    assert!((area(0) - 25.6).abs() < 1e-4, "{}", area(0));
+    assert!((area(1) - 16.0).abs() < 1e-4, "{}", area(1));
+    // The desk top: 1.5 m² as the seed has it.
+    assert!((area(3) - 1.5).abs() < 1e-4, "{}", area(3));
+    // The floor as the report measures it (its own by-node area).
+    let (_, report, _) = bake(&[
+        "report".as_ref(),
+        lit.as_os_str(),
+        "--by".as_ref(),
+        "node".as_ref(),
+        "--format".as_ref(),
+        "json".as_ref(),
+    ]);
+    let r: Value = serde_json::from_str(&report).unwrap();
+    let floor = r["byNode"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|n| n["name"] == "floor")
+        .unwrap()["area"]
+        .as_f64()
+        .unwrap();
+    assert!((area(2) - floor).abs() < 1e-9, "{} vs {floor}", area(2));
+    assert!(floor <= 40.0 + 1e-6);
+    // No area and no --scene: an error naming the line.
+    let (code, _, err) = bake(&["design".as_ref(), table.as_os_str()]);
+    assert_eq!(code, Some(1));
+    assert!(err.contains("t.csv: line 2: 'Left Wall' has no area_m2"), "{err}");
+    // A key the bake lacks: an error naming the line and the key.
+    std::fs::write(
+        &table,
+        "name,area_m2,reflectance,illuminance_lx,surface\nX,,0.5,200,no_such_node\n",
+    )
+    .unwrap();
+    let (code, _, err) = bake(&[
+        "design".as_ref(),
+        table.as_os_str(),
+        "--scene".as_ref(),
+        lit.as_os_str(),
+    ]);
+    assert_eq!(code, Some(1));
+    assert!(err.contains("line 2") && err.contains("no_such_node"), "{err}");
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -269,3 +269,43 @@ fn bad_fits_are_refused() {
     assert!(err.contains("office.gltf"), "{err}");
     std::fs::remove_dir_all(&d).ok();
 }
+
+#[test]
+fn a_fit_is_the_same_whatever_the_thread_count() {
+    let d = dir("threads");
+    let run = |threads: &str| {
+        // One name in two folders: the .bin's name (in the glTF) comes from the output's.
+        let out = d.join(threads).join("fitted.gltf");
+        std::fs::create_dir_all(out.parent().unwrap()).unwrap();
+        let text = ok(&[
+            "fit",
+            "samples/office/office.gltf",
+            "--design",
+            "samples/office/table1.csv",
+            "-o",
+            s(&out),
+            "--quality",
+            "draft",
+            "--group-by",
+            "source",
+            "--format",
+            "json",
+            "--threads",
+            threads,
+            "-q",
+        ]);
+        let gltf = std::fs::read(&out).unwrap();
+        let uri = json(std::str::from_utf8(&gltf).unwrap())["buffers"][0]["uri"]
+            .as_str()
+            .unwrap()
+            .to_owned();
+        let bin = std::fs::read(out.with_file_name(uri)).unwrap();
+        (text, gltf, bin)
+    };
+    let (one, two) = (run("1"), run("2"));
+    assert_eq!(one.0, two.0);
+    assert!(one.1 == two.1 && one.2 == two.2, "fitted files differ");
+    // Seven sources, each its own group.
+    assert_eq!(json(&one.0)["groups"].as_array().unwrap().len(), 7);
+    std::fs::remove_dir_all(&d).ok();
+}
