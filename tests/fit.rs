@@ -263,6 +263,17 @@ fn bad_fits_are_refused() {
     ]);
     assert_eq!(code, Some(1), "{err}");
     assert!(err.contains("--working-plane"), "{err}");
+    // A surface designed at 0 lx has no relative error.
+    let zero = d.join("zero.csv");
+    std::fs::write(
+        &zero,
+        "name,area_m2,reflectance,illuminance_lx,surface\nRoof,40,0.7,0,ceiling\n",
+    )
+    .unwrap();
+    let (code, _, err) = bake(&["fit", office, "--design", s(&zero), "-o", s(&out)]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(err.contains("zero.csv") && err.contains("designed at 0 lx"), "{err}");
+    assert!(!out.exists());
     // Never over the input.
     let (code, _, err) = bake(&["fit", office, "--design", design, "-o", office]);
     assert_ne!(code, Some(0), "{err}");

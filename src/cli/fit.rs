@@ -101,14 +101,6 @@ pub fn run(args: &FitArgs) -> Result<()> {
         }
         (None, None) => unreachable!("clap requires --design or --targets"),
     };
-    if let Some((key, _)) = design.targets.entries.iter().find(|(_, e)| *e <= 0.0) {
-        return Err(Error::input(
-            &design.targets.file,
-            "",
-            format!("'{key}' is designed at 0 lx: a relative error needs a design above 0"),
-        )
-        .into());
-    }
     if design.targets.wants_working_plane() && settings.working_plane.is_none() {
         return Err(design.targets.no_working_plane().into());
     }

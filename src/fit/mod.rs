@@ -13,7 +13,7 @@
 //! report measures (`report::Targets`), giving the response matrix A (surface × group, lx per
 //! unit factor) and the fixed part c. The factors minimise Σ_s ((A x + c)_s / E_s − 1)², the
 //! relative errors, subject to 0 ≤ x ≤ max ([`bvls`]). Adaptive meshing follows the light, so
-//! the fit is repeated on the mesh of the fitted scene (at most [`PASSES`] times, until no
+//! the fit is repeated on the mesh of the fitted scene (at most [`PASSES`] meshes, until no
 //! factor moves by more than 10⁻³ of the largest): what `fit` reports is then what a bake of
 //! the fitted scene gives, on that scene's own mesh.
 
@@ -111,6 +111,13 @@ pub fn fit(
             options.max_factor
         )));
     }
+    if let Some((key, _)) = (design.targets.entries.iter()).find(|(_, e)| e.is_nan() || *e <= 0.0) {
+        return Err(Error::input(
+            &design.targets.file,
+            "",
+            format!("'{key}' is designed at 0 lx: a relative error needs a design above 0"),
+        ));
+    }
     let fixed = groups::ungrouped(scene, groups);
     let mut lit: Vec<Scene> = (groups.iter())
         .map(|g| groups::lit_by(scene, &g.sources))
@@ -126,10 +133,11 @@ pub fn fit(
         responses = measure(&mesh_scene, &lit, &design.targets, settings, progress)?;
         passes += 1;
         let next = solve(&responses, &design.targets, groups.len(), options.max_factor);
+        // Solved on the mesh the factors it started from make: done when they hardly move.
         let largest = next.iter().fold(0.0_f64, |a, b| a.max(*b));
         let moved = (next.iter().zip(&factors)).any(|(a, b)| (a - b).abs() > 1e-3 * largest);
         factors = next;
-        if passes == PASSES || (passes > 1 && !moved) {
+        if passes == PASSES || !moved {
             break;
         }
     }
