@@ -65,6 +65,7 @@ pub fn options(by: ByArg, targets: Option<&Path>) -> Result<Options> {
     Ok(Options {
         by: by.into(),
         targets: targets.map(Targets::read).transpose()?,
+        border: 0.0,
     })
 }
 
