@@ -71,15 +71,16 @@ pub fn views(input: &BakedOutput, scene: &Scene, width: u32) -> Result<Vec<ViewF
 /// The working plane seen from above (x right, z down, +Y toward the viewer), `size` px wide:
 /// its extent, the border zone shaded, each grid point (filled: taken; hollow: in the border),
 /// and at every `step`-th point an arrow along the horizontal part of its illumination vector
-/// (the flow of light), longest arrow a grid step and a half.
+/// (the flow of light), longest arrow 0.8 of the distance between arrows, clipped to the extent.
 pub fn border_and_flow(input: &BakedOutput, plane: &PlaneRow, size: u32) -> String {
     let [x0, z0, x1, z1] = plane.extent;
     let (w_m, h_m) = ((x1 - x0).max(1e-9), (z1 - z0).max(1e-9));
-    let margin = 24.0;
+    let margin = 8.0;
+    let top = 22.0;
     let s = (size as f64 - 2.0 * margin) / w_m;
-    let (w, h) = (size as f64, h_m * s + 2.0 * margin);
+    let (w, h) = (size as f64, h_m * s + margin + top);
     let px = |x: f64| margin + (x - x0) * s;
-    let pz = |z: f64| margin + (z - z0) * s;
+    let pz = |z: f64| top + (z - z0) * s;
     let mut out = String::new();
     let _ = writeln!(
         out,
@@ -148,7 +149,15 @@ pub fn border_and_flow(input: &BakedOutput, plane: &PlaneRow, size: u32) -> Stri
     }
     out.push_str("</g>\n");
     if longest > 0.0 {
-        out.push_str(r##"<g stroke="#c0392b" stroke-width="1.4" fill="#c0392b">"##);
+        // Arrows stay inside the plane's extent (a local clip path: nothing outside the file).
+        let _ = write!(
+            out,
+            r##"<clipPath id="flow-clip"><rect x="{:.1}" y="{:.1}" width="{:.1}" height="{:.1}"/></clipPath><g clip-path="url(#flow-clip)" stroke="#c0392b" stroke-width="1.4" fill="#c0392b">"##,
+            px(x0),
+            pz(z0),
+            w_m * s,
+            h_m * s
+        );
         let grid = |v: f64, lo: f64| ((v - lo) / spacing).floor() as i64;
         for p in &points {
             let (x, z) = (p.position.x, p.position.z);
@@ -156,7 +165,7 @@ pub fn border_and_flow(input: &BakedOutput, plane: &PlaneRow, size: u32) -> Stri
                 continue;
             }
             let v = from_faces(&p.faces, None).vector;
-            let len = 1.5 * spacing * step as f64 / longest;
+            let len = 0.8 * spacing * step as f64 / longest;
             let (ex, ez) = (x + v[0] * len, z + v[2] * len);
             let (ax, az, bx, bz) = (px(x), pz(z), px(ex), pz(ez));
             let _ = write!(out, r#"<line x1="{ax:.1}" y1="{az:.1}" x2="{bx:.1}" y2="{bz:.1}"/>"#);
@@ -181,9 +190,9 @@ pub fn border_and_flow(input: &BakedOutput, plane: &PlaneRow, size: u32) -> Stri
     }
     let _ = writeln!(
         out,
-        r#"<text x="{:.1}" y="{:.1}" font-size="11" font-family="sans-serif">x {x0:.2}–{x1:.2} m, z {z0:.2}–{z1:.2} m; border {b:.2} m</text>"#,
+        r#"<text x="{:.1}" y="{:.1}" font-size="10" font-family="sans-serif">{w_m:.2} × {h_m:.2} m, border {b:.2} m</text>"#,
         margin,
-        margin - 8.0
+        top - 8.0
     );
     out.push_str("</svg>\n");
     out

@@ -77,20 +77,28 @@ pub fn document(
     if let Some(t) = &rep.targets {
         targets(&mut out, t);
     }
-    out.push_str("<section id=\"surfaces\">\n<h2>Surfaces</h2>\n");
+    // The heading and its note stay with the first table (`div.keep`).
+    out.push_str("<section id=\"surfaces\">\n<div class=\"keep\">\n<h2>Surfaces</h2>\n");
     out.push_str(
         "<p class=\"note\">Averages are area-weighted; U₀ = E<sub>min</sub>/E<sub>avg</sub>, \
          U<sub>d</sub> = E<sub>min</sub>/E<sub>max</sub>. Parts covered by another surface \
          (the ceiling above a surface-mounted luminaire, the wall behind a picture) receive no \
          light; they are left out of every figure and their area is given apart.</p>\n",
     );
+    let mut open = true;
     for (rows, id, what) in [
         (&rep.by_node, "by-node", "node"),
         (&rep.by_material, "by-material", "material"),
     ] {
         if let Some(rows) = rows {
             surfaces(&mut out, rows, id, what);
+            if std::mem::take(&mut open) {
+                out.push_str("</div>\n");
+            }
         }
+    }
+    if open {
+        out.push_str("</div>\n");
     }
     out.push_str("</section>\n");
     if let Some(p) = &rep.working_plane {
@@ -121,7 +129,7 @@ fn room(out: &mut String, input: &BakedOutput, s: Option<&RunSummary>) {
     };
     let mut pairs = vec![
         ("File", input.file.file_name().map_or(String::new(), |n| n.to_string_lossy().into_owned())),
-        ("Surfaces baked", input.primitives.len().to_string()),
+        ("Baked primitives", input.primitives.len().to_string()),
         ("Surface area", format!("{:.2} m²", area(&|_| true))),
     ];
     if let Some(s) = s {
@@ -200,13 +208,18 @@ fn luminaires(out: &mut String, rows: &[report::ScheduleRow], rep: &Report) {
     table(
         out,
         "schedule",
-        "Luminaires by type: rated lamp flux of one (lm), light output ratio, maintenance factor, \
-         dimming (the scene's multiplier), flux emitted by one and by all (lm), power (W)",
+        "Luminaires by type",
         &[
             "count", "kind", "profile", "lamp lm", "LOR", "MF", "dimming", "emitted lm",
             "total lm", "power W", "total W",
         ],
         &cells,
+    );
+    out.push_str(
+        "<p class=\"note\">Lamp lm: rated lamp flux of one luminaire (its profile); LOR: light \
+         output ratio; MF: maintenance factor; dimming: the scene's multiplier; emitted: flux \
+         leaving one luminaire and all of them (rated × dimming × LOR × MF); power: from the \
+         luminaire node's <code>extras.power_W</code>.</p>\n",
     );
     let flux: f64 = rows.iter().map(|r| r.emitted_total_lm).sum();
     let power: Option<f64> = rows.iter().map(|r| r.power_total_w).sum();
@@ -223,7 +236,11 @@ fn luminaires(out: &mut String, rows: &[report::ScheduleRow], rep: &Report) {
 }
 
 fn targets(out: &mut String, rows: &[report::TargetRow]) {
-    out.push_str("<section id=\"targets\">\n<h2>Targets</h2>\n");
+    out.push_str(
+        "<section id=\"targets\">\n<h2>Targets</h2>\n<p class=\"note\">A target passes when the \
+         average achieved is at least the target (EN 12464-1's maintained illuminance is a \
+         floor the average must not fall below); the ratio shows by how much it is over.</p>\n",
+    );
     let cells: Vec<Vec<Cell>> = rows
         .iter()
         .map(|t| {
@@ -245,8 +262,7 @@ fn targets(out: &mut String, rows: &[report::TargetRow]) {
     table(
         out,
         "targets-table",
-        "Average illuminance against the design: pass when achieved ≥ target (EN 12464-1's \
-         maintained illuminance is a floor)",
+        "Average illuminance against the design",
         &["target", "E target lx", "E avg lx", "ratio", "verdict"],
         &cells,
     );
@@ -292,7 +308,7 @@ fn working_plane(
     p: &report::PlaneRow,
     options: &Options,
 ) -> Result<()> {
-    out.push_str("<section id=\"working-plane\">\n<h2>Working plane</h2>\n");
+    out.push_str("<section id=\"working-plane\">\n<div class=\"keep\">\n<h2>Working plane</h2>\n");
     let metres = |m: Option<f64>| m.map_or("—".into(), |m| format!("{m:.2}"));
     table(
         out,
@@ -327,18 +343,21 @@ fn working_plane(
          to its edges.</p>",
         p.extent[0], p.extent[2], p.extent[1], p.extent[3], p.border
     );
-    out.push_str("<figure id=\"flow\">\n");
-    out.push_str(&figures::border_and_flow(input, p, options.figure_width.min(560)));
+    out.push_str("</div>\n<div class=\"row\">\n");
+    let flow = figures::border_and_flow(input, p, options.figure_width * 3 / 8);
+    let _ = writeln!(out, "<figure id=\"flow\"{}>", figure_width(&flow));
+    out.push_str(&flow);
     out.push_str(
         "<figcaption>The working plane from above (x to the right, z down): points taken \
          (filled) and in the border zone (hollow, shaded band); arrows: the flow of light, the \
          horizontal part of the illumination vector at every few points.</figcaption>\n</figure>\n",
     );
-    out.push_str("<figure id=\"plan\">\n");
-    out.push_str(&figures::plan_svg(input, options.figure_width)?);
+    let plan = figures::plan_svg(input, options.figure_width * 2 / 3)?;
+    let _ = writeln!(out, "<figure id=\"plan\"{}>", figure_width(&plan));
+    out.push_str(&plan);
     out.push_str(
         "<figcaption>Isolux plan of the working plane (all points, border zone included).\
-         </figcaption>\n</figure>\n</section>\n",
+         </figcaption>\n</figure>\n</div>\n</section>\n",
     );
     Ok(())
 }
@@ -425,6 +444,17 @@ fn cubic(out: &mut String, c: &report::Cubic) {
         );
     }
     out.push_str("</section>\n");
+}
+
+/// ` style="width: Wpx"` for a figure holding `svg` (its root's `width`), so the caption wraps
+/// to the drawing's width; empty when the SVG does not say.
+fn figure_width(svg: &str) -> String {
+    let root = svg.split_once('>').map_or("", |(head, _)| head);
+    let width = root
+        .split_once(" width=\"")
+        .and_then(|(_, rest)| rest.split_once('"'))
+        .and_then(|(w, _)| w.parse::<f64>().ok());
+    width.map_or(String::new(), |w| format!(" style=\"width: {w}px\""))
 }
 
 /// Whole lx (never "-0").

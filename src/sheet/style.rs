@@ -16,6 +16,9 @@ td.n { text-align: right; font-variant-numeric: tabular-nums; white-space: nowra
 td.pass { color: #15692b; font-weight: bold; }
 td.fail { color: #b00020; font-weight: bold; }
 tr { page-break-inside: avoid; break-inside: avoid; }
+div.keep { page-break-inside: avoid; break-inside: avoid; }
+div.row { display: flex; flex-wrap: wrap; gap: 10pt; align-items: flex-start; }
+div.row figure { flex: 0 0 auto; }
 figure { margin: 6pt 0 10pt 0; page-break-inside: avoid; break-inside: avoid; }
 figure svg, figure img { max-width: 100%; height: auto; display: block; }
 figcaption { font-size: 8.5pt; color: #333; margin-top: 3pt; }
