@@ -52,7 +52,9 @@ fn the_floor_under_a_box_is_left_out() {
         let r = bake(&scene, &settings(lightmaps), &Silent).unwrap();
         // The bake marks the floor's covered part, after its lit triangles.
         let floor = r.surfaces.iter().find(|s| s.surface == 0).unwrap();
-        let k = floor.covered_from.expect("the floor under the box is covered") as usize;
+        let k = floor
+            .covered_from
+            .expect("the floor under the box is covered") as usize;
         assert!(k > 0 && k < floor.triangles.len());
         let input = luxbake::baked::as_written(&scene, &r).unwrap();
         let row = floor_row(&input);

@@ -92,9 +92,9 @@ fn from_file(file: &mut GltfFile, memory: Option<&Lightmaps>) -> Result<BakedOut
             name: n.name.clone(),
             parent,
             extras: n.extras.clone(),
-            maintenance_factor: file.json()["nodes"][i]["extensions"]["LUXBAKE_luminaire"]
-                ["maintenanceFactor"]
-                .as_f64(),
+            maintenance_factor:
+                file.json()["nodes"][i]["extensions"]["LUXBAKE_luminaire"]["maintenanceFactor"]
+                    .as_f64(),
         })
         .collect();
     let json = file.json();

@@ -9,8 +9,8 @@ use clap::{Args, ValueEnum};
 use luxbake::Error;
 use luxbake::baked::BakedOutput;
 use luxbake::import::{self, ImportOptions};
-use luxbake::sheet;
 use luxbake::report::{self, By, Format, Options, Targets};
+use luxbake::sheet;
 use std::path::{Path, PathBuf};
 
 /// Print the lighting report of a luxbake output.

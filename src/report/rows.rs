@@ -215,7 +215,12 @@ pub fn plane(input: &PlaneInput, grid: Option<ProbeGrid>, border: f64) -> Option
 
 /// `[x_min, z_min, x_max, z_max]` of `points` grown by half of `spacing` (m).
 pub fn plane_extent(points: &[PlanePoint], spacing: f64) -> [f64; 4] {
-    let mut e = [f64::INFINITY, f64::INFINITY, f64::NEG_INFINITY, f64::NEG_INFINITY];
+    let mut e = [
+        f64::INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::NEG_INFINITY,
+    ];
     for p in points {
         e = [
             e[0].min(p.position.x),

@@ -55,7 +55,9 @@ pub fn schedule(input: &BakedOutput, sources: &[SourceRecord]) -> Vec<ScheduleRo
             Some(l) => {
                 // The summary's multiplier and rated flux include the maintenance factor.
                 let m = l.multiplier / if mf > 0.0 { mf } else { 1.0 };
-                let rated = l.rated_lamp_lm.map(|r| r / l.multiplier.max(f64::MIN_POSITIVE));
+                let rated = l
+                    .rated_lamp_lm
+                    .map(|r| r / l.multiplier.max(f64::MIN_POSITIVE));
                 (l.profile.clone(), m, rated, l.light_output_ratio)
             }
             None => (Some(name.clone()), 1.0, None, None),
@@ -119,7 +121,13 @@ pub fn kind_name(k: SourceKind) -> &'static str {
 mod tests {
     #[test]
     fn node_pointer() {
-        assert_eq!(super::node_of("/nodes/26/extensions/EXT_lights_ies"), Some(26));
-        assert_eq!(super::node_of("/extensions/KHR_lights_punctual/lights/0"), None);
+        assert_eq!(
+            super::node_of("/nodes/26/extensions/EXT_lights_ies"),
+            Some(26)
+        );
+        assert_eq!(
+            super::node_of("/extensions/KHR_lights_punctual/lights/0"),
+            None
+        );
     }
 }

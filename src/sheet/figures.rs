@@ -41,7 +41,10 @@ pub struct ViewFigure {
 pub fn views(input: &BakedOutput, scene: &Scene, width: u32) -> Result<Vec<ViewFigure>> {
     let mut out = Vec::new();
     for node in &input.cameras {
-        let name = node.name.clone().unwrap_or_else(|| format!("node {}", node.node));
+        let name = node
+            .name
+            .clone()
+            .unwrap_or_else(|| format!("node {}", node.node));
         let Ok(probe) = Camera::from_node(node, None, None) else {
             continue; // Orthographic cameras are not drawn.
         };
@@ -135,7 +138,12 @@ pub fn border_and_flow(input: &BakedOutput, plane: &PlaneRow, size: u32) -> Stri
         let r = 1.6;
         match inside(x, z) {
             true => {
-                let _ = write!(out, r#"<circle cx="{:.1}" cy="{:.1}" r="{r}"/>"#, px(x), pz(z));
+                let _ = write!(
+                    out,
+                    r#"<circle cx="{:.1}" cy="{:.1}" r="{r}"/>"#,
+                    px(x),
+                    pz(z)
+                );
             }
             false => {
                 let _ = write!(
@@ -161,14 +169,19 @@ pub fn border_and_flow(input: &BakedOutput, plane: &PlaneRow, size: u32) -> Stri
         let grid = |v: f64, lo: f64| ((v - lo) / spacing).floor() as i64;
         for p in &points {
             let (x, z) = (p.position.x, p.position.z);
-            if grid(x, x0) % step as i64 != (step / 2) as i64 || grid(z, z0) % step as i64 != (step / 2) as i64 {
+            if grid(x, x0) % step as i64 != (step / 2) as i64
+                || grid(z, z0) % step as i64 != (step / 2) as i64
+            {
                 continue;
             }
             let v = from_faces(&p.faces, None).vector;
             let len = 0.8 * spacing * step as f64 / longest;
             let (ex, ez) = (x + v[0] * len, z + v[2] * len);
             let (ax, az, bx, bz) = (px(x), pz(z), px(ex), pz(ez));
-            let _ = write!(out, r#"<line x1="{ax:.1}" y1="{az:.1}" x2="{bx:.1}" y2="{bz:.1}"/>"#);
+            let _ = write!(
+                out,
+                r#"<line x1="{ax:.1}" y1="{az:.1}" x2="{bx:.1}" y2="{bz:.1}"/>"#
+            );
             // Arrow head: a small triangle at the end.
             let (dx, dz) = (bx - ax, bz - az);
             let l = (dx * dx + dz * dz).sqrt();

@@ -10,7 +10,11 @@ pub fn data_uri(mime: &str, bytes: &[u8]) -> String {
     s.push_str(mime);
     s.push_str(";base64,");
     for chunk in bytes.chunks(3) {
-        let b = [chunk[0], *chunk.get(1).unwrap_or(&0), *chunk.get(2).unwrap_or(&0)];
+        let b = [
+            chunk[0],
+            *chunk.get(1).unwrap_or(&0),
+            *chunk.get(2).unwrap_or(&0),
+        ];
         let n = (u32::from(b[0]) << 16) | (u32::from(b[1]) << 8) | u32::from(b[2]);
         for k in 0..4 {
             if k <= chunk.len() {
@@ -27,7 +31,8 @@ pub fn data_uri(mime: &str, bytes: &[u8]) -> String {
 mod tests {
     #[test]
     fn rfc_4648_vectors() {
-        let b64 = |s: &str| super::data_uri("x", s.as_bytes())["data:x;base64,".len()..].to_string();
+        let b64 =
+            |s: &str| super::data_uri("x", s.as_bytes())["data:x;base64,".len()..].to_string();
         for (plain, coded) in [
             ("", ""),
             ("f", "Zg=="),

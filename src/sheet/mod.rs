@@ -104,10 +104,8 @@ pub fn document(
     if let Some(p) = &rep.working_plane {
         working_plane(&mut out, input, p, options)?;
     }
-    if options.views && !input.cameras.is_empty() {
-        if let Some(scene) = scene {
-            views(&mut out, input, scene, options)?;
-        }
+    if let Some(scene) = scene.filter(|_| options.views && !input.cameras.is_empty()) {
+        views(&mut out, input, scene, options)?;
     }
     if let Some(c) = &rep.cubic {
         cubic(&mut out, c);
@@ -125,10 +123,19 @@ fn room(out: &mut String, input: &BakedOutput, s: Option<&RunSummary>) {
     out.push_str("<section id=\"room\">\n<h2>Room summary</h2>\n");
     let area = |f: &dyn Fn(&Row) -> bool| -> f64 {
         let rows = report::rows::by_node(input, &report::Filter::All);
-        rows.iter().filter(|r| f(r)).map(|r| r.area + r.covered_area).sum()
+        rows.iter()
+            .filter(|r| f(r))
+            .map(|r| r.area + r.covered_area)
+            .sum()
     };
     let mut pairs = vec![
-        ("File", input.file.file_name().map_or(String::new(), |n| n.to_string_lossy().into_owned())),
+        (
+            "File",
+            input
+                .file
+                .file_name()
+                .map_or(String::new(), |n| n.to_string_lossy().into_owned()),
+        ),
         ("Baked primitives", input.primitives.len().to_string()),
         ("Surface area", format!("{:.2} m²", area(&|_| true))),
     ];
@@ -142,11 +149,18 @@ fn room(out: &mut String, input: &BakedOutput, s: Option<&RunSummary>) {
                     "{:?}, patches {:.3} m{}",
                     st.quality,
                     s.patch_size,
-                    if st.uniform_patches { " (uniform)" } else { ", refined where light changes" }
+                    if st.uniform_patches {
+                        " (uniform)"
+                    } else {
+                        ", refined where light changes"
+                    }
                 )
                 .to_lowercase(),
             ),
-            ("Patches", format!("{} ({} vertices)", s.counts.patches, s.counts.receivers)),
+            (
+                "Patches",
+                format!("{} ({} vertices)", s.counts.patches, s.counts.receivers),
+            ),
             (
                 "Working plane",
                 st.working_plane.map_or("none".into(), |g| {
@@ -155,15 +169,23 @@ fn room(out: &mut String, input: &BakedOutput, s: Option<&RunSummary>) {
             ),
             (
                 "Lightmaps",
-                s.lightmaps.as_ref().map_or("none (figures from vertices)".into(), |l| {
-                    format!("{} texels of {:.3} m", l.texels, l.texel_size_m)
-                }),
+                s.lightmaps
+                    .as_ref()
+                    .map_or("none (figures from vertices)".into(), |l| {
+                        format!("{} texels of {:.3} m", l.texels, l.texel_size_m)
+                    }),
             ),
             (
                 "Covered surfaces",
-                format!("{:.2} m² ({} contacts)", s.contacts.covered_area_m2, s.contacts.covers),
+                format!(
+                    "{:.2} m² ({} contacts)",
+                    s.contacts.covered_area_m2, s.contacts.covers
+                ),
             ),
-            ("Luminous flux emitted", format!("{:.0} lm", s.energy.emitted_lm)),
+            (
+                "Luminous flux emitted",
+                format!("{:.0} lm", s.energy.emitted_lm),
+            ),
             ("Absorbed", format!("{:.0} lm", s.energy.absorbed_lm)),
             ("Escaped", format!("{:.0} lm", s.energy.escaped_lm)),
             (
@@ -176,7 +198,10 @@ fn room(out: &mut String, input: &BakedOutput, s: Option<&RunSummary>) {
             ),
             (
                 "Solver",
-                format!("{} iterations, relative residual {:.1e}", s.solver.iterations, s.solver.relative_residual),
+                format!(
+                    "{} iterations, relative residual {:.1e}",
+                    s.solver.iterations, s.solver.relative_residual
+                ),
             ),
         ]);
     }
@@ -210,8 +235,17 @@ fn luminaires(out: &mut String, rows: &[report::ScheduleRow], rep: &Report) {
         "schedule",
         "Luminaires by type",
         &[
-            "count", "kind", "profile", "lamp lm", "LOR", "MF", "dimming", "emitted lm",
-            "total lm", "power W", "total W",
+            "count",
+            "kind",
+            "profile",
+            "lamp lm",
+            "LOR",
+            "MF",
+            "dimming",
+            "emitted lm",
+            "total lm",
+            "power W",
+            "total W",
         ],
         &cells,
     );
@@ -223,7 +257,10 @@ fn luminaires(out: &mut String, rows: &[report::ScheduleRow], rep: &Report) {
     );
     let flux: f64 = rows.iter().map(|r| r.emitted_total_lm).sum();
     let power: Option<f64> = rows.iter().map(|r| r.power_total_w).sum();
-    let mut line = format!("Total: {} sources, {flux:.0} lm", rows.iter().map(|r| r.count).sum::<usize>());
+    let mut line = format!(
+        "Total: {} sources, {flux:.0} lm",
+        rows.iter().map(|r| r.count).sum::<usize>()
+    );
     if let Some(p) = power {
         let _ = write!(line, ", {p:.1} W ({:.0} lm/W)", flux / p);
         if let Some(w) = &rep.working_plane {
@@ -285,7 +322,11 @@ fn surfaces(out: &mut String, rows: &[Row], id: &str, what: &str) {
                 num(lux(r.e_direct_avg)),
                 num(lux(r.e_indirect_avg)),
                 num(format!("{:.1}", r.l_avg)),
-                num(if r.covered_area > 0.0 { format!("{:.2}", r.covered_area) } else { "—".into() }),
+                num(if r.covered_area > 0.0 {
+                    format!("{:.2}", r.covered_area)
+                } else {
+                    "—".into()
+                }),
             ]
         })
         .collect();
@@ -295,8 +336,18 @@ fn surfaces(out: &mut String, rows: &[Row], id: &str, what: &str) {
         id,
         &format!("Surfaces by {what} (from {source})"),
         &[
-            what, "area m²", "ρ", "E avg lx", "E min lx", "E max lx", "U₀", "U_d", "direct lx",
-            "inter-refl. lx", "L avg cd/m²", "covered m²",
+            what,
+            "area m²",
+            "ρ",
+            "E avg lx",
+            "E min lx",
+            "E max lx",
+            "U₀",
+            "U_d",
+            "direct lx",
+            "inter-refl. lx",
+            "L avg cd/m²",
+            "covered m²",
         ],
         &cells,
     );
@@ -318,8 +369,17 @@ fn working_plane(
             p.border
         ),
         &[
-            "height m", "spacing m", "border m", "points", "E avg lx", "E min lx", "E max lx",
-            "U₀", "U_d", "direct lx", "inter-refl. lx",
+            "height m",
+            "spacing m",
+            "border m",
+            "points",
+            "E avg lx",
+            "E min lx",
+            "E max lx",
+            "U₀",
+            "U_d",
+            "direct lx",
+            "inter-refl. lx",
         ],
         &[vec![
             num(metres(p.height)),
@@ -399,7 +459,13 @@ fn cubic(out: &mut String, c: &report::Cubic) {
             "cubic-plane",
             "At the working plane's points inside the border (means)",
             &[
-                "points", "E scalar lx", "E cyl lx", "E cyl / E h", "vector/scalar", "min", "max",
+                "points",
+                "E scalar lx",
+                "E cyl lx",
+                "E cyl / E h",
+                "vector/scalar",
+                "min",
+                "max",
                 "altitude °",
             ],
             &[vec![
@@ -421,7 +487,10 @@ fn cubic(out: &mut String, c: &report::Cubic) {
             .map(|p| {
                 vec![
                     text(p.name.clone()),
-                    num(format!("{:.2}, {:.2}, {:.2}", p.position[0], p.position[1], p.position[2])),
+                    num(format!(
+                        "{:.2}, {:.2}, {:.2}",
+                        p.position[0], p.position[1], p.position[2]
+                    )),
                     num(lux(p.horizontal)),
                     num(lux(p.scalar)),
                     num(lux(p.vector_magnitude)),
@@ -437,8 +506,15 @@ fn cubic(out: &mut String, c: &report::Cubic) {
             "cubic-probes",
             "At the probes",
             &[
-                "probe", "x, y, z m", "E h lx", "E scalar lx", "|E| lx", "vector/scalar",
-                "altitude °", "azimuth °", "E cyl lx",
+                "probe",
+                "x, y, z m",
+                "E h lx",
+                "E scalar lx",
+                "|E| lx",
+                "vector/scalar",
+                "altitude °",
+                "azimuth °",
+                "E cyl lx",
             ],
             &cells,
         );
