@@ -450,7 +450,7 @@ fn cubic(out: &mut String, c: &report::Cubic) {
         "<p class=\"note\">From the six faces of a small cube at each point (Cuttle): the \
          illumination vector points along the flow of light; the vector/scalar ratio is its \
          strength against the light from all around (0: fully diffuse; 4: a single beam; about \
-         1.2–1.8 models faces well); altitude is the vector's elevation (−90°: straight down); \
+         1.2–1.8 is the range commonly recommended for modelling faces); altitude is the vector's elevation (−90°: straight down); \
          E<sub>cyl</sub> is cylindrical illuminance.</p>\n",
     );
     if let Some(w) = &c.working_plane {
