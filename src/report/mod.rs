@@ -118,10 +118,7 @@ pub fn build(input: &BakedOutput, options: &Options) -> Result<Report> {
         .filter(|s| !s.sources.is_empty())
         .map(|s| schedule::schedule(input, &s.sources));
     let inside = |p: glam::DVec3| {
-        working_plane.as_ref().is_none_or(|w| {
-            let (e, b) = (w.extent, w.border - 1e-3);
-            p.x - e[0] >= b && p.z - e[1] >= b && e[2] - p.x >= b && e[3] - p.z >= b
-        })
+        (working_plane.as_ref()).is_none_or(|w| rows::inside_border(w.extent, w.border, p))
     };
     let cubic = cubic::cubic(input, inside);
     let targets = match &options.targets {

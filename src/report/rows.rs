@@ -174,15 +174,7 @@ pub fn row_from(
 /// `grid`: its height and spacing, when known. `None` when the border leaves no point.
 pub fn plane(input: &PlaneInput, grid: Option<ProbeGrid>, border: f64) -> Option<PlaneRow> {
     let extent = plane_extent(&input.points, grid.map_or(0.0, |g| g.spacing));
-    // A millimetre's slack: grid points sit at computed, rounded places.
-    let inside = |p: &&PlanePoint| {
-        let (x, z) = (p.position.x, p.position.z);
-        let slack = border - 1e-3;
-        x - extent[0] >= slack
-            && z - extent[1] >= slack
-            && extent[2] - x >= slack
-            && extent[3] - z >= slack
-    };
+    let inside = |p: &&PlanePoint| inside_border(extent, border, p.position);
     let points: Vec<&PlanePoint> = input.points.iter().filter(inside).collect();
     if points.is_empty() {
         return None;
@@ -211,6 +203,13 @@ pub fn plane(input: &PlaneInput, grid: Option<ProbeGrid>, border: f64) -> Option
         uniformity: ratio(e_min, e_avg),
         uniformity_d: ratio(e_min, e_max),
     })
+}
+
+/// Whether `p` lies at least `border` m inside `extent` (`[x_min, z_min, x_max, z_max]`, +Y up),
+/// with a millimetre's slack: grid points sit at computed, rounded places.
+pub fn inside_border(extent: [f64; 4], border: f64, p: glam::DVec3) -> bool {
+    let b = border - 1e-3;
+    p.x - extent[0] >= b && p.z - extent[1] >= b && extent[2] - p.x >= b && extent[3] - p.z >= b
 }
 
 /// `[x_min, z_min, x_max, z_max]` of `points` grown by half of `spacing` (m).

@@ -117,10 +117,6 @@ pub fn border_and_flow(input: &BakedOutput, plane: &PlaneRow, size: u32) -> Stri
             h_m * s
         );
     }
-    let inside = |x: f64, z: f64| {
-        let m = b - 1e-3;
-        x - x0 >= m && z - z0 >= m && x1 - x >= m && z1 - z >= m
-    };
     let points: Vec<_> = input.probes.iter().filter(|p| p.working_plane).collect();
     let spacing = plane.spacing.unwrap_or(0.25);
     // About a dozen arrows along the longer side.
@@ -136,7 +132,7 @@ pub fn border_and_flow(input: &BakedOutput, plane: &PlaneRow, size: u32) -> Stri
     for p in &points {
         let (x, z) = (p.position.x, p.position.z);
         let r = 1.6;
-        match inside(x, z) {
+        match crate::report::rows::inside_border(plane.extent, b, p.position) {
             true => {
                 let _ = write!(
                     out,
