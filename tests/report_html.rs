@@ -2,7 +2,8 @@
 //! office baked at draft quality — self-contained (no network reference, no script, images as
 //! `data:` URIs), every section there, the numbers those of the JSON report of the same bake,
 //! deterministic bytes; and in headless Chromium (skipped when absent, failed under CI): a
-//! screenshot that is not blank, the tables in the rendered DOM, and a PDF on A4 pages.
+//! screenshot that is not blank, the tables in the rendered DOM, and a PDF on A4 pages; bad
+//! `--border` values are usage errors (exit 2), `-o` never overwrites the input.
 
 mod support;
 
@@ -333,4 +334,43 @@ fn chromium_shows_the_tables_and_prints_a4() {
             "{b}"
         );
     }
+}
+
+#[test]
+fn bad_borders_and_outputs_are_usage_errors() {
+    use support::cli::{Mini, assert_error_line};
+    let dir = scratch("report-html-errors");
+    let input = Mini::new().write_gltf(&dir, "mini.gltf", Some("mini.bin"));
+    let lit = dir.join("lit.gltf");
+    let run = bake_draft(&input, &lit, &["--working-plane", "0.5"]);
+    assert!(run.ok(), "{}", run.stderr);
+    let report = |extra: &[&str]| {
+        let mut args = vec!["report", lit.to_str().unwrap()];
+        args.extend(extra);
+        bake(args)
+    };
+    // A border leaving no point of the 2 × 2 m floor's plane, and a negative one: exit 2.
+    let run = report(&["--border", "1.5"]);
+    assert_eq!(run.code, Some(2), "{run:?}");
+    assert_error_line(&run, &["--border 1.5 m leaves no working-plane point"]);
+    let run = report(&["--border=-1"]);
+    assert_eq!(run.code, Some(2), "{run:?}");
+    assert_error_line(&run, &["--border -1"]);
+    // Never over an input.
+    let run = report(&["--format", "html", "-o", lit.to_str().unwrap()]);
+    assert!(!run.ok());
+    assert_error_line(&run, &[]);
+    // The mini scene has no camera: a document without views.
+    let out = dir.join("r.html");
+    let run = report(&[
+        "--format",
+        "html",
+        "--border",
+        "0.25",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(run.ok(), "{}", run.stderr);
+    let html = std::fs::read_to_string(&out).unwrap();
+    assert!(!html.contains("id=\"views\"") && html.contains("<table id=\"plane\">"));
 }
