@@ -21,8 +21,8 @@ for view in front:820x530 side:800x380 interior:900x600; do
 done
 $bake plan "$work/lit.gltf" -o docs/plan-office-working-plane.svg
 $bake plan "$work/lit.gltf" -o docs/plan-office-working-plane.png
-# The report from vertices: with lightmaps, texels straddling a luminaire's outline on the ceiling
-# read under it (see README, Report for a client).
+# The report: a bake of its own, with a probe grid at 1.2 m for the cubic illuminance (figures
+# from vertices).
 mkdir "$work/report"
 $bake samples/office/office.gltf -o "$work/report/office-lit.gltf" --working-plane 0.8 \
     --probe-grid 1.5 --probe-height 1.2 -q
