@@ -12,8 +12,8 @@
 //!   vertices of another (area integrals of the piecewise-linear values, minima and maxima over
 //!   vertices); each row says which (`source`), each section's title too;
 //! - the **working plane** (the `+y` face of the bake's working-plane probes): points, average,
-//!   minimum, maximum, U₀, direct and indirect averages, height and spacing;
-//!   minus a border zone along its edges (`Options::border`), U_d = E_min/E_max beside U₀;
+//!   minimum, maximum, U₀, U_d = E_min/E_max, direct and indirect averages, height and spacing,
+//!   over the points inside a border zone along its edges (`Options::border`);
 //! - **targets** ([`targets`]), only when given: target, achieved average, ratio, pass (achieved
 //!   ≥ target: EN 12464-1's maintained illuminance is a floor the average must not fall below);
 //! - the **luminaire schedule** ([`schedule`]) from the run summary's sources;
@@ -91,7 +91,8 @@ pub struct Report {
     pub cubic: Option<Cubic>,
 }
 
-/// Compute the report (errors only for targets naming nothing in the bake).
+/// Compute the report (errors for targets naming nothing in the bake, and `Error::Settings` for a
+/// border that is negative or leaves no working-plane point).
 pub fn build(input: &BakedOutput, options: &Options) -> Result<Report> {
     let want = |b: By| options.by == b || options.by == By::Both;
     if !(options.border.is_finite() && options.border >= 0.0) {
