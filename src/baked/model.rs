@@ -42,8 +42,8 @@ pub struct BakedOutput {
 pub struct NodeInfo {
     pub name: Option<String>,
     pub parent: Option<usize>,
-    /// The node's `extras` as written (a luminaire's `power_W`, say), when it has any.
-    pub extras: Option<Value>,
+    /// `extras.power_W`: a luminaire's power (W), when the input gives it.
+    pub power_w: Option<f64>,
     /// `extensions.LUXBAKE_luminaire.maintenanceFactor`, when given.
     pub maintenance_factor: Option<f64>,
 }

@@ -10,7 +10,7 @@
 //!   to the stored `f32` positions), triangles wound counter-clockwise in world space,
 //!   `_ILLUMINANCE`, `_ILLUMINANCE_DIRECT`, `_LUMINANCE`, and where its covered part starts
 //!   (`extras.luxbake.coveredFrom`, absent in older outputs: nothing covered);
-//! - every node's extras and its `LUXBAKE_luminaire.maintenanceFactor`;
+//! - every node's `extras.power_W` and `LUXBAKE_luminaire.maintenanceFactor` (luminaires);
 //! - every probe node of the scene (a node whose `extras.luxbake.faces` is an object): its
 //!   position (`extras.luxbake.probe.position`, else the node's world origin) and its six
 //!   `faces` (lx, as stored);
@@ -91,7 +91,7 @@ fn from_file(file: &mut GltfFile, memory: Option<&Lightmaps>) -> Result<BakedOut
         .map(|(i, (n, &parent))| NodeInfo {
             name: n.name.clone(),
             parent,
-            extras: n.extras.clone(),
+            power_w: (n.extras.as_ref()).and_then(|e| e.get("power_W")?.as_f64()),
             maintenance_factor:
                 file.json()["nodes"][i]["extensions"]["LUXBAKE_luminaire"]["maintenanceFactor"]
                     .as_f64(),

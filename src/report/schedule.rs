@@ -46,10 +46,7 @@ pub fn schedule(input: &BakedOutput, sources: &[SourceRecord]) -> Vec<ScheduleRo
         let node = node_of(&s.source).filter(|&n| n < input.nodes.len());
         let info = node.map(|n| &input.nodes[n]);
         let mf = info.and_then(|i| i.maintenance_factor).unwrap_or(1.0);
-        let power = info
-            .and_then(|i| i.extras.as_ref())
-            .and_then(|e| e.get("power_W"))
-            .and_then(|v| v.as_f64());
+        let power = info.and_then(|i| i.power_w);
         let name = s.name.clone().unwrap_or_else(|| s.source.clone());
         let (profile, multiplier, rated, lor) = match &s.luminaire {
             Some(l) => {
