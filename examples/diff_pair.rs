@@ -55,6 +55,7 @@ fn main() {
             color: vec![[0.5; 3]; positions.len()],
             illuminance: e,
             lightmap: None,
+            covered_from: None,
         };
         let result = BakeResult {
             surfaces: vec![surface],

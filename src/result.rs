@@ -33,6 +33,10 @@ pub struct BakedSurface {
     /// The lightmap atlas this surface is laid out in (`--lightmaps`): then `uv1` is its layout
     /// (`TEXCOORD_1`, in [0, 1], v down as glTF's), and vertices on chart edges are split.
     pub lightmap: Option<usize>,
+    /// Where the covered part starts (`src/contacts`: the floor under a desk leg, the ceiling
+    /// above a panel): triangles from this index on are covered, with vertices of their own and
+    /// no light. `None`: nothing is covered. Lightmap layout keeps the triangle order.
+    pub covered_from: Option<u32>,
 }
 
 /// The lightmap atlases of a bake (`--lightmaps`).
@@ -121,6 +125,7 @@ impl BakeResult {
                     luminance: vec![0.0; n],
                     color: vec![[0.0; 3]; n],
                     lightmap: None,
+                    covered_from: None,
                 }
             })
             .collect();

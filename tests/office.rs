@@ -30,6 +30,7 @@ fn office_report_beside_the_seed() {
     let options = Options {
         by: By::Both,
         targets: Some(Targets::read(&root.join("samples/office/targets.json")).unwrap()),
+        border: 0.0,
     };
     let rep = report::build(&input, &options).unwrap();
     eprintln!("{}", rep.render(report::Format::Markdown));

@@ -179,6 +179,7 @@ fn report_from_the_files_equals_the_report_in_memory() {
         let options = Options {
             by: By::Both,
             targets: None,
+            border: 0.0,
         };
         let (a, b) = (
             report::build(&memory, &options).unwrap(),
@@ -201,7 +202,7 @@ fn report_from_the_files_equals_the_report_in_memory() {
         assert_eq!(json["byNode"][0]["source"], "texels");
         let csv = b.render(Format::Csv);
         let header = csv.lines().next().unwrap();
-        assert!(header.ends_with(",lAvg,source"), "{header}");
+        assert!(header.ends_with(",lAvg,coveredArea,source"), "{header}");
         assert!(csv.lines().nth(1).unwrap().ends_with(",texels"), "{csv}");
     }
 }

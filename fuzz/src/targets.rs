@@ -280,6 +280,7 @@ pub fn targets_json(data: &[u8]) -> bool {
     let options = report::Options {
         by: report::By::Both,
         targets: Some(targets),
+        border: 0.0,
     };
     report::build(baked_cornell(), &options).is_ok()
 }

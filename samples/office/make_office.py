@@ -54,6 +54,11 @@ LUM_ROWS_X = (1.25, 3.75)
 LUM_ZS = (4.0 / 3.0, 4.0, 20.0 / 3.0)
 LIGHT_DROP = 0.001                 # light node 1 mm below the diffuser centre
 MAINTENANCE_FACTOR = 1.0
+# Power of one luminaire (W) for the report's schedule (node extras.power_W): the lamp wattages
+# the paper names (one 58 W T26 lamp; a 50 W low-voltage lamp), ballast and transformer losses
+# not included.
+LUM_POWER_W = 58.0
+SPOT_POWER_W = 50.0
 # luminaire light node: local -Z (nadir) -> world -Y, local +X (C0) -> world +Z (length)
 LIGHT_ROTATION = [-0.5, -0.5, -0.5, 0.5]
 
@@ -438,7 +443,8 @@ def build(variant):
                           "rotation": [c if abs(c) > 1e-15 else 0.0 for c in q],
                           "extensions": {"LUXBAKE_luminaire": {
                               "profile": spot_profile,
-                              "maintenanceFactor": MAINTENANCE_FACTOR}}})
+                              "maintenanceFactor": MAINTENANCE_FACTOR}},
+                          "extras": {"power_W": SPOT_POWER_W}})
     scene_nodes.append(spot_node)
 
     # ---- one light node per fluorescent, child of luminaire_N, 1 mm below the diffuser
@@ -460,7 +466,8 @@ def build(variant):
         child = add_node({"name": "luminaire_%d_light" % i,
                           "translation": [0.0, r6(-LUM_Y - LIGHT_DROP), 0.0],
                           "rotation": list(ql),
-                          "extensions": ext})
+                          "extensions": ext,
+                          "extras": {"power_W": LUM_POWER_W}})
         nodes[parent]["children"] = [child]
 
     # ---- cameras: the seed's Appendix C viewpoints, root nodes after every other node

@@ -57,6 +57,7 @@ pub fn surfaces(s: &Solution, scale: f64) -> Vec<BakedSurface> {
                 luminance,
                 color,
                 lightmap: None,
+                covered_from: None,
             };
             if let Some(c) = &g.covered {
                 append_covered(
@@ -74,6 +75,7 @@ pub fn surfaces(s: &Solution, scale: f64) -> Vec<BakedSurface> {
 /// none (what covers it hides it).
 fn append_covered(out: &mut BakedSurface, c: &crate::patches::CoveredPart, black: [f32; 3]) {
     let n = out.positions.len() as u32;
+    out.covered_from = Some(out.triangles.len() as u32);
     out.positions.extend_from_slice(&c.positions);
     out.normals.extend_from_slice(&c.normals);
     for (uv, extra) in [(&mut out.uv0, &c.uv0), (&mut out.uv1, &c.uv1)] {

@@ -42,6 +42,10 @@ pub struct BakedOutput {
 pub struct NodeInfo {
     pub name: Option<String>,
     pub parent: Option<usize>,
+    /// `extras.power_W`: a luminaire's power (W), when the input gives it.
+    pub power_w: Option<f64>,
+    /// `extensions.LUXBAKE_luminaire.maintenanceFactor`, when given.
+    pub maintenance_factor: Option<f64>,
 }
 
 #[derive(Debug, Clone, PartialEq)]
@@ -89,6 +93,16 @@ pub struct Primitive {
     pub color: Option<Vec<[f32; 3]>>,
     /// Its lightmap, when its material has `LUXBAKE_lightmap`.
     pub lightmap: Option<LightmapUse>,
+    /// Triangles from this index on are a covered part (`extras.luxbake.coveredFrom`: the floor
+    /// under a desk leg), without light; `None` (outputs without the marker too): none.
+    pub covered_from: Option<u32>,
+}
+
+impl Primitive {
+    /// Whether triangle `j` is part of what another surface covers.
+    pub fn is_covered(&self, j: usize) -> bool {
+        self.covered_from.is_some_and(|k| j >= k as usize)
+    }
 }
 
 /// How a primitive is laid out in a lightmap.
@@ -154,6 +168,9 @@ pub struct ProbeNode {
     pub position: DVec3,
     /// Total illuminance on the faces `+x -x +y -y +z -z` (lx).
     pub faces: [f64; 6],
+    /// One of the working plane's points (`extras.luxbake.probe.origin.kind` is
+    /// `workingPlane`).
+    pub working_plane: bool,
 }
 
 /// The working plane: its points' upward face. Its grid (height, spacing) is in the run

@@ -8,7 +8,9 @@
 //! - every primitive carrying `_ILLUMINANCE` (others, such as probe glyphs, are skipped) of the
 //!   nodes of the scene, in node order: world positions (the node's composed transform applied
 //!   to the stored `f32` positions), triangles wound counter-clockwise in world space,
-//!   `_ILLUMINANCE`, `_ILLUMINANCE_DIRECT`, `_LUMINANCE`;
+//!   `_ILLUMINANCE`, `_ILLUMINANCE_DIRECT`, `_LUMINANCE`, and where its covered part starts
+//!   (`extras.luxbake.coveredFrom`, absent in older outputs: nothing covered);
+//! - every node's `extras.power_W` and `LUXBAKE_luminaire.maintenanceFactor` (luminaires);
 //! - every probe node of the scene (a node whose `extras.luxbake.faces` is an object): its
 //!   position (`extras.luxbake.probe.position`, else the node's world origin) and its six
 //!   `faces` (lx, as stored);
@@ -85,9 +87,14 @@ fn from_file(file: &mut GltfFile, memory: Option<&Lightmaps>) -> Result<BakedOut
     let node_infos = nodes
         .iter()
         .zip(&parent)
-        .map(|(n, &parent)| NodeInfo {
+        .enumerate()
+        .map(|(i, (n, &parent))| NodeInfo {
             name: n.name.clone(),
             parent,
+            power_w: (n.extras.as_ref()).and_then(|e| e.get("power_W")?.as_f64()),
+            maintenance_factor:
+                file.json()["nodes"][i]["extensions"]["LUXBAKE_luminaire"]["maintenanceFactor"]
+                    .as_f64(),
         })
         .collect();
     let json = file.json();
@@ -181,6 +188,7 @@ fn probe_nodes(file: &GltfFile) -> Result<Vec<ProbeNode>> {
             node: i,
             position: probe_position(&nodes[i]),
             faces: values,
+            working_plane: luxbake["probe"]["origin"]["kind"] == "workingPlane",
         });
     }
     Ok(probes)
@@ -290,6 +298,7 @@ fn primitive(
         }
         None => None,
     };
+    let covered_from = covered_from(file, p, triangles.len())?;
     Ok(Some(Primitive {
         node,
         material,
@@ -300,7 +309,23 @@ fn primitive(
         luminance,
         color,
         lightmap,
+        covered_from,
     }))
+}
+
+/// `extras.luxbake.coveredFrom` of a primitive: an integer up to its triangle count, or absent.
+fn covered_from(file: &GltfFile, p: &GltfPrimitive, triangles: usize) -> Result<Option<u32>> {
+    let at = format!("{}/extras/luxbake/coveredFrom", p.at);
+    match file.json().pointer(&at) {
+        None | Some(Value::Null) => Ok(None),
+        Some(v) => match v.as_u64() {
+            Some(k) if k as usize <= triangles => Ok(Some(k as u32)),
+            _ => Err(file.err(
+                at,
+                format!("the first covered triangle must be an integer up to {triangles}, got {v}"),
+            )),
+        },
+    }
 }
 
 /// `COLOR_0` as RGB (a VEC4's alpha dropped).

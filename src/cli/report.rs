@@ -1,11 +1,16 @@
-//! `bake report LIT.gltf|.glb [--format table|markdown|csv|json] [--by node|material|both]
-//! [--targets FILE]`: the lighting report of a finished bake, read back from its output. The
-//! same text as `bake … --report` printed at bake time (both go through [`render`]).
+//! `bake report LIT.gltf|.glb [--format table|markdown|csv|json|html] [--by node|material|both]
+//! [--targets FILE] [--border M] [-o FILE]`: the lighting report of a finished bake, read back
+//! from its output. The same text as `bake … --report` printed at bake time (both go through
+//! [`render`]). `html`: the designer's report document (`luxbake::sheet`), with the isolux plan
+//! and the camera nodes' false-colour views. `-o`: written atomically instead of printed.
 
 use anyhow::Result;
 use clap::{Args, ValueEnum};
+use luxbake::Error;
 use luxbake::baked::BakedOutput;
+use luxbake::import::{self, ImportOptions};
 use luxbake::report::{self, By, Format, Options, Targets};
+use luxbake::sheet;
 use std::path::{Path, PathBuf};
 
 /// Print the lighting report of a luxbake output.
@@ -13,15 +18,32 @@ use std::path::{Path, PathBuf};
 pub struct ReportArgs {
     /// A glTF written by bake (.gltf or .glb).
     file: PathBuf,
-    /// Output format.
-    #[arg(long, value_enum, default_value_t = FormatArg::Table)]
-    format: FormatArg,
+    /// Output format (html: the designer's report document, self-contained).
+    #[arg(long, value_enum, default_value_t = ReportFormat::Table)]
+    format: ReportFormat,
     /// Surface sections: by node, by material, or both.
     #[arg(long, value_enum, default_value_t = ByArg::Both)]
     by: ByArg,
     /// Design targets (JSON object of average illuminances in lx) to compare with.
     #[arg(long, value_name = "FILE")]
     targets: Option<PathBuf>,
+    /// Working-plane border zone (m): leave out points closer than this to the plane's edges
+    /// (EN 12464-1 calculation grids; e.g. 0.5).
+    #[arg(long, value_name = "M", default_value_t = 0.0)]
+    border: f64,
+    /// Write the report into this file instead of printing it.
+    #[arg(short, long, value_name = "FILE")]
+    output: Option<PathBuf>,
+}
+
+/// `bake report`'s formats: those of `bake --report`, and the HTML document.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum ReportFormat {
+    Table,
+    Markdown,
+    Csv,
+    Json,
+    Html,
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -65,6 +87,7 @@ pub fn options(by: ByArg, targets: Option<&Path>) -> Result<Options> {
     Ok(Options {
         by: by.into(),
         targets: targets.map(Targets::read).transpose()?,
+        border: 0.0,
     })
 }
 
@@ -74,8 +97,41 @@ pub fn render(input: &BakedOutput, options: &Options, format: FormatArg) -> Resu
 }
 
 pub fn run(args: &ReportArgs) -> Result<()> {
-    let options = options(args.by, args.targets.as_deref())?;
+    let mut options = options(args.by, args.targets.as_deref())?;
+    options.border = args.border;
+    if !(args.border.is_finite() && args.border >= 0.0) {
+        return Err(Error::Settings(format!(
+            "--border {}: a length ≥ 0 m is expected (e.g. 0.5)",
+            args.border
+        ))
+        .into());
+    }
+    if let Some(out) = &args.output {
+        luxbake::export::check_files(&[&args.file], &[out])?;
+    }
     let input = luxbake::baked::read(&args.file)?;
-    print!("{}", render(&input, &options, args.format)?);
+    let text = match args.format {
+        ReportFormat::Table => render(&input, &options, FormatArg::Table)?,
+        ReportFormat::Markdown => render(&input, &options, FormatArg::Markdown)?,
+        ReportFormat::Csv => render(&input, &options, FormatArg::Csv)?,
+        ReportFormat::Json => render(&input, &options, FormatArg::Json)?,
+        ReportFormat::Html => {
+            let rep = report::build(&input, &options)?;
+            // The views need the luminaires' openings: the output imported as a scene.
+            let scene = match input.cameras.is_empty() {
+                true => None,
+                false => Some(import::load(&args.file, &ImportOptions::default())?),
+            };
+            if let (Some(out), Some(scene)) = (&args.output, &scene) {
+                let inputs: Vec<&Path> = scene.input_files.iter().map(PathBuf::as_path).collect();
+                luxbake::export::check_files(&inputs, &[out])?;
+            }
+            sheet::document(&input, scene.as_ref(), &rep, &sheet::Options::default())?
+        }
+    };
+    match &args.output {
+        Some(out) => luxbake::export::atomic::write_atomic(out, text.as_bytes())?,
+        None => print!("{text}"),
+    }
     Ok(())
 }

@@ -161,6 +161,7 @@ mod tests {
             luminance: vec![0.5; 3],
             color: vec![[0.2, 0.4, 0.6]; 3],
             lightmap: None,
+            covered_from: None,
         }
     }
 

@@ -13,6 +13,9 @@
 //! A lightmapped surface (`lightmap: Some(k)`) is written with its material's variant for atlas
 //! k ([`Variants`]), its layout `uv1` as TEXCOORD_1 (and as TEXCOORD_0 too when it has no other
 //! UVs: sets must start at 0) and no COLOR_0 (a viewer would multiply the lightmap by it).
+//! A baked primitive with a covered part (`BakedSurface::covered_from`) gets
+//! `extras: {"luxbake": {"coveredFrom": N}}`: its triangles N… (in index order) are covered,
+//! without light, and readers leave them out of figures.
 
 use super::buffer::Binary;
 use super::geometry::{LocalFrame, LocalPrimitive, to_local};
@@ -122,12 +125,16 @@ pub fn build(
                 };
                 let material = lightmapped.unwrap_or(surface.material);
                 let lightmapped = lightmapped.is_some();
+                let covered_from = baked
+                    .covered_from
+                    .filter(|&k| with_values && (k as usize) < baked.triangles.len());
                 primitives.push(primitive(
                     &local,
                     material,
                     binary,
                     with_values,
                     lightmapped,
+                    covered_from,
                 ));
             }
         }
@@ -145,13 +152,15 @@ pub fn build(
     Ok(meshes)
 }
 
-/// One primitive, with the baked values if `values`; a `lightmapped` one without COLOR_0.
+/// One primitive, with the baked values if `values`; a `lightmapped` one without COLOR_0; with
+/// a covered part from triangle `covered_from` on, `extras.luxbake.coveredFrom`.
 fn primitive(
     p: &LocalPrimitive,
     material: usize,
     binary: &mut Binary,
     values: bool,
     lightmapped: bool,
+    covered_from: Option<u32>,
 ) -> Value {
     let mut attributes = Map::new();
     attributes.insert("POSITION".into(), json!(binary.vec3(&p.positions, true)));
@@ -176,10 +185,14 @@ fn primitive(
         attributes.insert("_LUMINANCE".into(), json!(binary.scalar(&p.luminance)));
     }
     let indices = binary.indices(&p.triangles, p.positions.len());
-    json!({
+    let mut out = json!({
         "attributes": attributes,
         "indices": indices,
         "material": material,
         "mode": TRIANGLES,
-    })
+    });
+    if let Some(k) = covered_from {
+        out["extras"] = json!({"luxbake": {"coveredFrom": k}});
+    }
+    out
 }

@@ -301,6 +301,7 @@ mod tests {
             luminance: vec![0.0; n],
             color: vec![[0.0; 3]; n],
             lightmap: None,
+            covered_from: None,
         }
     }
 

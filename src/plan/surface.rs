@@ -11,9 +11,10 @@
 //! Cells (about 200 along the longer side, a round size in metres) are read at their centres:
 //! from the lightmap bilinearly where the primitive is lightmapped (`Lightmap::bilinear` at the
 //! UV interpolated there), else from the vertex values interpolated linearly over the triangle.
-//! Cells whose centre no triangle holds are no data (NaN), and so are covered parts (a triangle
-//! without UV area in a lightmapped primitive, or whose vertices all hold exactly 0 lx in
-//! another: what a desk leg stands on). The figures are cell means, minimum and maximum.
+//! Cells whose centre no triangle holds are no data (NaN), and so are covered parts (marked by
+//! the bake, `Primitive::covered_from`; in outputs without the marker, a triangle without UV area
+//! in a lightmapped primitive, or whose vertices all hold exactly 0 lx in another: what a desk leg
+//! stands on). The figures are cell means, minimum and maximum.
 
 use super::Quantity;
 use super::field::{CELLS, Field, Sampled};
@@ -188,10 +189,12 @@ fn fill(
         .lightmap
         .as_ref()
         .map(|l| (l, &input.lightmaps[l.lightmap]));
-    for t in &p.triangles {
+    for (j, t) in p.triangles.iter().enumerate() {
         let v = t.map(|v| v as usize);
         let q = v.map(|v| frame.to_2d(p.positions[v]));
+        // The bake's marker where the output has it; in older outputs, how a covered part looks.
         let covered = match lightmap {
+            _ if p.covered_from.is_some() => p.is_covered(j),
             Some((l, _)) => {
                 let uv = v.map(|v| l.uv[v]);
                 (uv[1] - uv[0]).perp_dot(uv[2] - uv[0]) == 0.0

@@ -27,10 +27,15 @@ pub struct Row {
     pub e_max: f64,
     pub e_direct_avg: f64,
     pub e_indirect_avg: f64,
-    /// E_min / E_avg (0 when E_avg is 0).
+    /// U₀ = E_min / E_avg (0 when E_avg is 0).
     pub uniformity: f64,
+    /// U_d = E_min / E_max (0 when E_max is 0).
+    pub uniformity_d: f64,
     /// cd/m².
     pub l_avg: f64,
+    /// Area covered by another surface (m²: the floor under a desk leg), left out of every other
+    /// figure of the row.
+    pub covered_area: f64,
     /// What the figures were taken from.
     pub source: Source,
 }
@@ -43,14 +48,23 @@ pub struct PlaneRow {
     pub height: Option<f64>,
     /// Grid spacing (m), from the run's settings.
     pub spacing: Option<f64>,
-    /// Number of points.
+    /// Border zone (m): points closer than this to the edge of the plane's extent are left out.
+    pub border: f64,
+    /// The plane's extent `[x_min, z_min, x_max, z_max]` (m, +Y up): its points' extent grown by
+    /// half the spacing (for a rectangular room, the room's inside), before the border.
+    pub extent: [f64; 4],
+    /// Number of points taken (inside the border), and of all points.
     pub points: usize,
+    pub points_total: usize,
     pub e_avg: f64,
     pub e_min: f64,
     pub e_max: f64,
     pub e_direct_avg: f64,
     pub e_indirect_avg: f64,
+    /// U₀ = E_min / E_avg.
     pub uniformity: f64,
+    /// U_d = E_min / E_max.
+    pub uniformity_d: f64,
 }
 
 /// One row per node with baked primitives, named by its path (`desk_dark/top`), in node order.
@@ -134,6 +148,7 @@ pub fn row_from(
         s.add(input, p, filter, texels);
     }
     let area = s.area;
+    let covered_area = s.covered;
     (area > 0.0).then(|| {
         let (lo, hi) = (s.lo.unwrap_or(0.0), s.hi.unwrap_or(0.0));
         Row {
@@ -146,18 +161,26 @@ pub fn row_from(
             e_direct_avg: s.ed / area,
             e_indirect_avg: (s.e - s.ed) / area,
             uniformity: ratio(lo, s.e / area),
+            uniformity_d: ratio(lo, hi),
             l_avg: s.l / area,
+            covered_area,
             source: s.source(),
         }
     })
 }
 
-/// The working plane's figures: plain means over its points (a regular grid); `grid`: its height
-/// and spacing, when known.
-pub fn plane(input: &PlaneInput, grid: Option<ProbeGrid>) -> PlaneRow {
-    let points = &input.points;
+/// The working plane's figures: plain means over its points (a regular grid) at least `border` m
+/// inside its extent (the points' extent grown by half the spacing: EN 12464-1's border zone);
+/// `grid`: its height and spacing, when known. `None` when the border leaves no point.
+pub fn plane(input: &PlaneInput, grid: Option<ProbeGrid>, border: f64) -> Option<PlaneRow> {
+    let extent = plane_extent(&input.points, grid.map_or(0.0, |g| g.spacing));
+    let inside = |p: &&PlanePoint| inside_border(extent, border, p.position);
+    let points: Vec<&PlanePoint> = input.points.iter().filter(inside).collect();
+    if points.is_empty() {
+        return None;
+    }
     let mean = |get: fn(&PlanePoint) -> f32| {
-        let mut v: Vec<f32> = points.iter().map(get).collect();
+        let mut v: Vec<f32> = points.iter().map(|p| get(p)).collect();
         v.sort_by(f32::total_cmp);
         v.iter().map(|&x| x as f64).sum::<f64>() / v.len().max(1) as f64
     };
@@ -165,17 +188,48 @@ pub fn plane(input: &PlaneInput, grid: Option<ProbeGrid>) -> PlaneRow {
     let e_min = total.clone().fold(f64::INFINITY, f64::min);
     let e_max = total.fold(f64::NEG_INFINITY, f64::max);
     let e_avg = mean(|p| p.total);
-    PlaneRow {
+    Some(PlaneRow {
         height: grid.map(|g| g.height),
         spacing: grid.map(|g| g.spacing),
+        border,
+        extent,
         points: points.len(),
+        points_total: input.points.len(),
         e_avg,
         e_min,
         e_max,
         e_direct_avg: mean(|p| p.direct),
         e_indirect_avg: mean(|p| p.indirect),
         uniformity: ratio(e_min, e_avg),
+        uniformity_d: ratio(e_min, e_max),
+    })
+}
+
+/// Whether `p` lies at least `border` m inside `extent` (`[x_min, z_min, x_max, z_max]`, +Y up),
+/// with a millimetre's slack: grid points sit at computed, rounded places.
+pub fn inside_border(extent: [f64; 4], border: f64, p: glam::DVec3) -> bool {
+    let b = border - 1e-3;
+    p.x - extent[0] >= b && p.z - extent[1] >= b && extent[2] - p.x >= b && extent[3] - p.z >= b
+}
+
+/// `[x_min, z_min, x_max, z_max]` of `points` grown by half of `spacing` (m).
+pub fn plane_extent(points: &[PlanePoint], spacing: f64) -> [f64; 4] {
+    let mut e = [
+        f64::INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::NEG_INFINITY,
+    ];
+    for p in points {
+        e = [
+            e[0].min(p.position.x),
+            e[1].min(p.position.z),
+            e[2].max(p.position.x),
+            e[3].max(p.position.z),
+        ];
     }
+    let h = spacing / 2.0;
+    [e[0] - h, e[1] - h, e[2] + h, e[3] + h]
 }
 
 /// a / b, or 0 when b is not positive.

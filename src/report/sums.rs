@@ -7,6 +7,10 @@
 //! (the one with the most area in the texel) passes. Vertices: each triangle with area weighs
 //! its area, a third at each vertex (the area integral of the piecewise-linear values); the
 //! extremes are over the vertices of the triangles taken.
+//!
+//! Covered triangles (`Primitive::covered_from`: the floor under a desk leg, without light) and
+//! texels whose triangle is covered are left out of all of it; their area is summed apart
+//! (`covered`).
 
 use crate::baked::{BakedOutput, Primitive};
 use glam::DVec3;
@@ -52,6 +56,8 @@ pub(super) struct Sums {
     pub l: f64,
     pub lo: Option<f64>,
     pub hi: Option<f64>,
+    /// Area of covered triangles passing the filter (m²), left out of everything else.
+    pub covered: f64,
     texels: bool,
     vertices: bool,
 }
@@ -63,13 +69,20 @@ impl Sums {
             .materials
             .get(p.material)
             .map_or(0.0, |m| m.reflectance);
+        if let Some(k) = p.covered_from {
+            self.covered += (k as usize..p.triangles.len())
+                .filter(|&j| passes(p, j, filter))
+                .map(|j| area(p, j))
+                .sum::<f64>();
+        }
         match p.lightmap.as_ref().filter(|_| texels) {
             Some(layout) => {
                 let lm = &input.lightmaps[layout.lightmap];
                 for t in &layout.texels {
                     let k = t.index as usize;
                     let w = f64::from(lm.footprint[k]);
-                    if w > 0.0 && passes(p, t.triangle as usize, filter) {
+                    let j = t.triangle as usize;
+                    if w > 0.0 && !p.is_covered(j) && passes(p, j, filter) {
                         self.area(w, rho);
                         let e = f64::from(lm.illuminance[k]);
                         let ed = f64::from(lm.illuminance_direct[k]);
@@ -81,7 +94,7 @@ impl Sums {
             None => {
                 for (j, t) in p.triangles.iter().enumerate() {
                     let w = area(p, j);
-                    if w <= 0.0 || !passes(p, j, filter) {
+                    if w <= 0.0 || p.is_covered(j) || !passes(p, j, filter) {
                         continue;
                     }
                     self.area(w, rho);

@@ -38,6 +38,9 @@ pub struct TargetRow {
     pub achieved: Option<f64>,
     /// achieved / target.
     pub ratio: Option<f64>,
+    /// achieved ≥ target (EN 12464-1: the maintained illuminance is a floor, not a goal to
+    /// approach from either side).
+    pub pass: Option<bool>,
 }
 
 impl Targets {
@@ -94,6 +97,7 @@ impl Targets {
                     target,
                     achieved,
                     ratio: achieved.map(|a| a / target),
+                    pass: achieved.map(|a| a >= target),
                 })
             })
             .collect()

@@ -115,6 +115,7 @@ fn baked(index: usize, s: &Surface, side: Side, e0: f32, rho: f32) -> BakedSurfa
             [1.0, 0.0, 0.25],
         ],
         lightmap: None,
+        covered_from: None,
     }
 }
 

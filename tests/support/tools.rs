@@ -4,7 +4,9 @@
 //! and three.js in headless Chromium (`bench/render/render.mjs`: npm `three` in
 //! `bench/render/node_modules` after `npm ci --prefix bench/render`, and Debian `chromium`).
 //!
-//! Call `have_validator()` / `have_blender()` / `have_three()` first: when the tool is absent they print
+//! Headless Chromium alone (`have_chromium`, `chromium`) renders and prints the HTML report.
+//!
+//! Call `have_validator()` / `have_blender()` / `have_three()` / `have_chromium()` first: when the tool is absent they print
 //! `skipping: ...` to stderr and return false, except under CI (`CI` set to anything but empty,
 //! `false` or `0`), where they panic with what to install. `.ci/run` installs both.
 
@@ -164,6 +166,40 @@ fn blender_script(script: &str, path: &Path) -> Value {
             String::from_utf8_lossy(&out.stdout)
         )
     })
+}
+
+/// Whether Debian `chromium` is on PATH (see the module docs for what happens when it is not).
+pub fn have_chromium() -> bool {
+    let runs = Command::new("chromium")
+        .arg("--version")
+        .output()
+        .is_ok_and(|o| o.status.success());
+    runs || missing(
+        "headless Chromium",
+        "needs Debian `chromium` (apt install chromium)",
+    )
+}
+
+/// Run headless `chromium` with `args` (sandbox off: tests may run as root); its stdout, after
+/// asserting it succeeded.
+pub fn chromium(args: &[&std::ffi::OsStr]) -> Vec<u8> {
+    let run = Command::new("chromium")
+        .args([
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--hide-scrollbars",
+        ])
+        .args(["--no-first-run", "--no-pdf-header-footer"])
+        .args(args)
+        .output()
+        .expect("cannot run chromium");
+    assert!(
+        run.status.success(),
+        "chromium {args:?} failed:\n{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    run.stdout
 }
 
 /// Whether `bench/render/render.mjs` can run: node, npm `three` in `bench/render/node_modules`
