@@ -47,6 +47,10 @@ pub struct FitArgs {
     /// Largest factor (1: dimming only).
     #[arg(long, value_name = "F", default_value_t = 1.0)]
     max_factor: f64,
+    /// Working-plane border zone in metres, left out of a working_plane target (as bake report
+    /// --border).
+    #[arg(long, value_name = "M", default_value_t = 0.0, allow_negative_numbers = true)]
+    border: f64,
     /// Output format.
     #[arg(long, value_enum, default_value_t = FormatArg::Table)]
     format: FormatArg,
@@ -135,6 +139,7 @@ pub fn run(args: &FitArgs) -> Result<()> {
         .context("cannot start worker threads")?;
     let options = fit::Options {
         max_factor: args.max_factor,
+        border: args.border,
     };
     let (result, fitted) =
         pool.install(|| fit::fit(&scene, &design, &groups, &settings, options, &progress))?;

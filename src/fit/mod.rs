@@ -37,6 +37,9 @@ pub const PASSES: usize = 3;
 pub struct Options {
     /// Largest factor (1: dimming only; more when the installation may be driven harder).
     pub max_factor: f64,
+    /// Working-plane border zone (m) left out of a `working_plane` target, as `bake report
+    /// --border` leaves it out.
+    pub border: f64,
 }
 
 /// One group's factor.
@@ -111,6 +114,12 @@ pub fn fit(
             options.max_factor
         )));
     }
+    if !(options.border.is_finite() && options.border >= 0.0) {
+        return Err(Error::Settings(format!(
+            "--border {}: a length ≥ 0 m is expected (e.g. 0.5)",
+            options.border
+        )));
+    }
     if let Some((key, _)) = (design.targets.entries.iter()).find(|(_, e)| e.is_nan() || *e <= 0.0) {
         return Err(Error::input(
             &design.targets.file,
@@ -130,7 +139,7 @@ pub fn fit(
     let mut responses;
     loop {
         let mesh_scene = groups::scaled(scene, groups, &factors);
-        responses = measure(&mesh_scene, &lit, &design.targets, settings, progress)?;
+        responses = measure(&mesh_scene, &lit, design, settings, options, progress)?;
         passes += 1;
         let next = solve(&responses, &design.targets, groups.len(), options.max_factor);
         // Solved on the mesh the factors it started from make: done when they hardly move.
@@ -189,14 +198,17 @@ pub fn fit(
 fn measure(
     mesh_scene: &Scene,
     lit: &[Scene],
-    targets: &Targets,
+    design: &Design,
     settings: &Settings,
+    options: Options,
     progress: &dyn Progress,
 ) -> Result<Vec<Vec<f64>>> {
     let results = crate::bake::bake_groups(mesh_scene, lit, settings, progress)?;
+    let targets = &design.targets;
     let options = report::Options {
         by: report::By::Node,
         targets: Some(targets.clone()),
+        border: options.border,
     };
     (lit.iter().zip(&results))
         .map(|(scene, result)| {
