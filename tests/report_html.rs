@@ -160,8 +160,8 @@ fn the_office_report_is_self_contained_and_holds_the_report_s_numbers() {
         assert_eq!(cells[1], format!("{:.2}", f("area")), "{name} {cells:?}");
         assert_eq!(cells[3], lux(f("eAvg")), "{name}");
         assert_eq!(cells[4], lux(f("eMin")), "{name}");
-        assert_eq!(cells[6], format!("{:.2}", f("uniformity")), "{name}");
-        assert_eq!(cells[7], format!("{:.2}", f("uniformityD")), "{name}");
+        assert_eq!(cells[8], format!("{:.2}", f("uniformity")), "{name}");
+        assert_eq!(cells[9], format!("{:.2}", f("uniformityD")), "{name}");
     }
     // Contacts left out: the ceiling above the six surface-mounted luminaires (6 × 0.3 m²
     // nominal) and the wall behind the 0.25 m² picture are covered, their minima no longer 0.

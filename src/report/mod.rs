@@ -30,7 +30,7 @@ pub mod rows;
 pub mod schedule;
 mod sums;
 pub mod targets;
-mod text;
+pub mod text;
 
 pub use cubic::{Cubic, ProbeRow, ProbeSummary};
 pub use rows::{Filter, PlaneRow, Row, Source};

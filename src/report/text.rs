@@ -1,6 +1,7 @@
-//! The report for people: an aligned plain-text table (terminal) or Markdown. Illuminances in
+//! The report for people: its sections as tables of text ([`Section`]s), written as an aligned
+//! plain-text table (terminal) or Markdown here, and as HTML tables by `sheet`. Illuminances in
 //! whole lx, areas to 0.01 m², reflectance and U₀ to two decimals, luminance to 0.1 cd/m²;
-//! a missing value shows as `—`. A surface section's title says what its figures come from
+//! a missing value (and a covered area of none) shows as `—`. A surface section's title says what its figures come from
 //! (`Surfaces by node (from lightmap texels)`).
 
 use super::rows::source_of;
@@ -31,7 +32,8 @@ pub(super) fn render(report: &Report, markdown: bool) -> String {
     crate::table::render(&sections, markdown)
 }
 
-fn surfaces(title: &'static str, what: &'static str, rows: &[Row]) -> Section {
+/// A surface section: one row per material or node (`what`).
+pub fn surfaces(title: &'static str, what: &'static str, rows: &[Row]) -> Section {
     let title = match source_of(rows) {
         Some(s) => format!("{title} (from {})", s.describe()),
         None => title.to_string(),
@@ -67,14 +69,18 @@ fn surfaces(title: &'static str, what: &'static str, rows: &[Row]) -> Section {
                     format!("{:.2}", r.uniformity),
                     format!("{:.2}", r.uniformity_d),
                     format!("{:.1}", r.l_avg),
-                    format!("{:.2}", r.covered_area),
+                    match r.covered_area > 0.0 {
+                        true => format!("{:.2}", r.covered_area),
+                        false => "—".into(),
+                    },
                 ]
             })
             .collect(),
     }
 }
 
-fn plane(p: &PlaneRow) -> Section {
+/// The working plane's figures.
+pub fn plane(p: &PlaneRow) -> Section {
     let metres = |m: Option<f64>| m.map_or("—".into(), |m| format!("{m:.2}"));
     Section {
         title: "Working plane".into(),
@@ -107,7 +113,8 @@ fn plane(p: &PlaneRow) -> Section {
     }
 }
 
-fn targets(rows: &[TargetRow]) -> Section {
+/// Each target beside what was achieved, pass or fail.
+pub fn targets(rows: &[TargetRow]) -> Section {
     Section {
         title: "Targets".into(),
         headers: vec!["target", "E target lx", "E avg lx", "ratio", "pass"],
@@ -135,7 +142,8 @@ pub(crate) fn pass(p: Option<bool>) -> String {
     }
 }
 
-fn schedule(rows: &[ScheduleRow]) -> Section {
+/// The luminaire schedule, one row per type.
+pub fn schedule(rows: &[ScheduleRow]) -> Section {
     let opt = |x: Option<f64>, digits: usize| x.map_or("—".into(), |x| format!("{x:.digits$}"));
     Section {
         title: "Luminaire schedule".into(),
@@ -173,7 +181,8 @@ fn schedule(rows: &[ScheduleRow]) -> Section {
     }
 }
 
-fn cubic(c: &Cubic) -> Vec<Section> {
+/// Cubic illuminance: the working plane's means, then every probe.
+pub fn cubic(c: &Cubic) -> Vec<Section> {
     let mut out = Vec::new();
     if let Some(w) = &c.working_plane {
         out.push(Section {

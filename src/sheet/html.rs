@@ -1,6 +1,7 @@
 //! HTML text helpers for the report document: escaping, and tables written from a header and
 //! rows of cells (numbers right-aligned by class), so every table of the document looks alike.
 
+use crate::table::Section;
 use std::fmt::Write;
 
 /// `s` with `& < > "` escaped (text and attribute values).
@@ -72,6 +73,36 @@ pub fn table(out: &mut String, id: &str, caption: &str, headers: &[&str], rows: 
         out.push_str("</tr>\n");
     }
     out.push_str("</tbody>\n</table>\n");
+}
+
+/// A report [`Section`] as a table with an id and a caption: numbers right-aligned, the rest as
+/// text; `pass` and `FAIL` cells get their classes.
+pub fn section(out: &mut String, id: &str, caption: &str, s: &Section) {
+    let rows: Vec<Vec<Cell>> = (s.cells.iter())
+        .map(|row| {
+            (row.iter())
+                .map(|c| {
+                    let mut cell = match numeric(c) {
+                        true => num(c.clone()),
+                        false => text(c.clone()),
+                    };
+                    cell.class = match c.as_str() {
+                        "pass" => Some("pass"),
+                        "FAIL" => Some("fail"),
+                        _ => None,
+                    };
+                    cell
+                })
+                .collect()
+        })
+        .collect();
+    table(out, id, caption, &s.headers, &rows);
+}
+
+/// A number as the report writes them (`412`, `-3`, `0.55`, `448 of 640`), or `—`.
+fn numeric(c: &str) -> bool {
+    let c = c.strip_prefix('-').unwrap_or(c);
+    c == "—" || c.chars().next().is_some_and(|d| d.is_ascii_digit())
 }
 
 /// A definition list of (term, value) pairs.

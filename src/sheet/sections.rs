@@ -3,10 +3,9 @@
 //! cubic illuminance. Illuminances in whole lx, ratios to two decimals, as the text report.
 
 use super::figures;
-use super::html::{Cell, escape, facts, num, table, text};
+use super::html::{escape, facts, section};
 use crate::Result;
 use crate::baked::BakedOutput;
-use crate::report::schedule::kind_name;
 use crate::report::{self, Report, Row};
 use crate::scene::Scene;
 use crate::summary::RunSummary;
@@ -104,44 +103,7 @@ pub(super) fn room(out: &mut String, input: &BakedOutput, s: Option<&RunSummary>
 
 pub(super) fn luminaires(out: &mut String, rows: &[report::ScheduleRow], rep: &Report) {
     out.push_str("<section id=\"luminaires\">\n<h2>Luminaire schedule</h2>\n");
-    let opt = |x: Option<f64>, d: usize| x.map_or("—".to_string(), |x| format!("{x:.d$}"));
-    let cells: Vec<Vec<Cell>> = rows
-        .iter()
-        .map(|r| {
-            vec![
-                num(r.count.to_string()),
-                text(kind_name(r.kind)),
-                text(r.profile.clone().unwrap_or_else(|| "—".into())),
-                num(opt(r.rated_lamp_lm, 0)),
-                num(opt(r.light_output_ratio, 2)),
-                num(format!("{:.2}", r.maintenance_factor)),
-                num(format!("{:.2}", r.multiplier)),
-                num(format!("{:.0}", r.emitted_lm)),
-                num(format!("{:.0}", r.emitted_total_lm)),
-                num(opt(r.power_w, 1)),
-                num(opt(r.power_total_w, 1)),
-            ]
-        })
-        .collect();
-    table(
-        out,
-        "schedule",
-        "Luminaires by type",
-        &[
-            "count",
-            "kind",
-            "profile",
-            "lamp lm",
-            "LOR",
-            "MF",
-            "dimming",
-            "emitted lm",
-            "total lm",
-            "power W",
-            "total W",
-        ],
-        &cells,
-    );
+    section(out, "schedule", "Luminaires by type", &report::text::schedule(rows));
     out.push_str(
         "<p class=\"note\">Lamp lm: rated lamp flux of one luminaire (its profile); LOR: light \
          output ratio; MF: maintenance factor; dimming: the scene's multiplier; emitted: flux \
@@ -171,79 +133,22 @@ pub(super) fn targets(out: &mut String, rows: &[report::TargetRow]) {
          average achieved is at least the target (EN 12464-1's maintained illuminance is a \
          floor the average must not fall below); the ratio shows by how much it is over.</p>\n",
     );
-    let cells: Vec<Vec<Cell>> = rows
-        .iter()
-        .map(|t| {
-            let mut verdict = text(match t.pass {
-                Some(true) => "pass",
-                Some(false) => "FAIL",
-                None => "—",
-            });
-            verdict.class = t.pass.map(|p| if p { "pass" } else { "fail" });
-            vec![
-                text(t.name.clone()),
-                num(lux(t.target)),
-                num(t.achieved.map_or("—".into(), lux)),
-                num(t.ratio.map_or("—".into(), |r| format!("{r:.2}"))),
-                verdict,
-            ]
-        })
-        .collect();
-    table(
+    section(
         out,
         "targets-table",
         "Average illuminance against the design",
-        &["target", "E target lx", "E avg lx", "ratio", "verdict"],
-        &cells,
+        &report::text::targets(rows),
     );
     out.push_str("</section>\n");
 }
 
-pub(super) fn surfaces(out: &mut String, rows: &[Row], id: &str, what: &str) {
-    let cells: Vec<Vec<Cell>> = rows
-        .iter()
-        .map(|r| {
-            vec![
-                text(r.name.clone()),
-                num(format!("{:.2}", r.area)),
-                num(format!("{:.2}", r.reflectance)),
-                num(lux(r.e_avg)),
-                num(lux(r.e_min)),
-                num(lux(r.e_max)),
-                num(format!("{:.2}", r.uniformity)),
-                num(format!("{:.2}", r.uniformity_d)),
-                num(lux(r.e_direct_avg)),
-                num(lux(r.e_indirect_avg)),
-                num(format!("{:.1}", r.l_avg)),
-                num(if r.covered_area > 0.0 {
-                    format!("{:.2}", r.covered_area)
-                } else {
-                    "—".into()
-                }),
-            ]
-        })
-        .collect();
-    let source = report::rows::source_of(rows).map_or("", |s| s.describe());
-    table(
-        out,
-        id,
-        &format!("Surfaces by {what} (from {source})"),
-        &[
-            what,
-            "area m²",
-            "ρ",
-            "E avg lx",
-            "E min lx",
-            "E max lx",
-            "U₀",
-            "U_d",
-            "direct lx",
-            "inter-refl. lx",
-            "L avg cd/m²",
-            "covered m²",
-        ],
-        &cells,
-    );
+pub(super) fn surfaces(out: &mut String, rows: &[Row], id: &str, what: &'static str) {
+    let title = match what {
+        "material" => "Surfaces by material",
+        _ => "Surfaces by node",
+    };
+    let table = report::text::surfaces(title, what, rows);
+    section(out, id, &table.title, &table);
 }
 
 pub(super) fn working_plane(
@@ -253,40 +158,14 @@ pub(super) fn working_plane(
     width: u32,
 ) -> Result<()> {
     out.push_str("<section id=\"working-plane\">\n<div class=\"keep\">\n<h2>Working plane</h2>\n");
-    let metres = |m: Option<f64>| m.map_or("—".into(), |m| format!("{m:.2}"));
-    table(
+    section(
         out,
         "plane",
         &format!(
             "Illuminance on the working plane, points at least {:.2} m from its edges",
             p.border
         ),
-        &[
-            "height m",
-            "spacing m",
-            "border m",
-            "points",
-            "E avg lx",
-            "E min lx",
-            "E max lx",
-            "U₀",
-            "U_d",
-            "direct lx",
-            "inter-refl. lx",
-        ],
-        &[vec![
-            num(metres(p.height)),
-            num(metres(p.spacing)),
-            num(format!("{:.2}", p.border)),
-            num(format!("{} of {}", p.points, p.points_total)),
-            num(lux(p.e_avg)),
-            num(lux(p.e_min)),
-            num(lux(p.e_max)),
-            num(format!("{:.2}", p.uniformity)),
-            num(format!("{:.2}", p.uniformity_d)),
-            num(lux(p.e_direct_avg)),
-            num(lux(p.e_indirect_avg)),
-        ]],
+        &report::text::plane(p),
     );
     let _ = writeln!(
         out,
@@ -351,71 +230,20 @@ pub(super) fn cubic(out: &mut String, c: &report::Cubic) {
          1.2–1.8 is the range commonly recommended for modelling faces); altitude is the vector's elevation (−90°: straight down); \
          E<sub>cyl</sub> is cylindrical illuminance.</p>\n",
     );
-    if let Some(w) = &c.working_plane {
-        table(
+    let tables = report::text::cubic(c);
+    let mut tables = tables.iter();
+    if c.working_plane.is_some()
+        && let Some(t) = tables.next()
+    {
+        section(
             out,
             "cubic-plane",
             "At the working plane's points inside the border (means)",
-            &[
-                "points",
-                "E scalar lx",
-                "E cyl lx",
-                "E cyl / E h",
-                "vector/scalar",
-                "min",
-                "max",
-                "altitude °",
-            ],
-            &[vec![
-                num(w.points.to_string()),
-                num(lux(w.scalar_avg)),
-                num(lux(w.cylindrical_avg)),
-                num(format!("{:.2}", w.cylindrical_to_horizontal)),
-                num(format!("{:.2}", w.vector_scalar_ratio_avg)),
-                num(format!("{:.2}", w.vector_scalar_ratio_min)),
-                num(format!("{:.2}", w.vector_scalar_ratio_max)),
-                num(format!("{:.0}", w.altitude_avg_deg)),
-            ]],
+            t,
         );
     }
-    if !c.probes.is_empty() {
-        let cells: Vec<Vec<Cell>> = c
-            .probes
-            .iter()
-            .map(|p| {
-                vec![
-                    text(p.name.clone()),
-                    num(format!(
-                        "{:.2}, {:.2}, {:.2}",
-                        p.position[0], p.position[1], p.position[2]
-                    )),
-                    num(lux(p.horizontal)),
-                    num(lux(p.scalar)),
-                    num(lux(p.vector_magnitude)),
-                    num(format!("{:.2}", p.vector_scalar_ratio)),
-                    num(format!("{:.0}", p.altitude_deg)),
-                    num(format!("{:.0}", p.azimuth_deg)),
-                    num(lux(p.cylindrical)),
-                ]
-            })
-            .collect();
-        table(
-            out,
-            "cubic-probes",
-            "At the probes",
-            &[
-                "probe",
-                "x, y, z m",
-                "E h lx",
-                "E scalar lx",
-                "|E| lx",
-                "vector/scalar",
-                "altitude °",
-                "azimuth °",
-                "E cyl lx",
-            ],
-            &cells,
-        );
+    if let Some(t) = tables.next() {
+        section(out, "cubic-probes", "At the probes", t);
     }
     out.push_str("</section>\n");
 }
@@ -429,13 +257,4 @@ fn figure_width(svg: &str) -> String {
         .and_then(|(_, rest)| rest.split_once('"'))
         .and_then(|(w, _)| w.parse::<f64>().ok());
     width.map_or(String::new(), |w| format!(" style=\"width: {w}px\""))
-}
-
-/// Whole lx (never "-0").
-fn lux(x: f64) -> String {
-    if x.abs() < 0.5 {
-        "0".into()
-    } else {
-        format!("{x:.0}")
-    }
 }
