@@ -1,0 +1,235 @@
+"""Operators: export the scene for luxbake, bake it with the `bake` binary, import a bake.
+
+`luxbake.bake` exports the scene (glTF + profiles, through the export hooks) into the scene's
+output folder as `<name>.gltf`, runs `bake <name>.gltf -o <name>-lit.gltf` with the scene's
+settings, and imports the result (the import hooks set it up). Run from the UI (invoke) it works
+in the background: a timer polls bake, the status bar and the scene's status show bake's latest
+stderr line and the elapsed time, Esc cancels; a failed bake reports bake's error line. Run as
+`bpy.ops.luxbake.bake()` from a script (exec) it waits for bake. Blender's objects stay as they
+are: the bake comes in beside them, in a collection named after the output (`<name>-lit`),
+which replaces that of an earlier bake.
+"""
+
+import os
+import time
+
+import bpy
+
+from . import run
+
+EXPORT_OPTIONS = dict(
+    export_format="GLTF_SEPARATE",
+    export_yup=True,               # glTF's +Y up, as luxbake reads it
+    export_apply=True,             # modifiers applied
+    export_lights=True,            # KHR_lights_punctual (intensity rewritten in cd / lx)
+    export_cameras=True,
+    export_extras=False,           # probes come from the LuxBake panel (or a `probe` property)
+    export_import_convert_lighting_mode="SPEC",
+)
+
+
+def export_scene(filepath, **options):
+    """Export the current scene as glTF for luxbake (the hooks add the photometric data)."""
+    kwargs = dict(EXPORT_OPTIONS)
+    kwargs.update(options)
+    result = bpy.ops.export_scene.gltf(filepath=filepath, **kwargs)
+    if "FINISHED" not in result:
+        raise RuntimeError(f"glTF export to {filepath} failed: {result}")
+
+
+def import_bake(filepath):
+    """Import a bake into a collection of its own (the import hooks set up its display)."""
+    name = os.path.splitext(os.path.basename(filepath))[0]
+    old = bpy.data.collections.get(name)
+    if old is not None:
+        for obj in list(old.all_objects):
+            bpy.data.objects.remove(obj)
+        bpy.data.collections.remove(old)
+    collection = bpy.data.collections.new(name)
+    bpy.context.scene.collection.children.link(collection)
+    layer = bpy.context.view_layer.layer_collection.children[collection.name]
+    bpy.context.view_layer.active_layer_collection = layer
+    result = bpy.ops.import_scene.gltf(filepath=filepath)
+    if "FINISHED" not in result:
+        raise RuntimeError(f"glTF import of {filepath} failed: {result}")
+    return collection
+
+
+def bake_paths(context):
+    s = context.scene.luxbake_settings
+    folder = bpy.path.abspath(s.output_dir) if s.output_dir else ""
+    if not folder or folder.startswith("//"):
+        raise run.BakeError("set an output folder (save the .blend file first for a relative one)")
+    os.makedirs(folder, exist_ok=True)
+    stem = bpy.path.clean_name(bpy.path.display_name_from_filepath(bpy.data.filepath) or "scene")
+    return os.path.join(folder, stem + ".gltf"), os.path.join(folder, stem + "-lit.gltf")
+
+
+def bake_command(context, scene_path, output_path):
+    s = context.scene.luxbake_settings
+    prefs = context.preferences.addons[__package__].preferences
+    return run.command(
+        run.find_bake(prefs.bake_path), scene_path, output_path, quality=s.quality,
+        working_plane=s.working_plane_height if s.use_working_plane else None,
+        spacing=s.working_plane_spacing if s.use_working_plane else None,
+        lightmaps=s.lightmaps, probe_glyphs=s.probe_glyphs, extra=s.extra_args)
+
+
+class LUXBAKE_OT_bake(bpy.types.Operator):
+    """Export the scene for luxbake, bake it and import the result"""
+
+    bl_idname = "luxbake.bake"
+    bl_label = "Bake with luxbake"
+    bl_options = {"REGISTER"}
+
+    _timer = None
+    _run = None
+
+    def _start(self, context):
+        scene_path, self._output = bake_paths(context)
+        args = bake_command(context, scene_path, self._output)  # finds bake before exporting
+        context.scene.luxbake_settings.status = "exporting"
+        export_scene(scene_path)
+        context.scene.luxbake_settings.status = "baking"
+        self._started = time.monotonic()
+        self._run = run.Run(args)
+
+    def _finish(self, context, code):
+        s = context.scene.luxbake_settings
+        if code != 0:
+            s.status = self._run.error()
+            self.report({"ERROR"}, s.status)
+            return {"CANCELLED"}
+        for line in self._run.lines:
+            if line.startswith("warning"):
+                self.report({"WARNING"}, line)
+        import_bake(self._output)
+        s.status = f"baked in {time.monotonic() - self._started:.1f} s: {self._output}"
+        self.report({"INFO"}, s.status)
+        return {"FINISHED"}
+
+    def execute(self, context):
+        try:
+            self._start(context)
+        except (run.BakeError, RuntimeError, OSError, ValueError) as error:
+            context.scene.luxbake_settings.status = str(error)
+            self.report({"ERROR"}, str(error))
+            return {"CANCELLED"}
+        return self._finish(context, self._run.wait())
+
+    def invoke(self, context, event):
+        try:
+            self._start(context)
+        except (run.BakeError, RuntimeError, OSError, ValueError) as error:
+            context.scene.luxbake_settings.status = str(error)
+            self.report({"ERROR"}, str(error))
+            return {"CANCELLED"}
+        self._timer = context.window_manager.event_timer_add(0.25, window=context.window)
+        context.window_manager.modal_handler_add(self)
+        return {"RUNNING_MODAL"}
+
+    def modal(self, context, event):
+        if event.type == "ESC":
+            self._run.cancel()
+            return self._end(context, {"CANCELLED"}, "bake cancelled")
+        if event.type != "TIMER":
+            return {"PASS_THROUGH"}
+        code = self._run.poll()
+        elapsed = time.monotonic() - self._started
+        if code is None:
+            last = self._run.lines[-1] if self._run.lines else ""
+            text = f"luxbake: baking {elapsed:.0f} s  {last}"
+            context.workspace.status_text_set(text)
+            context.scene.luxbake_settings.status = text
+            return {"RUNNING_MODAL"}
+        context.workspace.status_text_set(None)
+        context.window_manager.event_timer_remove(self._timer)
+        return self._finish(context, code)
+
+    def _end(self, context, result, message):
+        context.workspace.status_text_set(None)
+        context.window_manager.event_timer_remove(self._timer)
+        context.scene.luxbake_settings.status = message
+        self.report({"WARNING"}, message)
+        return result
+
+
+class LUXBAKE_OT_export(bpy.types.Operator):
+    """Export the scene as glTF with luxbake's photometric extensions"""
+
+    bl_idname = "luxbake.export"
+    bl_label = "Export for luxbake"
+    filepath: bpy.props.StringProperty(subtype="FILE_PATH")
+    filter_glob: bpy.props.StringProperty(default="*.gltf;*.glb", options={"HIDDEN"})
+
+    def execute(self, context):
+        fmt = "GLB" if self.filepath.lower().endswith(".glb") else "GLTF_SEPARATE"
+        try:
+            export_scene(self.filepath, export_format=fmt)
+        except (RuntimeError, OSError, ValueError) as error:
+            self.report({"ERROR"}, str(error))
+            return {"CANCELLED"}
+        return {"FINISHED"}
+
+    def invoke(self, context, event):
+        if not self.filepath:
+            self.filepath = bpy.path.ensure_ext(
+                bpy.path.display_name_from_filepath(bpy.data.filepath) or "scene", ".gltf")
+        context.window_manager.fileselect_add(self)
+        return {"RUNNING_MODAL"}
+
+
+class LUXBAKE_OT_import(bpy.types.Operator):
+    """Import a luxbake bake (glTF) set up for display"""
+
+    bl_idname = "luxbake.import_bake"
+    bl_label = "Import a bake"
+    filepath: bpy.props.StringProperty(subtype="FILE_PATH")
+    filter_glob: bpy.props.StringProperty(default="*.gltf;*.glb", options={"HIDDEN"})
+
+    def execute(self, context):
+        try:
+            import_bake(self.filepath)
+        except (RuntimeError, OSError) as error:
+            self.report({"ERROR"}, str(error))
+            return {"CANCELLED"}
+        return {"FINISHED"}
+
+    def invoke(self, context, event):
+        context.window_manager.fileselect_add(self)
+        return {"RUNNING_MODAL"}
+
+
+class LUXBAKE_OT_fit_range(bpy.types.Operator):
+    """Set the false-colour range to the shown quantity's range over the visible meshes"""
+
+    bl_idname = "luxbake.fit_range"
+    bl_label = "Fit range"
+
+    def execute(self, context):
+        from . import import_hooks, shading
+
+        s = context.scene.luxbake_settings
+        name = "_LUMINANCE" if s.display == "LUMINANCE" else "_ILLUMINANCE"
+        objects = [o for o in context.visible_objects if o.type == "MESH"]
+        lo, hi = import_hooks.attribute_range(objects, name)
+        if hi is None:
+            self.report({"WARNING"}, f"no mesh with {name}")
+            return {"CANCELLED"}
+        s["range_min"] = max(lo, 1e-3 * hi) if s.log_scale else 0.0
+        s["range_max"] = hi
+        shading.apply_display(context.scene)
+        return {"FINISHED"}
+
+
+CLASSES = (LUXBAKE_OT_bake, LUXBAKE_OT_export, LUXBAKE_OT_import, LUXBAKE_OT_fit_range)
+
+
+def register():
+    for cls in CLASSES:
+        bpy.utils.register_class(cls)
+
+
+def unregister():
+    for cls in reversed(CLASSES):
+        bpy.utils.unregister_class(cls)
