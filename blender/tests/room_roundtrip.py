@@ -7,14 +7,14 @@ blender/ folder. The room (Blender axes, +Z up; metres): 4 × 3 m floor, walls 2
 desk block, an IES luminaire on an Empty at the ceiling (nadir down the Empty's −Z), a 0.6 m
 square emitting panel under the ceiling (500 cd/m²), a 10 W point light (543.5 cd at 683 lm/W),
 two probe Empties (one turned 30° about Z), a working plane at 0.8 m every 0.5 m. Bakes with
-`luxbake.bake` (draft), then checks the operator's errors: a missing bake binary and a bake
-that fails (bad option).
+`luxbake.bake` (draft), after checking the operator's errors: a missing bake binary, a bake
+that fails (bad option) and a missing profile file (the export fails).
 
 Stdout: {"operator": ..., "scene": {"view_transform", "display": ...},
  "meshes": [{"name", "collection", "attributes": {NAME: [values]}, "materials": [...]}],
  "probes": [{"name", "properties": {...}}], "glyphs": [names in the glyph collection],
  "materials": {NAME: {"nodes": [types], "emission_from": [...]}},
- "errors": {"missing_bake": [result, status], "bad_option": [result, status]},
+ "errors": {"missing_bake" | "bad_option" | "missing_profile": [result, error, status]},
  "false_colour": {...}}
 """
 
@@ -182,6 +182,10 @@ def main():
     scene.luxbake_settings.extra_args = "--exposure bright"
     errors["bad_option"] = run_operator(bpy, scene)
     scene.luxbake_settings.extra_args = ""
+    lum = bpy.data.objects["downlight"].luxbake_settings
+    lum.profile = os.path.join(out, "missing.ies")
+    errors["missing_profile"] = run_operator(bpy, scene)
+    lum.profile = profile
 
     result = sorted(bpy.ops.luxbake.bake())
     collection = bpy.data.collections["scene-lit"]

@@ -1,0 +1,359 @@
+//! The LuxBake Blender add-on (`blender/luxbake/`) round trip, in PyPI `bpy` 5.0.1: a room built
+//! in Blender by script (`blender/tests/room_roundtrip.py`: walls, a desk, an IES luminaire on an
+//! Empty, an emitting panel, a point light, two probe Empties, a working plane) is exported by the
+//! add-on, baked by this `bake` through the add-on's operator, and imported back by the add-on.
+//!
+//! Asserted: the export passes the Khronos glTF-Validator with 0 errors and 0 warnings and holds
+//! what the panels set (`LUXBAKE_material`, `EXT_lights_ies` with the profile copied beside it,
+//! the luminaire node turned so the Empty's −Z is the nadir, the point light in cd at 683 lm/W,
+//! probe extras, the working plane passed to bake); the imported `_ILLUMINANCE`/`_LUMINANCE` of
+//! every mesh equal the bake's vertex values exactly (both are the same f32); every probe's
+//! readable properties equal the bake's faces; glyphs are in their own collection; materials
+//! show the bake through an emission shader and the display group; the operator reports a
+//! missing `bake`, bake's own error line and a missing profile file (the export fails).
+
+mod support;
+
+use serde_json::Value;
+use std::collections::BTreeMap;
+use std::path::Path;
+use support::{gltf_read, scratch, tools};
+
+fn repo(relative: &str) -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(relative)
+}
+
+/// JSON values equal with numbers compared as f64 (Blender writes 500.0 as `500`).
+fn same(a: &Value, b: &Value) -> bool {
+    match (a, b) {
+        (Value::Number(x), Value::Number(y)) => x.as_f64() == y.as_f64(),
+        (Value::Array(x), Value::Array(y)) => {
+            x.len() == y.len() && x.iter().zip(y).all(|(x, y)| same(x, y))
+        }
+        (Value::Object(x), Value::Object(y)) => {
+            x.len() == y.len() && x.iter().all(|(k, v)| y.get(k).is_some_and(|w| same(v, w)))
+        }
+        _ => a == b,
+    }
+}
+
+fn num(v: &Value) -> f64 {
+    v.as_f64().unwrap_or_else(|| panic!("not a number: {v}"))
+}
+
+/// The blender object name of an imported node: Blender appends `.001` when the name is taken
+/// (the room's own objects are still in the file).
+fn node_name(blender: &str) -> &str {
+    match blender.rsplit_once('.') {
+        Some((base, n)) if n.len() == 3 && n.bytes().all(|b| b.is_ascii_digit()) => base,
+        _ => blender,
+    }
+}
+
+/// Every baked attribute of every mesh node of a bake, primitives concatenated in order.
+fn baked_attributes(lit: &gltf_read::Gltf) -> BTreeMap<String, BTreeMap<String, Vec<f32>>> {
+    let json = &lit.json;
+    let mut out = BTreeMap::new();
+    for node in json["nodes"].as_array().unwrap() {
+        let Some(mesh) = node["mesh"].as_u64() else {
+            continue;
+        };
+        let mut attrs: BTreeMap<String, Vec<f32>> = BTreeMap::new();
+        for prim in json["meshes"][mesh as usize]["primitives"]
+            .as_array()
+            .unwrap()
+        {
+            for name in ["_ILLUMINANCE", "_LUMINANCE"] {
+                if let Some(a) = prim["attributes"][name].as_u64() {
+                    let values = lit.floats(a as usize).into_iter().map(|v| v[0]);
+                    attrs.entry(name.to_string()).or_default().extend(values);
+                }
+            }
+        }
+        if !attrs.is_empty() {
+            out.insert(node["name"].as_str().unwrap().to_string(), attrs);
+        }
+    }
+    out
+}
+
+#[test]
+fn room_built_in_blender_exports_bakes_and_imports_back() {
+    if !tools::have_blender() || !tools::have_validator() {
+        return;
+    }
+    let dir = scratch("blender-addon");
+    let profile = repo("samples/office/profiles/miral_58w.ies");
+    let report = tools::blender_run(
+        &repo("blender/tests/room_roundtrip.py"),
+        &[
+            "--bake".as_ref(),
+            env!("CARGO_BIN_EXE_bake").as_ref(),
+            "--out".as_ref(),
+            dir.as_os_str(),
+            "--profile".as_ref(),
+            profile.as_os_str(),
+        ],
+    );
+    assert_eq!(
+        report["operator"],
+        serde_json::json!(["FINISHED"]),
+        "{}",
+        report["status"]
+    );
+
+    // The operator's errors: no bake binary, and bake's own error line.
+    let missing = &report["errors"]["missing_bake"];
+    assert!(missing[0].is_null(), "{missing}");
+    assert!(
+        missing[1].as_str().unwrap().contains("no-such-bake"),
+        "{missing}"
+    );
+    let bad = &report["errors"]["bad_option"];
+    assert!(bad[0].is_null(), "{bad}");
+    assert!(bad[2].as_str().unwrap().starts_with("error:"), "{bad}");
+    assert!(bad[2].as_str().unwrap().contains("--exposure"), "{bad}");
+
+    let no_profile = &report["errors"]["missing_profile"];
+    assert!(no_profile[0].is_null(), "{no_profile}");
+    let message = no_profile[2].as_str().unwrap();
+    assert!(
+        message.contains("object downlight") && message.contains("missing.ies: no such file"),
+        "{no_profile}"
+    );
+
+    // The export: valid, and what the panels set.
+    let exported = dir.join("scene.gltf");
+    let validation = tools::validate(&exported);
+    println!(
+        "validator on the add-on's export: {} errors, {} warnings, {} infos",
+        validation.errors, validation.warnings, validation.infos
+    );
+    assert_eq!(
+        (validation.errors, validation.warnings),
+        (0, 0),
+        "{}",
+        validation.listing()
+    );
+    let scene = gltf_read::read(&exported).json;
+    // Blender's exporter requires KHR_lights_punctual itself; the add-on's extensions never are.
+    let required = scene["extensionsRequired"]
+        .as_array()
+        .cloned()
+        .unwrap_or_default();
+    assert!(
+        required.iter().all(|e| e == "KHR_lights_punctual"),
+        "{required:?}"
+    );
+    let material = |name: &str| {
+        scene["materials"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|m| m["name"] == name)
+            .unwrap_or_else(|| panic!("no material {name}"))
+            .clone()
+    };
+    for (name, want) in [
+        ("floor", serde_json::json!({"reflectance": 0.3})),
+        (
+            "ceiling",
+            serde_json::json!({"reflectance": [0.7, 0.7, 0.65]}),
+        ),
+        (
+            "panel",
+            serde_json::json!({"reflectance": 0.5,
+                               "emission": {"luminance": 500.0, "color": [1.0, 0.9, 0.8]}}),
+        ),
+    ] {
+        let got = &material(name)["extensions"]["LUXBAKE_material"];
+        assert!(same(got, &want), "{name}: {got} vs {want}");
+    }
+    assert!(
+        material("desk").get("extensions").is_none(),
+        "desk: reflectance from its base colour"
+    );
+    assert_eq!(
+        material("desk")["pbrMetallicRoughness"]["metallicFactor"],
+        0
+    );
+
+    let node = |name: &str| {
+        scene["nodes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|n| n["name"] == name)
+            .unwrap_or_else(|| panic!("no node {name}"))
+            .clone()
+    };
+    let luminaire = node("downlight.luminaire");
+    let want = serde_json::json!({
+        "EXT_lights_ies": {"light": 0, "multiplier": 1.0, "color": [1.0, 1.0, 1.0]},
+        "LUXBAKE_luminaire": {"maintenanceFactor": 0.8}});
+    assert!(
+        same(&luminaire["extensions"], &want),
+        "{}",
+        luminaire["extensions"]
+    );
+    let h = std::f64::consts::FRAC_1_SQRT_2;
+    for (got, want) in luminaire["rotation"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .zip([-h, 0.0, 0.0, h])
+    {
+        assert!((num(got) - want).abs() < 1e-12, "{}", luminaire["rotation"]);
+    }
+    let lights = &scene["extensions"]["EXT_lights_ies"]["lights"];
+    assert_eq!(lights[0]["uri"], "miral_58w.ies");
+    assert_eq!(
+        std::fs::read(dir.join("miral_58w.ies")).unwrap(),
+        std::fs::read(&profile).unwrap(),
+        "profile copied beside the glTF"
+    );
+    let point = &scene["extensions"]["KHR_lights_punctual"]["lights"][0];
+    let cd = 10.0 * 683.0 / (4.0 * std::f64::consts::PI);
+    assert!((num(&point["intensity"]) - cd).abs() < 1e-9 * cd, "{point}");
+    assert_eq!(node("probe_desk")["extras"]["probe"], true);
+    assert_eq!(node("probe_corner")["extras"]["probe"], true);
+
+    // The bake: the working plane from the scene's settings, the luminaire and the light found.
+    let lit = gltf_read::read(&dir.join("scene-lit.gltf"));
+    let summary = &lit.json["scenes"][0]["extras"]["luxbake"];
+    assert_eq!(num(&summary["settings"]["workingPlane"]["spacing"]), 0.5);
+    assert!((num(&summary["settings"]["workingPlane"]["height"]) - 0.8).abs() < 1e-6);
+    assert_eq!(summary["settings"]["quality"], "draft");
+    let sources: Vec<&str> = summary["sources"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s["kind"].as_str().unwrap())
+        .collect();
+    assert_eq!(sources, ["point", "luminaire"], "{}", summary["sources"]);
+
+    // Imported vertex values equal the bake's.
+    let baked = baked_attributes(&lit);
+    let meshes = report["meshes"].as_array().unwrap();
+    let mut compared = 0usize;
+    let mut worst = 0.0f64;
+    for (name, attrs) in &baked {
+        if name.ends_with("_glyph") {
+            continue;
+        }
+        let mesh = meshes
+            .iter()
+            .find(|m| node_name(m["name"].as_str().unwrap()) == name)
+            .unwrap_or_else(|| panic!("no imported mesh for node {name}"));
+        for (attr, want) in attrs {
+            let got = mesh["attributes"][attr]
+                .as_array()
+                .unwrap_or_else(|| panic!("{name}: no {attr}"));
+            assert_eq!(got.len(), want.len(), "{name} {attr}");
+            for (g, w) in got.iter().zip(want) {
+                let d = (num(g) - f64::from(*w)).abs();
+                worst = worst.max(d);
+                compared += 1;
+            }
+        }
+    }
+    println!("imported vs baked vertex values: {compared} compared, max |difference| {worst:e}");
+    assert!(compared > 1000, "{compared}");
+    assert_eq!(worst, 0.0, "imported values differ from the bake's");
+
+    // Probes: every probe of the bake has readable properties equal to its faces.
+    let probes = report["probes"].as_array().unwrap();
+    let mut probe_nodes = 0;
+    let mut glyph_nodes = Vec::new();
+    for n in lit.json["nodes"].as_array().unwrap() {
+        let result = &n["extras"]["luxbake"];
+        if result.get("glyph").is_some() {
+            glyph_nodes.push(n["name"].as_str().unwrap().to_string());
+        }
+        let Some(faces) = result["faces"].as_object() else {
+            continue;
+        };
+        probe_nodes += 1;
+        let name = n["name"].as_str().unwrap();
+        let probe = probes
+            .iter()
+            .find(|p| node_name(p["name"].as_str().unwrap()) == name)
+            .unwrap_or_else(|| panic!("probe {name} has no properties in Blender"));
+        for (face, value) in faces {
+            assert_eq!(
+                num(&probe["properties"][format!("E{face}_lx")]),
+                num(value),
+                "{name} {face}"
+            );
+        }
+        let direct = &result["facesDirect"]["+y"];
+        assert_eq!(
+            num(&probe["properties"]["direct+y_lx"]),
+            num(direct),
+            "{name}"
+        );
+        let scalar = &result["metrics"]["scalar"];
+        assert_eq!(
+            num(&probe["properties"]["scalar_lx"]),
+            num(scalar),
+            "{name}"
+        );
+    }
+    assert_eq!(probes.len(), probe_nodes);
+    assert!(
+        probe_nodes > 40,
+        "{probe_nodes}: two node probes and the working plane"
+    );
+    for name in ["probe_desk", "probe_corner"] {
+        assert!(
+            probes
+                .iter()
+                .any(|p| node_name(p["name"].as_str().unwrap()) == name),
+            "{name}"
+        );
+    }
+    let mut glyphs: Vec<String> = report["glyphs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|g| node_name(g.as_str().unwrap()).to_string())
+        .collect();
+    glyphs.sort();
+    glyph_nodes.sort();
+    assert_eq!(
+        glyphs, glyph_nodes,
+        "glyphs in the collection 'LuxBake probe glyphs'"
+    );
+
+    // Display: emission through the display group; glyphs plain; Standard view; the switch.
+    let materials = report["materials"].as_object().unwrap();
+    for name in ["floor.001", "wall.001", "panel.001"] {
+        let m = &materials[name];
+        assert_eq!(m["surface"], "EMISSION", "{name}");
+        let nodes: Vec<&str> = m["nodes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|n| n.as_str().unwrap())
+            .collect();
+        assert!(
+            nodes.contains(&"GROUP") && nodes.contains(&"VERTEX_COLOR"),
+            "{name}: {nodes:?}"
+        );
+    }
+    let glyph_material = materials
+        .iter()
+        .find(|(k, _)| k.starts_with("luxbake glyph"))
+        .expect("a glyph material");
+    assert!(!glyph_material.1["nodes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .any(|n| n == "GROUP"));
+    assert_eq!(report["scene"]["view_transform"], "Standard");
+    assert_eq!(report["false_colour"]["false_colour"], 1.0);
+    assert_eq!(
+        report["false_colour"]["range"],
+        serde_json::json!([0.0, 500.0])
+    );
+}
