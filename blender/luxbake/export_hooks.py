@@ -9,7 +9,8 @@ exported glTF (+Y up, metres):
   `LUXBAKE_luminaire.profiles`), with multiplier, colour, maintenance factor and opening; each
   profile file is copied beside the glTF and referenced by a relative `uri`;
 - punctual lights: `KHR_lights_punctual` intensity in cd (point, spot) or lx (sun), see units.py;
-- probes: node `extras.probe` (`true` or `{"aligned": true}`) and `extras.toward`.
+- probes: node `extras.probe` (`true` or `{"aligned": true}`) and `extras.toward`;
+- node names: an object's `node_name` when set (glTF names need not be unique, Blender's are).
 Invariants: every extension is in `extensionsUsed` only (never required); a profile file is
 never overwritten: a different file of the same name already in the folder gets a new name.
 The hooks are called with the exporter's `export_settings` as their last argument; an error in
@@ -119,6 +120,11 @@ class glTF2ExportUserExtension:
         with collect_errors(export_settings, f"object {getattr(blender_object, 'name', '?')}"):
             self._node(export_settings, gltf2_node, blender_object)
 
+    def gather_node_name_hook(self, gltf_hook_name, blender_object, export_settings):
+        with collect_errors(export_settings, f"object {getattr(blender_object, 'name', '?')}"):
+            if blender_object is not None and blender_object.luxbake_settings.node_name:
+                gltf_hook_name.name = blender_object.luxbake_settings.node_name
+
     def gather_gltf_extensions_hook(self, gltf, export_settings):
         with collect_errors(export_settings, "profiles"):
             self._root(export_settings, gltf)
@@ -137,7 +143,7 @@ class glTF2ExportUserExtension:
         if blender_object is None:
             return
         settings = blender_object.luxbake_settings
-        if settings.probe and blender_object.type == "EMPTY":
+        if (settings.probe or blender_object.get("probe")) and blender_object.type == "EMPTY":
             extras = dict(gltf2_node.extras or {})
             extras["probe"] = {"aligned": True} if settings.probe_aligned else True
             if settings.use_toward:

@@ -60,6 +60,11 @@ class LuxbakeMaterial(bpy.types.PropertyGroup):
 
 
 class LuxbakeObject(bpy.types.PropertyGroup):
+    node_name: StringProperty(
+        name="glTF node name", default="",
+        description="Name of the object's glTF node (empty: the object's name). Blender's names "
+                    "are unique, glTF's need not be: two desks may both have a child `top`, "
+                    "and luxbake names surfaces by node path (desk_dark/top)")
     # luminaire (on an Empty or a Light): a measured profile
     profile: StringProperty(
         name="Profile", subtype="FILE_PATH",

@@ -22,6 +22,7 @@ def draw_material(layout, material):
 
 def draw_object(layout, obj):
     s = obj.luxbake_settings
+    layout.prop(s, "node_name")
     if obj.type == "EMPTY":
         layout.prop(s, "probe")
         if s.probe:
