@@ -12,14 +12,22 @@ file is a luxbake output (its scene's `extras.luxbake`, or a material with `LUXB
   `E+x_lx` … `E-z_lx` (faces in the probe's glTF axes, +y up), `direct+x_lx` …,
   `indirect+x_lx` …, `scalar_lx`, `horizontal_lx`, `cylindrical_lx`, …;
 - probe glyphs (`<probe>_glyph` nodes) move to the collection "LuxBake probe glyphs";
+- each luminaire (`EXT_lights_ies`, `LUXBAKE_luminaire`) gets its luminous opening drawn as a
+  white emitting rectangle (or disc) facing its nadir, in the collection "LuxBake luminaires"
+  (openings.py; a glTF viewer draws nothing there, `bake view` draws the same openings);
 - the false-colour range is set to the illuminance's range over the imported meshes.
 """
 
+import math
+import os
+from urllib.parse import unquote
+
 import bpy
 
-from . import shading
+from . import openings, shading
 
 GLYPHS = "LuxBake probe glyphs"
+LUMINAIRES = "LuxBake luminaires"
 FACES = ("+x", "-x", "+y", "-y", "+z", "-z")
 METRICS = {  # probe metric → custom property (the --probes-out CSV column)
     "vectorMagnitude": "vector_magnitude_lx", "altitudeDeg": "altitude_deg",
@@ -77,6 +85,10 @@ class glTF2ImportUserExtension:
             extras = gltf.data.nodes[vnode_id].extras if isinstance(vnode_id, int) else None
             if isinstance(extras, dict) and setup_node(obj, extras):
                 glyph_materials.update(s.material for s in obj.material_slots if s.material)
+            if isinstance(vnode_id, int):
+                size = luminaire_opening(gltf, gltf.data.nodes[vnode_id])
+                if size is not None:
+                    add_opening(obj, *size)
         for mat, pymaterial, vertex_color in self.materials:
             setup_material(mat, pymaterial, vertex_color, plain=mat in glyph_materials)
         setup_scene(blender_scene, objects)
@@ -94,6 +106,68 @@ def setup_node(obj, extras):
         move_to_collection(obj, GLYPHS)
         return True
     return False
+
+
+def profile_bytes(gltf, entry):
+    """The bytes and MIME type of a root profile entry (bufferView or a relative uri)."""
+    from io_scene_gltf2.io.imp.gltf2_io_binary import BinaryData
+
+    if "bufferView" in entry:
+        return bytes(BinaryData.get_buffer_view(gltf, entry["bufferView"])), entry.get("mimeType")
+    uri = entry.get("uri", "")
+    if uri and not uri.startswith("data:"):
+        path = os.path.join(os.path.dirname(gltf.filename), unquote(uri))
+        mime = "application/x-eulumdat" if uri.lower().endswith(".ldt") else "application/x-ies-lm-63"
+        with open(path, "rb") as f:
+            return f.read(), mime
+    return None, None
+
+
+def luminaire_opening(gltf, node):
+    """(length, width) in m of the luminaire at a glTF node, or None (not a luminaire)."""
+    exts = node.extensions or {}
+    root = gltf.data.extensions or {}
+    entry = None
+    if "EXT_lights_ies" in exts:
+        entry = root.get("EXT_lights_ies", {}).get("lights", [])[exts["EXT_lights_ies"]["light"]]
+    elif "profile" in exts.get("LUXBAKE_luminaire", {}):
+        entry = root.get("LUXBAKE_luminaire", {}).get("profiles", [])[exts["LUXBAKE_luminaire"]["profile"]]
+    if entry is None:
+        return None
+    try:
+        data, mime = profile_bytes(gltf, entry)
+    except OSError:
+        data, mime = None, None
+    size = openings.opening(exts, data, mime)
+    return size if size is not None and size[0] > 0 else None
+
+
+def add_opening(obj, length, width):
+    """A white emitting rectangle length × width (a disc when width is 0) at `obj`, facing the
+    node's glTF −Z, which the importer turned into the object's local +Y."""
+    if width > 0:
+        corners = [(-length / 2, 0, -width / 2), (-length / 2, 0, width / 2),
+                   (length / 2, 0, width / 2), (length / 2, 0, -width / 2)]
+    else:  # round: the circle seen from the nadir, counter-clockwise about +Y
+        corners = [(length / 2 * math.sin(a), 0, length / 2 * math.cos(a))
+                   for a in (2 * math.pi * k / 24 for k in range(24))]
+    mesh = bpy.data.meshes.new(f"{obj.name} opening")
+    mesh.from_pydata(corners, [], [tuple(range(len(corners)))])
+    material = bpy.data.materials.get("LuxBake luminous opening")
+    if material is None:
+        material = bpy.data.materials.new("LuxBake luminous opening")
+        material.use_nodes = True
+        nodes = material.node_tree.nodes
+        nodes.clear()
+        emission = nodes.new("ShaderNodeEmission")
+        emission.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
+        output = nodes.new("ShaderNodeOutputMaterial")
+        material.node_tree.links.new(emission.outputs[0], output.inputs["Surface"])
+    mesh.materials.append(material)
+    shape = bpy.data.objects.new(f"{obj.name} opening", mesh)
+    shape.parent = obj
+    move_to_collection(shape, LUMINAIRES)
+    return shape
 
 
 def move_to_collection(obj, name):
@@ -118,7 +192,9 @@ def setup_material(mat, pymaterial, vertex_color, plain=False):
         except LookupError:
             return
     elif "KHR_materials_unlit" in ext and vertex_color:
-        shading.build_material(mat, shading.vertex_colour(vertex_color), base[:3])
+        # The importer passes the glTF name (COLOR_0) and names the attribute "Color": read
+        # the mesh's render colour attribute (the layer name left empty).
+        shading.build_material(mat, shading.vertex_colour(""), base[:3])
     else:
         return
     if plain:

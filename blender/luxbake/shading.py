@@ -160,7 +160,8 @@ def build_material(material, display, factor):
 
 
 def vertex_colour(layer):
-    """A `display` maker for build_material: the colour attribute `layer`."""
+    """A `display` maker for build_material: the colour attribute `layer` (empty: the mesh's
+    render colour attribute)."""
     def make(nodes):
         node = nodes.new("ShaderNodeVertexColor")
         node.layer_name = layer
