@@ -417,6 +417,34 @@ fn office_rebuilt_in_blender_bakes_like_the_sample() {
     );
 
     let sample = repo("samples/office/office.gltf");
+    // Same materials for viewers too: the base colours are the reflectances, as in the sample.
+    let (ours, theirs) = (
+        gltf_read::read(&rebuilt).json,
+        gltf_read::read(&sample).json,
+    );
+    for m in theirs["materials"].as_array().unwrap() {
+        let name = m["name"].as_str().unwrap();
+        let mine = ours["materials"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|x| x["name"] == name);
+        let mine = mine.unwrap_or_else(|| panic!("no material {name} in the rebuilt office"));
+        for key in ["baseColorFactor"] {
+            let (x, y) = (
+                &mine["pbrMetallicRoughness"][key],
+                &m["pbrMetallicRoughness"][key],
+            );
+            for (p, q) in x.as_array().unwrap().iter().zip(y.as_array().unwrap()) {
+                assert!((num(p) - num(q)).abs() < 1e-6, "{name} {key}: {x} vs {y}");
+            }
+        }
+        let (x, y) = (
+            &mine["extensions"]["LUXBAKE_material"]["reflectance"],
+            &m["extensions"]["LUXBAKE_material"]["reflectance"],
+        );
+        assert!((num(x) - num(y)).abs() < 1e-6, "{name}: {x} vs {y}");
+    }
     let (a, b) = (dir.join("rebuilt-lit.gltf"), dir.join("sample-lit.gltf"));
     bake_ok(&rebuilt, &a, &[]);
     bake_ok(&sample, &b, &[]);

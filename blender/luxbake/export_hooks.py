@@ -3,7 +3,8 @@ every enabled add-on's module and calls its `gather_*_hook` methods during an ex
 
 Inputs: the LuxBake properties of materials, objects and lights (props.py). Outputs, in the
 exported glTF (+Y up, metres):
-- materials: `LUXBAKE_material` {reflectance, emission {luminance | luminousFlux, color}};
+- materials: `LUXBAKE_material` {reflectance, emission {luminance | luminousFlux, color}}; a
+  reflectance given as a value or colour is also the core `baseColorFactor` (no texture);
 - luminaires (a profile on an Empty, or on a Light): `EXT_lights_ies` (IES files, listed at the
   root `EXT_lights_ies.lights`) or `LUXBAKE_luminaire` {profile} (EULUMDAT files, root
   `LUXBAKE_luminaire.profiles`), with multiplier, colour, maintenance factor and opening; each
@@ -55,6 +56,18 @@ def material_extension(settings):
             emission["color"] = color
         ext["emission"] = emission
     return ext or None
+
+
+def show_reflectance(gltf2_material, reflectance):
+    """A given reflectance becomes the core material's base colour too (when it has no base
+    colour texture), so viewers — and the bake's display colours, base colour × COLOR_0 — show
+    the surface as luxbake reflects light, not Blender's default grey 0.8."""
+    pbr = gltf2_material.pbr_metallic_roughness
+    if reflectance is None or pbr is None or pbr.base_color_texture is not None:
+        return
+    rgb = [reflectance] * 3 if isinstance(reflectance, float) else list(reflectance)
+    alpha = pbr.base_color_factor[3] if pbr.base_color_factor else 1.0
+    pbr.base_color_factor = [*rgb, alpha]
 
 
 def luminaire_fields(settings):
@@ -138,6 +151,7 @@ class glTF2ExportUserExtension:
         if gltf2_material.extensions is None:
             gltf2_material.extensions = {}
         gltf2_material.extensions["LUXBAKE_material"] = self._ext("LUXBAKE_material", ext)
+        show_reflectance(gltf2_material, ext.get("reflectance"))
 
     def _node(self, export_settings, gltf2_node, blender_object):
         if blender_object is None:
