@@ -561,10 +561,7 @@ fn blender_render_of_an_imported_bake_is_what_a_viewer_shows() {
                 .map(std::ffi::OsStr::new),
         );
         args.extend(extra.iter().map(std::ffi::OsStr::new));
-        let python = std::env::var_os("LUXBAKE_BPY_PYTHON")
-            .map(std::path::PathBuf::from)
-            .unwrap_or_else(|| repo(".venv-bpy/bin/python"));
-        let done = std::process::Command::new(python)
+        let done = std::process::Command::new(bpy_python())
             .arg(&script)
             .args(&args)
             .output()
@@ -587,4 +584,72 @@ fn blender_render_of_an_imported_bake_is_what_a_viewer_shows() {
     );
     assert!(mean < 1.0 && far < 0.005, "{mean} {far}");
     assert!(plain_far > 10.0 * far, "{plain_far} vs {far}");
+}
+
+/// The Python that has bpy (as `support::tools` finds it).
+fn bpy_python() -> std::path::PathBuf {
+    std::env::var_os("LUXBAKE_BPY_PYTHON")
+        .map(std::path::PathBuf::from)
+        .unwrap_or_else(|| repo(".venv-bpy/bin/python"))
+}
+
+/// Installing is one step: `blender/build_extension.py` builds the zip with Blender's own
+/// extension builder, and Blender's "Install from Disk" (`extensions.package_install_files`,
+/// into a scratch user folder) installs and enables it as the extension
+/// `bl_ext.user_default.luxbake`, whose hooks then act on Blender's plain glTF export.
+#[test]
+fn extension_zip_installs_and_exports() {
+    if !tools::have_blender() {
+        return;
+    }
+    let dir = scratch("blender-addon-zip");
+    let built = std::process::Command::new(bpy_python())
+        .arg(repo("blender/build_extension.py"))
+        .arg("--output-dir")
+        .arg(dir.join("dist"))
+        .output()
+        .unwrap();
+    assert!(
+        built.status.success(),
+        "{}",
+        String::from_utf8_lossy(&built.stderr)
+    );
+    let zip = String::from_utf8(built.stdout).unwrap().trim().to_string();
+    assert!(
+        zip.ends_with("luxbake-0.1.0.zip") && Path::new(&zip).is_file(),
+        "{zip}"
+    );
+
+    let user = dir.join("user");
+    let out = dir.join("out");
+    std::fs::create_dir_all(&user).unwrap();
+    std::fs::create_dir_all(&out).unwrap();
+    let run = std::process::Command::new(bpy_python())
+        .env("BLENDER_USER_RESOURCES", &user)
+        .arg(repo("blender/tests/install_zip.py"))
+        .arg(&zip)
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let report: Value = serde_json::from_slice(&run.stdout).unwrap();
+    assert_eq!(report["install"], serde_json::json!(["FINISHED"]));
+    assert_eq!(
+        report["modules"],
+        serde_json::json!(["bl_ext.user_default.luxbake"])
+    );
+    assert_eq!(report["operators"], true);
+    assert!(same(
+        &report["material"]["extensions"]["LUXBAKE_material"],
+        &serde_json::json!({"reflectance": 0.4})
+    ));
+    assert_eq!(report["probe"], serde_json::json!({"probe": true}));
+    assert!(
+        user.join("extensions/user_default/luxbake/blender_manifest.toml")
+            .is_file()
+    );
 }
