@@ -353,6 +353,50 @@ fn room_built_in_blender_exports_bakes_and_imports_back() {
             .any(|n| n == "GROUP")
     );
     assert_eq!(report["scene"]["view_transform"], "Standard");
+
+    // Baked again with lightmaps: the export leaves the first bake out, and lightmapped
+    // materials show the display texture on TEXCOORD_1 through the display group.
+    assert_eq!(
+        report["lightmapped"][0],
+        serde_json::json!(["FINISHED"]),
+        "{}",
+        report["lightmapped"]
+    );
+    let second: Vec<&str> = report["second_export_nodes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|n| n.as_str().unwrap())
+        .collect();
+    let first: Vec<&str> = {
+        let mut v: Vec<&str> = scene["nodes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|n| n["name"].as_str().unwrap())
+            .collect();
+        v.sort();
+        v
+    };
+    assert_eq!(second, first, "the second export holds the scene alone");
+    let lightmapped = report["lightmap_materials"].as_object().unwrap();
+    assert!(lightmapped.len() >= 5, "{lightmapped:?}");
+    for (name, m) in lightmapped {
+        let nodes: Vec<&str> = m["nodes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|n| n.as_str().unwrap())
+            .collect();
+        for t in ["EMISSION", "GROUP", "TEX_IMAGE", "UVMAP"] {
+            assert!(nodes.contains(&t), "{name}: {nodes:?}");
+        }
+        assert_eq!(m["uv_map"], "UVMap.001", "{name}: TEXCOORD_1");
+        assert_eq!(
+            m["has_illuminance"], true,
+            "{name}: vertex values for false colour"
+        );
+    }
     assert_eq!(report["false_colour"]["false_colour"], 1.0);
     assert_eq!(
         report["false_colour"]["range"],

@@ -171,10 +171,14 @@ def add_opening(obj, length, width):
 
 
 def move_to_collection(obj, name):
-    collection = bpy.data.collections.get(name)
+    """Move `obj` into the collection `name` inside the collection the import fills (one per
+    import: found by its role, so a second bake gets its own)."""
+    parent = bpy.context.collection
+    collection = next((c for c in parent.children if c.get("luxbake_role") == name), None)
     if collection is None:
         collection = bpy.data.collections.new(name)
-        bpy.context.scene.collection.children.link(collection)
+        collection["luxbake_role"] = name
+        parent.children.link(collection)
     for other in list(obj.users_collection):
         other.objects.unlink(obj)
     collection.objects.link(obj)

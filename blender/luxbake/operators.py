@@ -25,27 +25,57 @@ EXPORT_OPTIONS = dict(
     export_cameras=True,
     export_extras=False,           # probes come from the LuxBake panel (or a `probe` property)
     export_import_convert_lighting_mode="SPEC",
+    use_renderable=True,           # what renders: not helpers, not imported bakes
 )
 
 
+def bake_collections():
+    """Collections holding imported bakes (tagged by import_bake) and their children."""
+    found = []
+    for collection in bpy.data.collections:
+        if collection.get("luxbake_bake"):
+            found.append(collection)
+            found.extend(collection.children_recursive)
+    return found
+
+
 def export_scene(filepath, **options):
-    """Export the current scene as glTF for luxbake (the hooks add the photometric data)."""
+    """Export the current scene as glTF for luxbake (the hooks add the photometric data).
+    Only what renders is exported (`use_renderable`): imported bakes are switched off for
+    rendering meanwhile, so a second bake does not bake the first one's result."""
     kwargs = dict(EXPORT_OPTIONS)
     kwargs.update(options)
-    result = bpy.ops.export_scene.gltf(filepath=filepath, **kwargs)
+    hidden = [c for c in bake_collections() if not c.hide_render]
+    for collection in hidden:
+        collection.hide_render = True
+    try:
+        result = bpy.ops.export_scene.gltf(filepath=filepath, **kwargs)
+    finally:
+        for collection in hidden:
+            collection.hide_render = False
     if "FINISHED" not in result:
         raise RuntimeError(f"glTF export to {filepath} failed: {result}")
 
 
+def remove_collection(collection):
+    """A collection, its objects and its child collections, gone."""
+    for obj in list(collection.all_objects):
+        bpy.data.objects.remove(obj)
+    for child in list(collection.children_recursive):
+        bpy.data.collections.remove(child)
+    bpy.data.collections.remove(collection)
+
+
 def import_bake(filepath):
-    """Import a bake into a collection of its own (the import hooks set up its display)."""
+    """Import a bake into a collection of its own, tagged `luxbake_bake` so the Bake operator
+    leaves it out of its exports (the import hooks set up its display). A bake collection of
+    the same name, from an earlier bake, is replaced."""
     name = os.path.splitext(os.path.basename(filepath))[0]
     old = bpy.data.collections.get(name)
-    if old is not None:
-        for obj in list(old.all_objects):
-            bpy.data.objects.remove(obj)
-        bpy.data.collections.remove(old)
+    if old is not None and old.get("luxbake_bake"):
+        remove_collection(old)
     collection = bpy.data.collections.new(name)
+    collection["luxbake_bake"] = True
     bpy.context.scene.collection.children.link(collection)
     layer = bpy.context.view_layer.layer_collection.children[collection.name]
     bpy.context.view_layer.active_layer_collection = layer

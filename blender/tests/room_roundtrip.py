@@ -7,7 +7,7 @@ blender/ folder. The room (Blender axes, +Z up; metres): 4 × 3 m floor, walls 2
 desk block, an IES luminaire on an Empty at the ceiling (nadir down the Empty's −Z), a 0.6 m
 square emitting panel under the ceiling (500 cd/m²), a 10 W point light (543.5 cd at 683 lm/W),
 two probe Empties (one turned 30° about Z), a working plane at 0.8 m every 0.5 m. Bakes with
-`luxbake.bake` (draft), after checking the operator's errors: a missing bake binary, a bake
+`luxbake.bake` (draft; then again with coarse lightmaps), after checking the operator's errors: a missing bake binary, a bake
 that fails (bad option) and a missing profile file (the export fails).
 
 Stdout: {"operator": ..., "scene": {"view_transform", "display": ...},
@@ -201,7 +201,33 @@ def main():
         "range": [group.nodes["range"].inputs["From Min"].default_value,
                   group.nodes["range"].inputs["From Max"].default_value],
     }
+    # lightmaps: the same room baked again with --lightmaps (the collection is replaced)
+    s.display = "DISPLAY"
+    s.lightmaps = True
+    s.extra_args = "--texel-size 0.25"  # coarse: fast
+    s.output_dir = os.path.join(out, "lightmaps")  # the first bake stays for the test to read
+    lightmapped = run_operator(bpy, scene)
+    with open(os.path.join(out, "lightmaps", "scene.gltf")) as f:
+        second_export = sorted(n["name"] for n in json.load(f)["nodes"])
+    lightmap_materials = {}
+    for obj in bpy.data.collections["scene-lit"].all_objects:
+        for slot in obj.material_slots:
+            mat = slot.material
+            if mat is None or not mat.node_tree:
+                continue
+            images = [n for n in mat.node_tree.nodes if n.type == "TEX_IMAGE"]
+            if not images:
+                continue
+            uv = [l.from_node for l in images[0].inputs["Vector"].links]
+            lightmap_materials[mat.name] = {
+                "nodes": sorted(n.type for n in mat.node_tree.nodes),
+                "image": images[0].image.name if images[0].image else None,
+                "uv_map": uv[0].uv_map if uv and uv[0].type == "UVMAP" else None,
+                "has_illuminance": "_ILLUMINANCE" in obj.data.attributes,
+            }
     report = {
+        "lightmapped": lightmapped, "lightmap_materials": lightmap_materials,
+        "second_export_nodes": second_export,
         "operator": result, "status": s.status,
         "scene": {"view_transform": scene.view_settings.view_transform},
         "meshes": meshes, "probes": probes, "materials": materials, "glyphs": glyphs,
