@@ -117,6 +117,7 @@ fn room_built_in_blender_exports_bakes_and_imports_back() {
     let no_profile = &report["errors"]["missing_profile"];
     assert!(no_profile[0].is_null(), "{no_profile}");
     let message = no_profile[2].as_str().unwrap();
+    assert!(!message.contains('\n'), "one line: {message}");
     assert!(
         message.contains("object downlight") && message.contains("missing.ies: no such file"),
         "{no_profile}"
@@ -353,6 +354,12 @@ fn room_built_in_blender_exports_bakes_and_imports_back() {
             .any(|n| n == "GROUP")
     );
     assert_eq!(report["scene"]["view_transform"], "Standard");
+    // Every panel drew (into a stand-in layout: no window here) with properties that exist.
+    let panels = &report["panels"];
+    assert!(
+        num(&panels["props"]) > 500.0 && num(&panels["ramps"]) >= 2.0,
+        "{panels}"
+    );
 
     // Baked again with lightmaps: the export leaves the first bake out, and lightmapped
     // materials show the display texture on TEXCOORD_1 through the display group.

@@ -18,7 +18,6 @@ luminaire's nadir (glTF node −Z) is its Empty's −Z and C0 its local +X.
 
 import importlib.util
 import json
-import math
 import os
 import sys
 
@@ -190,9 +189,9 @@ def main(argv):
         sys.path.insert(0, os.path.dirname(HERE))
         bpy.ops.wm.read_factory_settings(use_empty=True)
         addon_utils.enable("luxbake", default_set=True, handle_error=None)
-    from importlib import import_module
-
-    ops = import_module(next(m for m in sys.modules if m.endswith("luxbake.operators") or m == "luxbake.operators"))
+    # the add-on's operators module: `luxbake.operators`, or `bl_ext.<repo>.luxbake.operators`
+    # when installed as an extension
+    ops = next(module for name, module in sys.modules.items() if name.endswith("luxbake.operators"))
     mo = load_make_office()
     build(bpy, mo)
     os.makedirs(out, exist_ok=True)

@@ -105,6 +105,16 @@ def bake_command(context, scene_path, output_path):
         lightmaps=s.lightmaps, probe_glyphs=s.probe_glyphs, extra=s.extra_args)
 
 
+def message(error):
+    """One line for the user: an export failure arrives as Blender's whole Python traceback,
+    whose last line is `RuntimeError: LuxBake: object …: …`."""
+    lines = [line.strip() for line in str(error).strip().splitlines() if line.strip()]
+    for line in reversed(lines):
+        if line.startswith("RuntimeError: "):
+            return line[len("RuntimeError: "):]
+    return lines[0] if lines else repr(error)
+
+
 class LUXBAKE_OT_bake(bpy.types.Operator):
     """Export the scene for luxbake, bake it and import the result"""
 
@@ -142,8 +152,8 @@ class LUXBAKE_OT_bake(bpy.types.Operator):
         try:
             self._start(context)
         except (run.BakeError, RuntimeError, OSError, ValueError) as error:
-            context.scene.luxbake_settings.status = str(error)
-            self.report({"ERROR"}, str(error))
+            context.scene.luxbake_settings.status = message(error)
+            self.report({"ERROR"}, message(error))
             return {"CANCELLED"}
         return self._finish(context, self._run.wait())
 
@@ -151,8 +161,8 @@ class LUXBAKE_OT_bake(bpy.types.Operator):
         try:
             self._start(context)
         except (run.BakeError, RuntimeError, OSError, ValueError) as error:
-            context.scene.luxbake_settings.status = str(error)
-            self.report({"ERROR"}, str(error))
+            context.scene.luxbake_settings.status = message(error)
+            self.report({"ERROR"}, message(error))
             return {"CANCELLED"}
         self._timer = context.window_manager.event_timer_add(0.25, window=context.window)
         context.window_manager.modal_handler_add(self)
@@ -197,7 +207,7 @@ class LUXBAKE_OT_export(bpy.types.Operator):
         try:
             export_scene(self.filepath, export_format=fmt)
         except (RuntimeError, OSError, ValueError) as error:
-            self.report({"ERROR"}, str(error))
+            self.report({"ERROR"}, message(error))
             return {"CANCELLED"}
         return {"FINISHED"}
 
@@ -221,7 +231,7 @@ class LUXBAKE_OT_import(bpy.types.Operator):
         try:
             import_bake(self.filepath)
         except (RuntimeError, OSError) as error:
-            self.report({"ERROR"}, str(error))
+            self.report({"ERROR"}, message(error))
             return {"CANCELLED"}
         return {"FINISHED"}
 

@@ -150,6 +150,62 @@ def describe(bpy, collection):
     return meshes, probes, materials, sorted(o.name for o in glyphs.objects) if glyphs else []
 
 
+class Layout:
+    """A stand-in for a panel's layout (panels cannot draw without a window): every `prop` must
+    name a property the data has; counts what was drawn."""
+
+    def __init__(self, counts):
+        self.counts = counts
+
+    def prop(self, data, name, **_):
+        if not hasattr(data, name):
+            raise AttributeError(f"panel draws {name}, which {data!r} lacks")
+        self.counts["props"] += 1
+
+    def label(self, **_):
+        self.counts["labels"] += 1
+
+    def operator(self, idname, **_):
+        self.counts["operators"] += 1
+
+    def template_color_ramp(self, data, name, **_):
+        getattr(data, name)
+        self.counts["ramps"] += 1
+
+    def row(self, **_):
+        return self
+
+    column = box = row
+
+
+def draw_panels(bpy):
+    """Draw every LuxBake panel's contents into the stand-in layout, for every material, object
+    and display mode."""
+    from luxbake import ui
+
+    counts = {"props": 0, "labels": 0, "operators": 0, "ramps": 0}
+    layout = Layout(counts)
+    context = bpy.context
+    for material in bpy.data.materials:
+        for mode in ("BASE_COLOR", "VALUE", "RGB"):
+            material.luxbake_settings.reflectance_mode = mode
+            for emission in ("NONE", "LUMINANCE", "FLUX"):
+                material.luxbake_settings.emission_mode = emission
+                ui.draw_material(layout, material)
+    for obj in bpy.data.objects:
+        s = obj.luxbake_settings
+        for on in (False, True):
+            s.use_photometric = s.probe = s.use_toward = s.use_opening = on
+            if obj.type in {"EMPTY", "LIGHT"}:
+                s.profile = "//x.ies" if on else ""
+            ui.draw_object(layout, obj)
+        ui.draw_results(layout, obj)
+    for display in ("DISPLAY", "ILLUMINANCE", "LUMINANCE"):
+        context.scene.luxbake_settings.display = display
+        ui.draw_scene(layout, context)
+    return counts
+
+
 def run_operator(bpy, scene):
     """The operator's result, the error it raised (a script sees a reported error as
     RuntimeError) and the status it left."""
@@ -225,7 +281,9 @@ def main():
                 "uv_map": uv[0].uv_map if uv and uv[0].type == "UVMAP" else None,
                 "has_illuminance": "_ILLUMINANCE" in obj.data.attributes,
             }
+    panels = draw_panels(bpy)
     report = {
+        "panels": panels,
         "lightmapped": lightmapped, "lightmap_materials": lightmap_materials,
         "second_export_nodes": second_export,
         "operator": result, "status": s.status,
