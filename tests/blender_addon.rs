@@ -1,11 +1,12 @@
 //! The LuxBake Blender add-on (`blender/luxbake/`) round trip, in PyPI `bpy` 5.0.1: a room built
 //! in Blender by script (`blender/tests/room_roundtrip.py`: walls, a desk, an IES luminaire on an
-//! Empty, an emitting panel, a point light, two probe Empties, a working plane) is exported by the
-//! add-on, baked by this `bake` through the add-on's operator, and imported back by the add-on.
+//! Empty, a EULUMDAT profile on a spot light, an emitting panel, point and spot lights, two probe
+//! Empties, a working plane) is exported by the add-on, baked by this `bake` through the add-on's operator, and imported back by the add-on.
 //!
 //! Asserted: the export passes the Khronos glTF-Validator with 0 errors and 0 warnings and holds
 //! what the panels set (`LUXBAKE_material`, `EXT_lights_ies` with the profile copied beside it,
-//! the luminaire node turned so the Empty's −Z is the nadir, the point light in cd at 683 lm/W,
+//! the luminaire node turned so the Empty's −Z is the nadir, a profiled light's nadir its −Z, the
+//! point light in cd at 683 lm/W, a photometric value as given,
 //! probe extras, the working plane passed to bake); the imported `_ILLUMINANCE`/`_LUMINANCE` of
 //! every mesh equal the bake's vertex values exactly (both are the same f32); every probe's
 //! readable properties equal the bake's faces; glyphs are in their own collection; materials
@@ -213,9 +214,66 @@ fn room_built_in_blender_exports_bakes_and_imports_back() {
         std::fs::read(&profile).unwrap(),
         "profile copied beside the glTF"
     );
-    let point = &scene["extensions"]["KHR_lights_punctual"]["lights"][0];
+    let punctual = scene["extensions"]["KHR_lights_punctual"]["lights"]
+        .as_array()
+        .unwrap();
+    let light = |name: &str| {
+        let found = punctual.iter().find(|l| l["name"] == name);
+        found.unwrap_or_else(|| panic!("no light {name}: {punctual:?}"))
+    };
     let cd = 10.0 * 683.0 / (4.0 * std::f64::consts::PI);
-    assert!((num(&point["intensity"]) - cd).abs() < 1e-9 * cd, "{point}");
+    assert!(
+        (num(&light("bulb")["intensity"]) - cd).abs() < 1e-9 * cd,
+        "{}",
+        light("bulb")
+    );
+    assert_eq!(
+        num(&light("spot")["intensity"]),
+        200.0,
+        "photometric value written as is"
+    );
+    assert_eq!(
+        punctual.len(),
+        2,
+        "the profiled light is a luminaire, not a punctual light"
+    );
+    // A EULUMDAT profile on a Light: on the light's own node (its −Z already the light's).
+    let washer = node("washer");
+    assert!(
+        washer["extensions"].get("KHR_lights_punctual").is_none(),
+        "{washer}"
+    );
+    let want = serde_json::json!({"LUXBAKE_luminaire": {"profile": 0, "multiplier": 1.0, "color": [1.0, 1.0, 1.0]}});
+    assert!(
+        same(&washer["extensions"], &want),
+        "{}",
+        washer["extensions"]
+    );
+    let turn = |q: &Value, v: [f64; 3]| {
+        let q: Vec<f64> = q.as_array().unwrap().iter().map(num).collect();
+        let (u, w) = ([q[0], q[1], q[2]], q[3]);
+        let cross = |a: [f64; 3], b: [f64; 3]| {
+            [
+                a[1] * b[2] - a[2] * b[1],
+                a[2] * b[0] - a[0] * b[2],
+                a[0] * b[1] - a[1] * b[0],
+            ]
+        };
+        let t = cross(u, v).map(|c| 2.0 * c);
+        let ut = cross(u, t);
+        [0, 1, 2].map(|i| v[i] + w * t[i] + ut[i])
+    };
+    let nadir = turn(&washer["rotation"], [0.0, 0.0, -1.0]);
+    let c0 = turn(&washer["rotation"], [1.0, 0.0, 0.0]);
+    for (got, want) in nadir.iter().chain(&c0).zip([1.0, 0.0, 0.0, 0.0, 1.0, 0.0]) {
+        assert!(
+            (got - want).abs() < 1e-6,
+            "nadir {nadir:?} (+x, east), C0 {c0:?} (+y, up)"
+        );
+    }
+    let profiles = &scene["extensions"]["LUXBAKE_luminaire"]["profiles"];
+    assert_eq!(profiles[0]["uri"], "cns70_50w.ldt");
+    assert!(dir.join("cns70_50w.ldt").is_file());
     assert_eq!(node("probe_desk")["extras"]["probe"], true);
     assert_eq!(node("probe_corner")["extras"]["probe"], true);
 
@@ -231,7 +289,12 @@ fn room_built_in_blender_exports_bakes_and_imports_back() {
         .iter()
         .map(|s| s["kind"].as_str().unwrap())
         .collect();
-    assert_eq!(sources, ["point", "luminaire"], "{}", summary["sources"]);
+    assert_eq!(
+        sources,
+        ["point", "spot", "luminaire", "luminaire"],
+        "{}",
+        summary["sources"]
+    );
 
     // Imported vertex values equal the bake's.
     let baked = baked_attributes(&lit);

@@ -6,6 +6,7 @@ PYTHON is a Python 3.11 with PyPI `bpy` 5.0.1. The add-on is enabled from this r
 blender/ folder. The room (Blender axes, +Z up; metres): 4 × 3 m floor, walls 2.8 m high, a
 desk block, an IES luminaire on an Empty at the ceiling (nadir down the Empty's −Z), a 0.6 m
 square emitting panel under the ceiling (500 cd/m²), a 10 W point light (543.5 cd at 683 lm/W),
+a spot light carrying cns70_50w.ldt (from FILE's folder) aimed at the east wall, a 200 cd spot,
 two probe Empties (one turned 30° about Z), a working plane at 0.8 m every 0.5 m. Bakes with
 `luxbake.bake` (draft; then again with coarse lightmaps), after checking the operator's errors: a missing bake binary, a bake
 that fails (bad option) and a missing profile file (the export fails).
@@ -103,6 +104,19 @@ def build(bpy, profile):
     light = bpy.data.objects.new("bulb", lamp)
     light.location = (3.0, 0.7, 2.2)
     bpy.context.scene.collection.objects.link(light)
+
+    # a spot light carrying a EULUMDAT profile, aimed at the east wall (its −Z along +X),
+    # and a spot light given in cd
+    washer = bpy.data.objects.new("washer", bpy.data.lights.new("washer", "SPOT"))
+    washer.location = (2.0, 1.5, 2.5)
+    washer.rotation_euler = (0.0, math.radians(-90.0), 0.0)
+    washer.luxbake_settings.profile = os.path.join(os.path.dirname(profile), "cns70_50w.ldt")
+    bpy.context.scene.collection.objects.link(washer)
+    spot = bpy.data.objects.new("spot", bpy.data.lights.new("spot", "SPOT"))
+    spot.location = (0.5, 2.5, 2.6)
+    spot.luxbake_settings.use_photometric = True
+    spot.luxbake_settings.intensity = 200.0
+    bpy.context.scene.collection.objects.link(spot)
 
     for name, location, turn in (("probe_desk", (1.2, 1.0, 1.2), 0.0),
                                  ("probe_corner", (3.2, 2.4, 1.2), 30.0)):
