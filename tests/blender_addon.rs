@@ -1,17 +1,19 @@
 //! The LuxBake Blender add-on (`blender/luxbake/`) round trip, in PyPI `bpy` 5.0.1: a room built
 //! in Blender by script (`blender/tests/room_roundtrip.py`: walls, a desk, an IES luminaire on an
 //! Empty, a EULUMDAT profile on a spot light, an emitting panel, point and spot lights, two probe
-//! Empties, a working plane) is exported by the add-on, baked by this `bake` through the add-on's operator, and imported back by the add-on.
+//! Empties, a working plane) is exported by the add-on, baked by this `bake` through the
+//! add-on's operator, and imported back by the add-on.
 //!
 //! Asserted: the export passes the Khronos glTF-Validator with 0 errors and 0 warnings and holds
 //! what the panels set (`LUXBAKE_material`, `EXT_lights_ies` with the profile copied beside it,
-//! the luminaire node turned so the Empty's −Z is the nadir, a profiled light's nadir its −Z, the
-//! point light in cd at 683 lm/W, a photometric value as given,
-//! probe extras, the working plane passed to bake); the imported `_ILLUMINANCE`/`_LUMINANCE` of
-//! every mesh equal the bake's vertex values exactly (both are the same f32); every probe's
-//! readable properties equal the bake's faces; glyphs are in their own collection; materials
-//! show the bake through an emission shader and the display group; the operator reports a
-//! missing `bake`, bake's own error line and a missing profile file (the export fails).
+//! the luminaire node turned so the Empty's −Z is the nadir, a profiled light's nadir its −Z,
+//! the point light in cd at 683 lm/W, a photometric value as given, probe extras, the working
+//! plane passed to bake); the imported `_ILLUMINANCE`/`_LUMINANCE` of every mesh equal the
+//! bake's vertex values exactly (both are the same f32); every probe's readable properties
+//! equal the bake's faces; glyphs are in their own collection; materials show the bake through
+//! an emission shader and the display group; the operator reports a missing `bake`, bake's own
+//! error line and a missing profile file (the export fails). Further tests below: the office
+//! rebuilt in Blender against the sample, a render against `bake view --display`, the zip.
 
 mod support;
 
