@@ -712,7 +712,8 @@ fn bpy_python() -> std::path::PathBuf {
 /// Installing is one step: `blender/build_extension.py` builds the zip with Blender's own
 /// extension builder, and Blender's "Install from Disk" (`extensions.package_install_files`,
 /// into a scratch user folder) installs and enables it as the extension
-/// `bl_ext.user_default.luxbake`, whose hooks then act on Blender's plain glTF export.
+/// `bl_ext.user_default.luxbake`, whose hooks then act on Blender's plain glTF export (which
+/// refuses a profile on a Light while its Punctual Lights option is off, instead of losing it).
 #[test]
 fn extension_zip_installs_and_exports() {
     if !tools::have_blender() {

@@ -125,6 +125,17 @@ class glTF2ExportUserExtension:
             paths.append(path)
         return kind, paths.index(path)
 
+    def pre_export_hook(self, export_settings):
+        # The exporter drops Light objects unless Include › Punctual Lights is on: a luminaire
+        # profile on a Light would vanish without a word.
+        if export_settings.get("gltf_lights"):
+            return
+        for obj in bpy.context.scene.objects:
+            if obj.type == "LIGHT" and obj.luxbake_settings.profile:
+                export_settings.setdefault(ERRORS, []).append(
+                    f"LuxBake: light {obj.name} carries a luminaire profile: enable the export's "
+                    "Include › Punctual Lights (the Bake operator does)")
+
     def gather_material_hook(self, gltf2_material, blender_material, export_settings):
         with collect_errors(export_settings, f"material {getattr(blender_material, 'name', '?')}"):
             self._material(gltf2_material, blender_material)

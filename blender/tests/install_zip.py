@@ -4,7 +4,10 @@ Blender's plain glTF export (File > Export) and print what the add-on added, as 
 
 Usage: BLENDER_USER_RESOURCES=EMPTY_DIR PYTHON install_zip.py LUXBAKE.zip OUT_DIR
 (BLENDER_USER_RESOURCES keeps the install out of the real user's Blender configuration.)
-Stdout: {"modules": [enabled add-on modules], "operators": bool, "material": {...}, "probe": ...}
+Then a spot light carrying a profile is exported with Punctual Lights off (the default): the
+export must fail, saying so, and write nothing.
+Stdout: {"modules": [enabled add-on modules], "operators": bool, "material": {...}, "probe": ...,
+         "lights_off": the error's last line, "lights_off_written": bool}
 """
 
 import json
@@ -38,7 +41,18 @@ def main(zip_path, out):
     bpy.ops.export_scene.gltf(filepath=path, export_format="GLTF_SEPARATE")
     with open(path) as f:
         gltf = json.load(f)
+    # a profile on a Light with the export's Punctual Lights off: the export fails, saying so
+    lamp = bpy.data.objects.new("lamp", bpy.data.lights.new("lamp", "SPOT"))
+    lamp.luxbake_settings.profile = os.path.join(out, "any.ies")
+    bpy.context.scene.collection.objects.link(lamp)
+    try:
+        bpy.ops.export_scene.gltf(filepath=os.path.join(out, "lamp.gltf"), export_format="GLTF_SEPARATE")
+        refused = None
+    except RuntimeError as error:
+        refused = str(error).strip().splitlines()[-1]
     report = {
+        "lights_off": refused,
+        "lights_off_written": os.path.exists(os.path.join(out, "lamp.gltf")),
         "install": sorted(result),
         "modules": modules,
         "operators": hasattr(bpy.ops.luxbake, "bake"),
