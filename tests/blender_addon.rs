@@ -511,8 +511,9 @@ fn bake_ok(input: &Path, output: &Path, extra: &[&str]) {
 /// (default quality): `bake diff --mode means` passes at 0.5 % on every node's and material's
 /// means (exit 0), and with the working plane its points agree within 0.5 % too. Individual
 /// probe faces other than the working plane's `+y` may differ a little more (asserted < 1 %):
-/// Blender's exporter composes transforms in f32, so a few vertices land 10⁻⁷ m elsewhere and
-/// the adaptive mesh differs slightly (the ceiling gets 985 vertices instead of 987).
+/// the adaptive mesh differs slightly (the ceiling gets 985 vertices instead of 987) — the files
+/// hold the same meshes but differ in node order (Blender writes children first), f32 rounding
+/// of some transforms and signed zeros, and the bake's meshing depends on the node order.
 #[test]
 fn office_rebuilt_in_blender_bakes_like_the_sample() {
     if !tools::have_blender() || !tools::have_validator() {
