@@ -419,6 +419,25 @@ fn room_built_in_blender_exports_bakes_and_imports_back() {
             .any(|n| n == "GROUP")
     );
     assert_eq!(report["scene"]["view_transform"], "Standard");
+    // The bake lives in a scene of its own, shown after the bake; the authoring scene is left
+    // as it was (14 objects built, Blender's default view transform), and baking from the
+    // bake's scene is refused.
+    assert_eq!(report["shown"], "scene-lit");
+    assert_eq!(
+        report["authoring"],
+        serde_json::json!({"objects": 14, "view_transform": "AgX", "bake_objects_here": 0})
+    );
+    assert!(
+        report["from_bake_scene"][0].is_null(),
+        "{}",
+        report["from_bake_scene"]
+    );
+    assert!(
+        report["from_bake_scene"][2]
+            .as_str()
+            .unwrap()
+            .contains("holds a bake")
+    );
     // Every panel drew (into a stand-in layout: no window here) with properties that exist.
     let panels = &report["panels"];
     assert!(

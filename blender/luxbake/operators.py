@@ -2,12 +2,12 @@
 
 `luxbake.bake` exports the scene (glTF + profiles, through the export hooks) into the scene's
 output folder as `<name>.gltf`, runs `bake <name>.gltf -o <name>-lit.gltf` with the scene's
-settings, and imports the result (the import hooks set it up). Run from the UI (invoke) it works
+settings, and imports the result (the import hooks set it up) into a scene of its own,
+`<name>-lit`, which the window then shows (a later bake replaces that scene). Run from the UI (invoke) it works
 in the background: a timer polls bake, the status bar and the scene's status show bake's latest
 stderr line and the elapsed time, Esc cancels; a failed bake reports bake's error line. Run as
-`bpy.ops.luxbake.bake()` from a script (exec) it waits for bake. Blender's objects stay as they
-are: the bake comes in beside them, in a collection named after the output (`<name>-lit`),
-which replaces that of an earlier bake.
+`bpy.ops.luxbake.bake()` from a script (exec) it waits for bake. The authoring scene is left as
+it was (its objects, colour management and world).
 """
 
 import os
@@ -26,6 +26,7 @@ EXPORT_OPTIONS = dict(
     export_extras=False,           # probes come from the LuxBake panel (or a `probe` property)
     export_import_convert_lighting_mode="SPEC",
     use_renderable=True,           # what renders: not helpers, not imported bakes
+    use_active_scene=True,         # this scene alone, not the bakes' scenes
 )
 
 
@@ -66,22 +67,39 @@ def remove_collection(collection):
     bpy.data.collections.remove(collection)
 
 
-def import_bake(filepath):
-    """Import a bake into a collection of its own, tagged `luxbake_bake` so the Bake operator
-    leaves it out of its exports (the import hooks set up its display). A bake collection of
-    the same name, from an earlier bake, is replaced."""
+def import_bake(filepath, scene_name=None):
+    """Import a bake into a collection of its own, named after the file and tagged
+    `luxbake_bake` (the import hooks set up its display); a bake collection of that name from an
+    earlier import is replaced. With `scene_name`, into that scene (made, or emptied and made
+    anew), so the bake never lies over the objects it was baked from. Returns the collection."""
     name = os.path.splitext(os.path.basename(filepath))[0]
+    if scene_name is not None:
+        old_scene = bpy.data.scenes.get(scene_name)
+        if old_scene is not None and old_scene.get("luxbake_bake"):
+            for obj in list(old_scene.objects):
+                bpy.data.objects.remove(obj)
+            for child in list(old_scene.collection.children_recursive):
+                bpy.data.collections.remove(child)
+            bpy.data.scenes.remove(old_scene)
+        scene = bpy.data.scenes.new(scene_name)
+        scene["luxbake_bake"] = True
+    else:
+        scene = bpy.context.scene
     old = bpy.data.collections.get(name)
     if old is not None and old.get("luxbake_bake"):
         remove_collection(old)
     collection = bpy.data.collections.new(name)
     collection["luxbake_bake"] = True
-    bpy.context.scene.collection.children.link(collection)
-    layer = bpy.context.view_layer.layer_collection.children[collection.name]
-    bpy.context.view_layer.active_layer_collection = layer
-    result = bpy.ops.import_scene.gltf(filepath=filepath)
+    scene.collection.children.link(collection)
+    view_layer = scene.view_layers[0] if scene_name is not None else bpy.context.view_layer
+    view_layer.active_layer_collection = view_layer.layer_collection.children[collection.name]
+    with bpy.context.temp_override(scene=scene, view_layer=view_layer):
+        result = bpy.ops.import_scene.gltf(filepath=filepath)
     if "FINISHED" not in result:
         raise RuntimeError(f"glTF import of {filepath} failed: {result}")
+    cameras = [o for o in collection.all_objects if o.type == "CAMERA"]
+    if scene.camera is None and cameras:
+        scene.camera = cameras[0]
     return collection
 
 
@@ -126,6 +144,9 @@ class LUXBAKE_OT_bake(bpy.types.Operator):
     _run = None
 
     def _start(self, context):
+        if context.scene.get("luxbake_bake"):
+            raise run.BakeError(f"scene {context.scene.name} holds a bake: bake from the scene it "
+                                "was made from")
         scene_path, self._output = bake_paths(context)
         args = bake_command(context, scene_path, self._output)  # finds bake before exporting
         context.scene.luxbake_settings.status = "exporting"
@@ -143,7 +164,12 @@ class LUXBAKE_OT_bake(bpy.types.Operator):
         for line in self._run.lines:
             if line.startswith("warning"):
                 self.report({"WARNING"}, line)
-        import_bake(self._output)
+        scene_name = os.path.splitext(os.path.basename(self._output))[0]
+        import_bake(self._output, scene_name=scene_name)
+        scene = bpy.data.scenes[scene_name]
+        scene.luxbake_settings.status = f"bake of {context.scene.name}"
+        if context.window is not None:
+            context.window.scene = scene  # show the bake
         s.status = f"baked in {time.monotonic() - self._started:.1f} s: {self._output}"
         self.report({"INFO"}, s.status)
         return {"FINISHED"}

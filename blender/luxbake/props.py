@@ -66,7 +66,7 @@ class LuxbakeObject(bpy.types.PropertyGroup):
                     "and luxbake names surfaces by node path (desk_dark/top)")
     # luminaire (on an Empty or a Light): a measured profile
     profile: StringProperty(
-        name="Profile", subtype="FILE_PATH",
+        name="Profile", subtype="FILE_PATH", options={"PATH_SUPPORTS_BLEND_RELATIVE"},
         description="IES LM-63 (.ies) or EULUMDAT (.ldt) file; its nadir points down the "
                     "object's local −Z, C0 along its local +X")
     multiplier: FloatProperty(name="Multiplier", min=0.0, default=1.0,
@@ -106,7 +106,7 @@ class LuxbakeObject(bpy.types.PropertyGroup):
 
 def _display_update(self, context):
     from . import shading
-    shading.apply_display(context.scene)
+    shading.apply_display(self.id_data)  # the scene these settings belong to
 
 
 class LuxbakeScene(bpy.types.PropertyGroup):
@@ -129,6 +129,7 @@ class LuxbakeScene(bpy.types.PropertyGroup):
                                description="Draw each probe's illumination solid (--probe-glyphs)")
     output_dir: StringProperty(
         name="Output folder", subtype="DIR_PATH", default="//luxbake",
+        options={"PATH_SUPPORTS_BLEND_RELATIVE"},
         description="Where the exported scene and the bake are written")
     extra_args: StringProperty(name="More options", default="",
                                description="Further bake options, as on the command line")

@@ -258,11 +258,19 @@ def main():
     lum.profile = profile
 
     result = sorted(bpy.ops.luxbake.bake())
+    shown = bpy.context.scene.name  # the window shows the bake's scene
     collection = bpy.data.collections["scene-lit"]
+    baked_scene = bpy.data.scenes["scene-lit"]
+    authoring = {"objects": len(scene.objects),
+                 "view_transform": scene.view_settings.view_transform,
+                 "bake_objects_here": sum(1 for o in scene.objects if collection in o.users_collection)}
+    # baking from the bake's own scene is refused
+    from_bake_scene = run_operator(bpy, baked_scene)
+    bpy.context.window.scene = scene  # back to the authoring scene, as a user would
     meshes, probes, materials, glyphs = describe(bpy, collection)
 
-    # the false-colour switch: the shared group's state after switching
-    s = scene.luxbake_settings
+    # the false-colour switch (in the bake's scene): the shared group's state after switching
+    s = baked_scene.luxbake_settings
     s.display = "ILLUMINANCE"
     s.range_min, s.range_max = 0.0, 500.0
     group = bpy.data.node_groups["LuxBake display"]
@@ -271,8 +279,11 @@ def main():
         "range": [group.nodes["range"].inputs["From Min"].default_value,
                   group.nodes["range"].inputs["From Max"].default_value],
     }
-    # lightmaps: the same room baked again with --lightmaps (the collection is replaced)
+    bake_scene_info = {"view_transform": baked_scene.view_settings.view_transform,
+                       "objects": len(baked_scene.objects)}
+    # lightmaps: the same room baked again with --lightmaps (its scene is replaced)
     s.display = "DISPLAY"
+    s = scene.luxbake_settings
     s.lightmaps = True
     s.extra_args = "--texel-size 0.25"  # coarse: fast
     s.output_dir = os.path.join(out, "lightmaps")  # the first bake stays for the test to read
@@ -301,7 +312,8 @@ def main():
         "lightmapped": lightmapped, "lightmap_materials": lightmap_materials,
         "second_export_nodes": second_export,
         "operator": result, "status": s.status,
-        "scene": {"view_transform": scene.view_settings.view_transform},
+        "scene": bake_scene_info,
+        "authoring": authoring, "from_bake_scene": from_bake_scene, "shown": shown,
         "meshes": meshes, "probes": probes, "materials": materials, "glyphs": glyphs,
         "errors": errors, "false_colour": fc,
     }
