@@ -790,3 +790,73 @@ fn extension_zip_installs_and_exports() {
             .is_file()
     );
 }
+
+/// The Bake operator's interactive path (timer → modal), driven by hand in
+/// `blender/tests/modal_bake.py` (no event loop in a script): while bake runs the status shows
+/// "luxbake: baking N s" and bake's latest stderr line (bake behind a wrapper script that writes
+/// a line first); at the end the bake is imported into its
+/// own scene, which the window shows, and bake's warnings are reported.
+#[test]
+fn operator_shows_progress_and_ends_in_the_bake() {
+    if !tools::have_blender() {
+        return;
+    }
+    let dir = scratch("blender-addon-modal");
+    // bake behind a wrapper that says something on stderr and waits a second first, so the
+    // polls surely see a line while bake runs
+    let wrapper = dir.join("slow-bake");
+    std::fs::write(
+        &wrapper,
+        format!(
+            "#!/bin/sh\necho 'wrapper: starting' >&2\nsleep 1\nexec '{}' \"$@\"\n",
+            env!("CARGO_BIN_EXE_bake")
+        ),
+    )
+    .unwrap();
+    use std::os::unix::fs::PermissionsExt;
+    std::fs::set_permissions(&wrapper, std::fs::Permissions::from_mode(0o755)).unwrap();
+    let report = tools::blender_run(
+        &repo("blender/tests/modal_bake.py"),
+        &[
+            "--bake".as_ref(),
+            wrapper.as_os_str(),
+            "--out".as_ref(),
+            dir.as_os_str(),
+        ],
+    );
+    assert_eq!(
+        report["result"],
+        serde_json::json!(["FINISHED"]),
+        "{report}"
+    );
+    let statuses = report["statuses"].as_array().unwrap();
+    assert!(!statuses.is_empty(), "{report}");
+    assert!(
+        statuses
+            .iter()
+            .all(|s| s.as_str().unwrap().starts_with("luxbake: baking")),
+        "{report}"
+    );
+    assert!(
+        statuses
+            .iter()
+            .any(|s| s.as_str().unwrap().ends_with(" s  wrapper: starting")),
+        "bake's stderr shown: {report}"
+    );
+    assert_eq!(report["shown"], "scene-lit");
+    assert_eq!(report["scenes"], serde_json::json!(["Scene", "scene-lit"]));
+    assert!(
+        report["final_status"]
+            .as_str()
+            .unwrap()
+            .starts_with("baked in"),
+        "{report}"
+    );
+    let reports = report["reports"].as_array().unwrap();
+    assert!(
+        reports
+            .iter()
+            .any(|r| r[0][0] == "WARNING" && r[1].as_str().unwrap().contains("no material")),
+        "{report}"
+    );
+}

@@ -147,6 +147,7 @@ class LUXBAKE_OT_bake(bpy.types.Operator):
         if context.scene.get("luxbake_bake"):
             raise run.BakeError(f"scene {context.scene.name} holds a bake: bake from the scene it "
                                 "was made from")
+        self._scene = context.scene  # the authoring scene, whatever the window shows meanwhile
         scene_path, self._output = bake_paths(context)
         args = bake_command(context, scene_path, self._output)  # finds bake before exporting
         context.scene.luxbake_settings.status = "exporting"
@@ -156,7 +157,7 @@ class LUXBAKE_OT_bake(bpy.types.Operator):
         self._run = run.Run(args)
 
     def _finish(self, context, code):
-        s = context.scene.luxbake_settings
+        s = self._scene.luxbake_settings
         if code != 0:
             s.status = self._run.error()
             self.report({"ERROR"}, s.status)
@@ -165,9 +166,14 @@ class LUXBAKE_OT_bake(bpy.types.Operator):
             if line.startswith("warning"):
                 self.report({"WARNING"}, line)
         scene_name = os.path.splitext(os.path.basename(self._output))[0]
-        import_bake(self._output, scene_name=scene_name)
+        try:
+            import_bake(self._output, scene_name=scene_name)
+        except (RuntimeError, OSError) as error:
+            s.status = message(error)
+            self.report({"ERROR"}, s.status)
+            return {"CANCELLED"}
         scene = bpy.data.scenes[scene_name]
-        scene.luxbake_settings.status = f"bake of {context.scene.name}"
+        scene.luxbake_settings.status = f"bake of {self._scene.name}"
         if context.window is not None:
             context.window.scene = scene  # show the bake
         s.status = f"baked in {time.monotonic() - self._started:.1f} s: {self._output}"
@@ -206,17 +212,17 @@ class LUXBAKE_OT_bake(bpy.types.Operator):
             last = self._run.lines[-1] if self._run.lines else ""
             text = f"luxbake: baking {elapsed:.0f} s  {last}"
             context.workspace.status_text_set(text)
-            context.scene.luxbake_settings.status = text
+            self._scene.luxbake_settings.status = text
             return {"RUNNING_MODAL"}
         context.workspace.status_text_set(None)
         context.window_manager.event_timer_remove(self._timer)
         return self._finish(context, code)
 
-    def _end(self, context, result, message):
+    def _end(self, context, result, text):
         context.workspace.status_text_set(None)
         context.window_manager.event_timer_remove(self._timer)
-        context.scene.luxbake_settings.status = message
-        self.report({"WARNING"}, message)
+        self._scene.luxbake_settings.status = text
+        self.report({"WARNING"}, text)
         return result
 
 
