@@ -1,16 +1,17 @@
 """The glTF importer's user-extension hooks: a luxbake bake made readable in Blender.
 
 io_scene_gltf2 finds `glTF2ImportUserExtension` in every enabled add-on's module and calls its
-`gather_import_*` methods during an import (File > Import > glTF, or the Bake operator), with the
-importer's `gltf` as the last argument. When the
-file is a luxbake output (its scene's `extras.luxbake`, or a material with `LUXBAKE_lightmap`):
+`gather_import_*` methods during an import (File > Import > glTF, or the Bake operator), with
+the importer's `gltf` as the last argument. When the file is a luxbake output (its scene's
+`extras.luxbake`, or a material with `LUXBAKE_lightmap`):
 - its materials are rebuilt to show the bake as a glTF viewer does (shading.py): base colour ×
   the colour attribute `Color`, or the lightmap's display texture × `emissiveFactor`, through
   the shared display / false-colour group; the scene's view transform becomes Standard;
 - each probe's results (`extras.luxbake`, also kept as Blender's nested custom property
   `luxbake`) become flat, readable custom properties named as the `--probes-out` CSV columns:
   `E+x_lx` … `E-z_lx` (faces in the probe's glTF axes, +y up), `direct+x_lx` …,
-  `indirect+x_lx` …, `scalar_lx`, `horizontal_lx`, `cylindrical_lx`, …;
+  `indirect+x_lx` …, `scalar_lx`, `horizontal_lx`, `cylindrical_lx`, … (the per-face lists,
+  `vertical` and `semicylindrical`, stay in `luxbake` only);
 - probe glyphs (`<probe>_glyph` nodes) move to the collection "LuxBake probe glyphs";
 - each luminaire (`EXT_lights_ies`, `LUXBAKE_luminaire`) gets its luminous opening drawn as a
   white emitting rectangle (or disc) facing its nadir, in the collection "LuxBake luminaires"
