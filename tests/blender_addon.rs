@@ -661,7 +661,7 @@ fn image_difference(a: &Path, b: &Path) -> (f64, f64) {
 /// luminaire openings hidden) is what a glTF viewer shows: `bake view --display` of the same
 /// bake, pixel for pixel within rounding and antialiasing. Blender's importer alone (no add-on)
 /// wires base colour × `Color` too, but Blender's default view transform (AgX) shifts the tones:
-/// many more values off by more than 8/255 (measured 4.9 % against 0.075 %).
+/// many more values off by more than 8/255 (measured 4.9 % against 0.076 %).
 #[test]
 fn blender_render_of_an_imported_bake_is_what_a_viewer_shows() {
     if !tools::have_blender() {

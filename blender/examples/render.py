@@ -60,7 +60,9 @@ def main(argv):
     scene.cycles.use_denoising = False
     render.resolution_x, render.resolution_y = width, height
     render.resolution_percentage = 100
+    render.dither_intensity = 0.0  # no noise added: the PNGs compress (and compare) better
     render.image_settings.file_format = "PNG"
+    render.image_settings.compression = 100
     render.image_settings.color_mode = "RGB"
     render.filepath = out
     bpy.ops.render.render(write_still=True)
