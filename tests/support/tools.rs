@@ -148,21 +148,28 @@ pub fn blender_image(path: &Path) -> Value {
 }
 
 fn blender_script(script: &str, path: &Path) -> Value {
+    blender_run(&tools_dir().join(script), &[path.as_os_str()])
+}
+
+/// Run the Python script `script` with `args` in the Python that has `bpy`; the JSON it prints
+/// on stdout (its log goes to stderr). Panics when it fails, with its stderr.
+pub fn blender_run(script: &Path, args: &[&std::ffi::OsStr]) -> Value {
     let python = bpy_python().expect("no Python with bpy; call have_blender() first");
     let out = Command::new(&python)
-        .arg(tools_dir().join(script))
-        .arg(path)
+        .arg(script)
+        .args(args)
         .output()
         .unwrap_or_else(|e| panic!("cannot run {}: {e}", python.display()));
     assert!(
         out.status.success(),
-        "{script} failed on {}:\n{}",
-        path.display(),
+        "{} failed on {args:?}:\n{}",
+        script.display(),
         String::from_utf8_lossy(&out.stderr)
     );
     serde_json::from_slice(&out.stdout).unwrap_or_else(|e| {
         panic!(
-            "{script} printed no JSON ({e}):\n{}",
+            "{} printed no JSON ({e}):\n{}",
+            script.display(),
             String::from_utf8_lossy(&out.stdout)
         )
     })
