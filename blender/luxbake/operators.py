@@ -297,11 +297,5 @@ class LUXBAKE_OT_fit_range(bpy.types.Operator):
 CLASSES = (LUXBAKE_OT_bake, LUXBAKE_OT_export, LUXBAKE_OT_import, LUXBAKE_OT_fit_range)
 
 
-def register():
-    for cls in CLASSES:
-        bpy.utils.register_class(cls)
-
-
-def unregister():
-    for cls in reversed(CLASSES):
-        bpy.utils.unregister_class(cls)
+# Blender's own helper: registers in order, unregisters in reverse.
+register, unregister = bpy.utils.register_classes_factory(CLASSES)

@@ -159,11 +159,5 @@ class LUXBAKE_PT_sidebar(bpy.types.Panel):
 CLASSES = (LUXBAKE_PT_material, LUXBAKE_PT_object, LUXBAKE_PT_scene, LUXBAKE_PT_sidebar)
 
 
-def register():
-    for cls in CLASSES:
-        bpy.utils.register_class(cls)
-
-
-def unregister():
-    for cls in reversed(CLASSES):
-        bpy.utils.unregister_class(cls)
+# Blender's own helper: registers in order, unregisters in reverse.
+register, unregister = bpy.utils.register_classes_factory(CLASSES)
