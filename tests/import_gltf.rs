@@ -295,6 +295,24 @@ fn scene_choice_default_first_or_all_roots() {
 }
 
 #[test]
+fn a_scene_without_nodes_is_valid() {
+    // glTF 2.0 makes a scene's `nodes` optional (Blender writes an empty scene so).
+    let dir = tempfile::tempdir().unwrap();
+    let mut b = Builder::new();
+    let mesh = b.simple_mesh(&TRIANGLE, None, None, None);
+    b.node(json!({"mesh": mesh, "name": "a"}));
+    b.set("scenes", json!([{"name": "lit", "nodes": [0]}, {"name": "empty"}]));
+    let scene = load_ok(&b.write_gltf(dir.path(), "two.gltf", Bin::DataUri));
+    assert_eq!(scene.name.as_deref(), Some("lit"));
+    assert_eq!(scene.surfaces.len(), 1);
+    // The empty scene chosen: nothing in it, not a parse error.
+    b.set("scene", json!(1));
+    let scene = load_ok(&b.write_gltf(dir.path(), "empty.gltf", Bin::DataUri));
+    assert_eq!(scene.name.as_deref(), Some("empty"));
+    assert!(scene.roots.is_empty() && scene.surfaces.is_empty());
+}
+
+#[test]
 fn cameras_and_extras_are_kept_verbatim() {
     let dir = tempfile::tempdir().unwrap();
     let mut b = triangle_builder();

@@ -59,8 +59,21 @@ pub(super) fn parse(ctx: &mut Ctx, bytes: &[u8]) -> Result<Parsed> {
     }
     check_version(ctx, &raw)?;
     check_required_extensions(ctx, &raw)?;
-    let mut root = ::gltf::json::Root::from_slice(json)
-        .map_err(|e| ctx.err("", format!("not valid glTF 2.0 JSON: {e}")))?;
+    let invalid = |e: serde_json::Error| ctx.err("", format!("not valid glTF 2.0 JSON: {e}"));
+    let mut root = match scenes_without_nodes(&raw) {
+        // A scene's `nodes` is optional in glTF 2.0 (Blender writes none for an empty scene);
+        // the `gltf` crate requires it: given as empty.
+        true => {
+            let mut patched = raw.clone();
+            for scene in patched["scenes"].as_array_mut().into_iter().flatten() {
+                if let Some(o) = scene.as_object_mut() {
+                    o.entry("nodes").or_insert_with(|| Value::Array(Vec::new()));
+                }
+            }
+            serde_json::from_value::<::gltf::json::Root>(patched).map_err(invalid)?
+        }
+        false => ::gltf::json::Root::from_slice(json).map_err(invalid)?,
+    };
     root.extensions_required
         .retain(|e| !READ_HERE.contains(&e.as_str()));
     check_position_accessors(ctx, &root)?;
@@ -86,6 +99,12 @@ pub(super) fn parse(ctx: &mut Ctx, bytes: &[u8]) -> Result<Parsed> {
         Err(other) => return Err(ctx.err("", format!("invalid glTF: {other}"))),
     };
     Ok(Parsed { doc, raw, bin })
+}
+
+/// Some scene object has no `nodes` member.
+fn scenes_without_nodes(raw: &Value) -> bool {
+    (raw.get("scenes").and_then(Value::as_array).into_iter().flatten())
+        .any(|s| s.is_object() && s.get("nodes").is_none())
 }
 
 /// Every primitive's `POSITION` names an existing accessor: the `gltf` crate's validation indexes
