@@ -379,7 +379,10 @@ fn areas_come_from_a_bake_with_scene() {
         "json".as_ref(),
     ]);
     assert_eq!(code, Some(0), "{err}");
-    assert!(err.contains("Front Wall: area 99 m² in the table, 16.000 m²"), "{err}");
+    assert!(
+        err.contains("Front Wall: area 99 m² in the table, 16.000 m²"),
+        "{err}"
+    );
     let v: Value = serde_json::from_str(&out).unwrap();
     let area = |k: usize| v["rows"][k]["area"].as_f64().unwrap();
     // The office (samples/office/README.md): 8 m deep, 5 m wide, 3.2 m high, +Y up.
@@ -410,7 +413,10 @@ fn areas_come_from_a_bake_with_scene() {
     // No area and no --scene: an error naming the line.
     let (code, _, err) = bake(&["design".as_ref(), table.as_os_str()]);
     assert_eq!(code, Some(1));
-    assert!(err.contains("t.csv: line 2: 'Left Wall' has no area_m2"), "{err}");
+    assert!(
+        err.contains("t.csv: line 2: 'Left Wall' has no area_m2"),
+        "{err}"
+    );
     // A key the bake lacks: an error naming the line and the key.
     std::fs::write(
         &table,
@@ -424,6 +430,9 @@ fn areas_come_from_a_bake_with_scene() {
         lit.as_os_str(),
     ]);
     assert_eq!(code, Some(1));
-    assert!(err.contains("line 2") && err.contains("no_such_node"), "{err}");
+    assert!(
+        err.contains("line 2") && err.contains("no_such_node"),
+        "{err}"
+    );
     std::fs::remove_dir_all(&dir).ok();
 }

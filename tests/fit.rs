@@ -51,17 +51,46 @@ fn room(factors: [f64; 3]) -> luxbake::scene::Scene {
     let panel = b.emitter("panel", 0.0, 400.0 * factors[2]);
     let q = |x: f64, y: f64, z: f64| DVec3::new(x, y, z);
     let (w, h, d) = (6.0, 3.0, 4.0);
-    b.quad("floor", [q(0., 0., 0.), q(0., 0., d), q(w, 0., d), q(w, 0., 0.)], floor);
-    b.quad("ceiling", [q(0., h, 0.), q(w, h, 0.), q(w, h, d), q(0., h, d)], walls);
-    b.quad("wall_west", [q(0., 0., 0.), q(0., h, 0.), q(0., h, d), q(0., 0., d)], walls);
-    b.quad("wall_east", [q(w, 0., 0.), q(w, 0., d), q(w, h, d), q(w, h, 0.)], walls);
-    b.quad("wall_north", [q(0., 0., 0.), q(w, 0., 0.), q(w, h, 0.), q(0., h, 0.)], walls);
-    b.quad("wall_south", [q(0., 0., d), q(0., h, d), q(w, h, d), q(w, 0., d)], walls);
+    b.quad(
+        "floor",
+        [q(0., 0., 0.), q(0., 0., d), q(w, 0., d), q(w, 0., 0.)],
+        floor,
+    );
+    b.quad(
+        "ceiling",
+        [q(0., h, 0.), q(w, h, 0.), q(w, h, d), q(0., h, d)],
+        walls,
+    );
+    b.quad(
+        "wall_west",
+        [q(0., 0., 0.), q(0., h, 0.), q(0., h, d), q(0., 0., d)],
+        walls,
+    );
+    b.quad(
+        "wall_east",
+        [q(w, 0., 0.), q(w, 0., d), q(w, h, d), q(w, h, 0.)],
+        walls,
+    );
+    b.quad(
+        "wall_north",
+        [q(0., 0., 0.), q(w, 0., 0.), q(w, h, 0.), q(0., h, 0.)],
+        walls,
+    );
+    b.quad(
+        "wall_south",
+        [q(0., 0., d), q(0., h, d), q(w, h, d), q(w, 0., d)],
+        walls,
+    );
     b.axis_box("desk", q(2.5, 0.0, 1.5), q(3.5, 0.75, 2.5), false, desk);
     // The panel 1 mm under the ceiling, facing down, over the east half.
     b.quad(
         "panel",
-        [q(4.0, h - 0.001, 1.5), q(5.0, h - 0.001, 1.5), q(5.0, h - 0.001, 2.5), q(4.0, h - 0.001, 2.5)],
+        [
+            q(4.0, h - 0.001, 1.5),
+            q(5.0, h - 0.001, 1.5),
+            q(5.0, h - 0.001, 2.5),
+            q(4.0, h - 0.001, 2.5),
+        ],
         panel,
     );
     b.point_light("lamp_left", q(1.5, 2.5, 2.0), 3000.0 * factors[0]);
@@ -92,7 +121,14 @@ fn a_room_with_an_exact_solution_is_fitted_to_its_targets() {
         "wall_south",
         "desk_1",
     ];
-    let report = json(&ok(&["report", s(&lit), "--by", "node", "--format", "json"]));
+    let report = json(&ok(&[
+        "report",
+        s(&lit),
+        "--by",
+        "node",
+        "--format",
+        "json",
+    ]));
     let rows = report["byNode"].as_array().unwrap();
     let mut targets = serde_json::Map::new();
     for k in keys {
@@ -135,6 +171,45 @@ fn a_room_with_an_exact_solution_is_fitted_to_its_targets() {
 
     // Baking the fitted scene gives what the fit reported.
     check_fitted_bake(&fitted, &targets_file, &out, &["--quality", "draft"]);
+
+    // Allowed at most 0.6, the left light stops there and says so; the others make up for it.
+    let capped = d.join("capped.gltf");
+    let args = [
+        "fit",
+        s(&input),
+        "--targets",
+        s(&targets_file),
+        "-o",
+        s(&capped),
+        "--group",
+        "left=lamp_left",
+        "--group",
+        "right=lamp_right",
+        "--group",
+        "panel=material:panel",
+        "--quality",
+        "draft",
+        "--max-factor",
+        "0.6",
+        "-q",
+    ];
+    let text = ok(&args);
+    assert!(text.contains("0.6000 (max)"), "{text}");
+    assert!(
+        text.contains("note: a group at (max) wants more light"),
+        "{text}"
+    );
+    let mut json_args = args.to_vec();
+    json_args.extend(["--format", "json"]);
+    let capped_fit = json(&ok(&json_args));
+    let g = capped_fit["groups"].as_array().unwrap();
+    assert_eq!(g[0]["factor"], 0.6);
+    assert_eq!(g[0]["atMaximum"], true);
+    assert!(
+        g[1..]
+            .iter()
+            .all(|g| g["atMaximum"] == false && g["off"] == false)
+    );
     std::fs::remove_dir_all(&d).ok();
 }
 
@@ -158,7 +233,10 @@ fn check_fitted_bake(fitted: &Path, targets: &Path, fit: &Value, settings: &[&st
     let surfaces = fit["surfaces"].as_array().unwrap();
     assert_eq!(achieved.len(), surfaces.len());
     for (a, f) in achieved.iter().zip(surfaces) {
-        let (baked, reported) = (a["achieved"].as_f64().unwrap(), f["achieved"].as_f64().unwrap());
+        let (baked, reported) = (
+            a["achieved"].as_f64().unwrap(),
+            f["achieved"].as_f64().unwrap(),
+        );
         assert!(
             (baked / reported - 1.0).abs() < 0.005,
             "{}: fit said {reported} lx, the fitted bake gives {baked} lx",
@@ -215,7 +293,10 @@ fn the_office_fitted_to_the_seeds_design_bakes_to_what_fit_reported() {
     let m = spot["extensions"]["LUXBAKE_luminaire"]["multiplier"]
         .as_f64()
         .unwrap();
-    assert!((m - groups[0]["factor"].as_f64().unwrap()).abs() < 1e-12, "{spot}");
+    assert!(
+        (m - groups[0]["factor"].as_f64().unwrap()).abs() < 1e-12,
+        "{spot}"
+    );
     std::fs::remove_dir_all(&d).ok();
 }
 
@@ -237,7 +318,11 @@ fn bad_fits_are_refused() {
             "is already in group 'a'",
         ),
         (vec!["--group", "noequals"], 2, "expected NAME=PATTERN"),
-        (vec!["--max-factor", "0"], 2, "--max-factor must be a number > 0"),
+        (
+            vec!["--max-factor", "0"],
+            2,
+            "--max-factor must be a number > 0",
+        ),
         (
             vec!["--targets", "samples/office/targets.json"],
             2,
@@ -272,7 +357,10 @@ fn bad_fits_are_refused() {
     .unwrap();
     let (code, _, err) = bake(&["fit", office, "--design", s(&zero), "-o", s(&out)]);
     assert_eq!(code, Some(1), "{err}");
-    assert!(err.contains("zero.csv") && err.contains("designed at 0 lx"), "{err}");
+    assert!(
+        err.contains("zero.csv") && err.contains("designed at 0 lx"),
+        "{err}"
+    );
     assert!(!out.exists());
     // Never over the input.
     let (code, _, err) = bake(&["fit", office, "--design", design, "-o", office]);

@@ -301,7 +301,10 @@ fn a_scene_without_nodes_is_valid() {
     let mut b = Builder::new();
     let mesh = b.simple_mesh(&TRIANGLE, None, None, None);
     b.node(json!({"mesh": mesh, "name": "a"}));
-    b.set("scenes", json!([{"name": "lit", "nodes": [0]}, {"name": "empty"}]));
+    b.set(
+        "scenes",
+        json!([{"name": "lit", "nodes": [0]}, {"name": "empty"}]),
+    );
     let scene = load_ok(&b.write_gltf(dir.path(), "two.gltf", Bin::DataUri));
     assert_eq!(scene.name.as_deref(), Some("lit"));
     assert_eq!(scene.surfaces.len(), 1);

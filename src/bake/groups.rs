@@ -83,8 +83,7 @@ pub fn bake_groups(
     drop(base);
 
     let mut out = Vec::with_capacity(groups.len());
-    for ((scene, (meshed, vertex_direct, flux, _)), radiosity) in
-        groups.iter().zip(lit).zip(solved)
+    for ((scene, (meshed, vertex_direct, flux, _)), radiosity) in groups.iter().zip(lit).zip(solved)
     {
         if let Some(w) = solve::warning(&radiosity.stats, params.tolerance) {
             progress.warn(&w);

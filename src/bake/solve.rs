@@ -110,7 +110,13 @@ pub fn stage_many(
         let (reflected, stats) = solve::gmres(apply, &b, &areas, tolerance, 2_000, 40);
         let indirect_patch = operator.apply(&reflected);
         let indirect_vertex = operator.gather_receivers(&reflected);
-        solved.push((reflected, direct_patch, indirect_patch, indirect_vertex, stats));
+        solved.push((
+            reflected,
+            direct_patch,
+            indirect_patch,
+            indirect_vertex,
+            stats,
+        ));
     }
     drop(operator);
     // The rows are done with: keep what the energy report needs.

@@ -95,9 +95,9 @@ fn areas_from(scene: &Path, file: &Path, rows: &mut [DesignRow]) -> Result<()> {
             )
             .into());
         }
-        let row = lookup.surface_row(&baked, &key).map_err(|e| {
-            Error::input(file, format!("line {}", r.line), format!("{e}"))
-        })?;
+        let row = lookup
+            .surface_row(&baked, &key)
+            .map_err(|e| Error::input(file, format!("line {}", r.line), format!("{e}")))?;
         if let Some(given) = r.area
             && (given - row.area).abs() > 0.01 * row.area
         {

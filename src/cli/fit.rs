@@ -26,7 +26,12 @@ pub struct FitArgs {
     scene: PathBuf,
     /// The design: a flux-table CSV (`name,area_m2,reflectance,illuminance_lx[,surface]`; its
     /// `surface`, else its name, names the node path, `material:NAME` or `working_plane`).
-    #[arg(long, value_name = "TABLE.csv", required_unless_present = "targets", conflicts_with = "targets")]
+    #[arg(
+        long,
+        value_name = "TABLE.csv",
+        required_unless_present = "targets",
+        conflicts_with = "targets"
+    )]
     design: Option<PathBuf>,
     /// The design as a targets file (a JSON object of average illuminances in lx, as `bake
     /// report --targets` reads).
@@ -49,7 +54,12 @@ pub struct FitArgs {
     max_factor: f64,
     /// Working-plane border zone in metres, left out of a working_plane target (as bake report
     /// --border).
-    #[arg(long, value_name = "M", default_value_t = 0.0, allow_negative_numbers = true)]
+    #[arg(
+        long,
+        value_name = "M",
+        default_value_t = 0.0,
+        allow_negative_numbers = true
+    )]
     border: f64,
     /// Output format.
     #[arg(long, value_enum, default_value_t = FormatArg::Table)]

@@ -3,8 +3,8 @@
 
 pub mod bake;
 pub mod design;
-pub mod fit;
 pub mod diff;
+pub mod fit;
 pub mod generate;
 pub mod luminaire;
 pub mod plan;

@@ -59,7 +59,10 @@ pub fn parse(file: &Path, text: &str) -> Result<Vec<DesignRow>> {
             match fields.get(k) {
                 Some(f) => value[column] = f,
                 None => {
-                    return Err(err(line, format!("missing column '{}'", column_name(column))));
+                    return Err(err(
+                        line,
+                        format!("missing column '{}'", column_name(column)),
+                    ));
                 }
             }
         }
@@ -73,7 +76,9 @@ pub fn parse(file: &Path, text: &str) -> Result<Vec<DesignRow>> {
             a => Some(number(a).filter(|a| *a > 0.0).ok_or_else(|| {
                 err(
                     line,
-                    format!("area_m2 must be a number of m² > 0 (or empty: from --scene), got '{a}'"),
+                    format!(
+                        "area_m2 must be a number of m² > 0 (or empty: from --scene), got '{a}'"
+                    ),
                 )
             })?),
         };
@@ -134,7 +139,8 @@ fn header(fields: &[String]) -> Result<Vec<usize>, String> {
     }
     let mut order = Vec::new();
     for f in fields {
-        let Some(k) = (0..COLUMNS.len() + OPTIONAL.len()).find(|&k| column_name(k).eq_ignore_ascii_case(f))
+        let Some(k) =
+            (0..COLUMNS.len() + OPTIONAL.len()).find(|&k| column_name(k).eq_ignore_ascii_case(f))
         else {
             return Err(format!(
                 "unknown column '{f}' (expected {}, optionally {})",
@@ -159,7 +165,10 @@ fn header(fields: &[String]) -> Result<Vec<usize>, String> {
 
 /// Column `k` of [`COLUMNS`] then [`OPTIONAL`].
 fn column_name(k: usize) -> &'static str {
-    COLUMNS.get(k).copied().unwrap_or_else(|| OPTIONAL[k - COLUMNS.len()])
+    COLUMNS
+        .get(k)
+        .copied()
+        .unwrap_or_else(|| OPTIONAL[k - COLUMNS.len()])
 }
 
 /// A finite number, or `None`.

@@ -20,7 +20,11 @@ pub fn solve(m: &[Vec<f64>], y: &[f64], upper: f64) -> Vec<f64> {
     let mut x = vec![0.0; n];
     let mut state = vec![State::Lower; n];
     let scale = (0..n)
-        .map(|j| (m.iter().zip(y)).map(|(r, yi)| (r[j] * yi).abs()).sum::<f64>())
+        .map(|j| {
+            (m.iter().zip(y))
+                .map(|(r, yi)| (r[j] * yi).abs())
+                .sum::<f64>()
+        })
         .fold(0.0, f64::max)
         .max(f64::MIN_POSITIVE);
     for _ in 0..(3 * n + 10) {
@@ -169,7 +173,9 @@ mod tests {
         // Deterministic pseudo-random 8×5 problem; check the KKT conditions.
         let mut s = 12345u64;
         let mut r = || {
-            s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             ((s >> 33) as f64) / (1u64 << 31) as f64
         };
         let m: Vec<Vec<f64>> = (0..8).map(|_| (0..5).map(|_| r()).collect()).collect();

@@ -55,7 +55,10 @@ pub fn sources(scene: &Scene) -> Vec<(SourceId, Vec<String>)> {
     for (i, l) in scene.luminaires.iter().enumerate() {
         let profile = scene.profiles[l.profile].name.clone();
         let names = [node_name(l.node), l.name.clone(), profile];
-        out.push((SourceId::Luminaire(i), names.into_iter().flatten().collect()));
+        out.push((
+            SourceId::Luminaire(i),
+            names.into_iter().flatten().collect(),
+        ));
     }
     for (i, m) in scene.materials.iter().enumerate() {
         if m.emission.is_some() {
@@ -107,8 +110,8 @@ pub fn default_groups(scene: &Scene, by: GroupBy) -> Vec<Group> {
                         continue;
                     }
                     by_profile[p] = Some(groups.len());
-                    let name = (scene.profiles[p].name.clone())
-                        .unwrap_or_else(|| format!("profile {p}"));
+                    let name =
+                        (scene.profiles[p].name.clone()).unwrap_or_else(|| format!("profile {p}"));
                     groups.push(Group {
                         name,
                         sources: vec![id],
@@ -265,8 +268,8 @@ fn scale_emission(s: &mut Scene, m: usize, x: f64) {
     };
     *amount *= x;
     let amount = *amount;
-    if let Some(Value::Object(emission)) = (material.display.luxbake_extension.as_mut())
-        .and_then(|ext| ext.get_mut("emission"))
+    if let Some(Value::Object(emission)) =
+        (material.display.luxbake_extension.as_mut()).and_then(|ext| ext.get_mut("emission"))
     {
         emission.remove("luminance");
         emission.remove("luminousFlux");

@@ -50,6 +50,11 @@ pub struct GroupFactor {
     /// The sources in it, by name.
     pub sources: Vec<String>,
     pub factor: f64,
+    /// The factor is the largest allowed: the design wants more light from this group than
+    /// `max_factor` gives (raise it, or add luminaires).
+    pub at_maximum: bool,
+    /// The factor is 0: the design is better off without this group.
+    pub off: bool,
 }
 
 /// One designed surface.
@@ -141,7 +146,12 @@ pub fn fit(
         let mesh_scene = groups::scaled(scene, groups, &factors);
         responses = measure(&mesh_scene, &lit, design, settings, options, progress)?;
         passes += 1;
-        let next = solve(&responses, &design.targets, groups.len(), options.max_factor);
+        let next = solve(
+            &responses,
+            &design.targets,
+            groups.len(),
+            options.max_factor,
+        );
         // Solved on the mesh the factors it started from make: done when they hardly move.
         let largest = next.iter().fold(0.0_f64, |a, b| a.max(*b));
         let moved = (next.iter().zip(&factors)).any(|(a, b)| (a - b).abs() > 1e-3 * largest);
@@ -160,7 +170,10 @@ pub fn fit(
                 true => 0.0,
                 false => responses[groups.len()][s],
             };
-            let achieved = fixed_lx + (response.iter().zip(&factors)).map(|(a, x)| a * x).sum::<f64>();
+            let achieved = fixed_lx
+                + (response.iter().zip(&factors))
+                    .map(|(a, x)| a * x)
+                    .sum::<f64>();
             SurfaceFit {
                 name: name.clone(),
                 key: key.clone(),
@@ -172,7 +185,10 @@ pub fn fit(
             }
         })
         .collect();
-    let rms = (surfaces.iter().map(|s| (s.ratio - 1.0).powi(2)).sum::<f64>()
+    let rms = (surfaces
+        .iter()
+        .map(|s| (s.ratio - 1.0).powi(2))
+        .sum::<f64>()
         / surfaces.len().max(1) as f64)
         .sqrt();
     let fit = Fit {
@@ -183,9 +199,14 @@ pub fn fit(
                     .map(|&id| groups::describe(scene, id))
                     .collect(),
                 factor,
+                at_maximum: factor >= options.max_factor,
+                off: factor == 0.0,
             })
             .collect(),
-        fixed_sources: fixed.iter().map(|&id| groups::describe(scene, id)).collect(),
+        fixed_sources: fixed
+            .iter()
+            .map(|&id| groups::describe(scene, id))
+            .collect(),
         surfaces,
         rms_relative_error: rms,
         max_factor: options.max_factor,

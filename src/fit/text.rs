@@ -20,9 +20,14 @@ pub(super) fn render(fit: &Fit, format: Format) -> String {
 fn sections(fit: &Fit, markdown: bool) -> String {
     let mut groups: Vec<Vec<String>> = (fit.groups.iter())
         .map(|g| {
+            let bound = match (g.at_maximum, g.off) {
+                (true, _) => " (max)",
+                (_, true) => " (off)",
+                _ => "",
+            };
             vec![
                 g.name.clone(),
-                format!("{:.4}", g.factor),
+                format!("{:.4}{bound}", g.factor),
                 g.sources.len().to_string(),
                 list(&g.sources),
             ]
@@ -70,7 +75,15 @@ fn sections(fit: &Fit, markdown: bool) -> String {
             cells: surfaces,
         },
     ];
-    crate::table::render(&sections, markdown)
+    let mut out = crate::table::render(&sections, markdown);
+    if fit.groups.iter().any(|g| g.at_maximum) {
+        out += &format!(
+            "\nnote: a group at (max) wants more light than a factor of {} gives: raise \
+             --max-factor or add luminaires\n",
+            fit.max_factor
+        );
+    }
+    out
 }
 
 fn csv(fit: &Fit) -> String {

@@ -103,7 +103,12 @@ pub(super) fn room(out: &mut String, input: &BakedOutput, s: Option<&RunSummary>
 
 pub(super) fn luminaires(out: &mut String, rows: &[report::ScheduleRow], rep: &Report) {
     out.push_str("<section id=\"luminaires\">\n<h2>Luminaire schedule</h2>\n");
-    section(out, "schedule", "Luminaires by type", &report::text::schedule(rows));
+    section(
+        out,
+        "schedule",
+        "Luminaires by type",
+        &report::text::schedule(rows),
+    );
     out.push_str(
         "<p class=\"note\">Lamp lm: rated lamp flux of one luminaire (its profile); LOR: light \
          output ratio; MF: maintenance factor; dimming: the scene's multiplier; emitted: flux \

@@ -103,8 +103,11 @@ pub(super) fn parse(ctx: &mut Ctx, bytes: &[u8]) -> Result<Parsed> {
 
 /// Some scene object has no `nodes` member.
 fn scenes_without_nodes(raw: &Value) -> bool {
-    (raw.get("scenes").and_then(Value::as_array).into_iter().flatten())
-        .any(|s| s.is_object() && s.get("nodes").is_none())
+    (raw.get("scenes")
+        .and_then(Value::as_array)
+        .into_iter()
+        .flatten())
+    .any(|s| s.is_object() && s.get("nodes").is_none())
 }
 
 /// Every primitive's `POSITION` names an existing accessor: the `gltf` crate's validation indexes
