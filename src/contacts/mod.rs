@@ -8,8 +8,10 @@
 //! further than the gap (and than a twentieth of the extent of U's surface), over the part of T
 //! that U's outline (projected along U's normal) overlaps. Coplanar U facing the same way (a rug drawn on a floor) covers T when U's surface
 //! is the smaller; coplanar U facing the other way covers T only when the space just in front
-//! of T there is inside a solid (a cube's bottom on a floor: yes; the two faces of a slab drawn
-//! back to back: no).
+//! of T there is inside a solid (the floor under a cube's bottom: yes; the two faces of a slab
+//! drawn back to back: no), or when T closes a solid (just behind it is inside one) and nothing
+//! but backs is seen in front of it (the cube's bottom itself, looking below the floor). Covers
+//! of less than a quarter patch are dropped unless they cover their triangle whole.
 //!
 //! Invariants: covers depend on the scene and the gap only (never on the thread count); a
 //! cover's outline half-planes are computed once from U, so every triangle it cuts splits a
@@ -188,15 +190,21 @@ pub fn find(scene: &Scene, gap: f64, occ: &Occluder) -> Contacts {
                     context.seam(t, &tris[u as usize], &mut m);
                 }
                 // What a surface covers of this triangle smaller than a quarter patch (a desk
-                // leg's foot) is left uncut: the mesh cannot show it, and cutting it costs patches.
+                // leg's foot on a floor) is left uncut: the mesh cannot show it, and cutting it
+                // costs patches. A triangle covered whole (the foot's own bottom, on the floor)
+                // needs no cut: it is kept, however small.
                 let covered_by = |by: u32, back: bool| -> f64 {
                     (c.iter().filter(|x: &&Cover| x.by == by && x.back == back))
                         .map(|x| x.area)
                         .sum()
                 };
+                let whole = (t.p[1] - t.p[0]).cross(t.p[2] - t.p[0]).length() / 2.0 * (1.0 - 1e-6);
                 let keep: Vec<bool> = c
                     .iter()
-                    .map(|x| covered_by(x.by, x.back) >= min_area)
+                    .map(|x| {
+                        let a = covered_by(x.by, x.back);
+                        a >= min_area || a >= whole
+                    })
                     .collect();
                 let mut k = keep.iter();
                 c.retain(|_| *k.next().expect("one flag per cover"));
@@ -260,6 +268,18 @@ fn inside_solid(occ: &Occluder, p: DVec3, n: DVec3) -> Option<f64> {
         }
     }
     (backs >= 3).then_some(depth)
+}
+
+/// Whether nothing but backs of surfaces is seen from just in front of `p` (unit normal `n`):
+/// the five rays of [`inside_solid`] each escape or meet a back face.
+fn sees_nothing(occ: &Occluder, p: DVec3, n: DVec3) -> bool {
+    let start = p + n * (4.0 * occ.epsilon);
+    let u = n.any_orthonormal_vector();
+    let v = n.cross(u);
+    [n, n + u, n - u, n + v, n - v]
+        .map(|d| d.normalize())
+        .iter()
+        .all(|&d| occ.closest(start, d).is_none_or(|h| h.normal.dot(d) > 0.0))
 }
 
 /// Pieces cut along seams are covered on a side when the space just in front of it is inside a
@@ -328,8 +348,12 @@ impl Context<'_> {
                     a < b || (a == b && (u.surface, u.index) > (t.surface, t.index))
                 } else {
                     // Face to face, or back to back (a slab drawn as two faces)? Face to face
-                    // when the space just in front is inside a solid.
+                    // when the space just in front is inside a solid (the floor under a cube's
+                    // bottom). And a face closing a solid whose front, behind `u`, sees nothing
+                    // (the cube's bottom itself: below the floor no light comes from anywhere).
                     inside_solid(self.occ, centre, n).is_some()
+                        || (inside_solid(self.occ, centre, -n).is_some()
+                            && sees_nothing(self.occ, centre, n))
                 };
                 if !covers {
                     continue;
@@ -556,6 +580,14 @@ mod tests {
         );
         assert_eq!(t_junctions(floor), 0);
         assert!(!contacts.seams[0].is_empty() && !contacts.covers[0].is_empty());
+        // The cube's bottom face is covered by the floor too: below the floor nothing is seen.
+        // Surfaces: the floor, five room faces, then the cube's bottom (box_faces' first).
+        let bottom = contacts.cut(6).expect("the cube's bottom is cut");
+        let (all, covered) = areas(bottom);
+        assert!(
+            (covered - all).abs() < 1e-9 && (all - 0.36).abs() < 1e-9,
+            "{all} {covered}"
+        );
     }
 
     #[test]
