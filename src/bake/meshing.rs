@@ -76,10 +76,7 @@ pub fn stage<'a>(
     let bounds = ProfileBounds::new(scene);
     let contacts = contacts::find(scene, contact_gap(h), occluder);
     let (mesh, adaptive) = mesh(scene, settings, h, occluder, &bounds, &contacts);
-    let emitted = emitters::patch_exitance(scene, &mesh);
-    let exitance = emitters::diffuse_part(scene, &mesh, &emitted);
-    let sources = DirectSource::all(scene, &mesh, &emitted, &bounds);
-    let lights = DirectLight::new(sources, &mesh, &exitance, tau_direct);
+    let (emitted, exitance, lights) = light(scene, &mesh, &bounds, tau_direct, |_| true);
     let contacts = ContactsRecord {
         gap_m: contacts.gap,
         covers: contacts.count(),
@@ -103,11 +100,8 @@ pub fn stage<'a>(
 pub fn relight<'a>(base: &Meshed, scene: &'a Scene, tau_direct: f64) -> Meshed<'a> {
     let mesh = base.mesh.clone();
     let bounds = ProfileBounds::new(scene);
-    let emitted = emitters::patch_exitance(scene, &mesh);
-    let exitance = emitters::diffuse_part(scene, &mesh, &emitted);
-    let mut sources = DirectSource::all(scene, &mesh, &emitted, &bounds);
-    sources.retain(|s| !matches!(s, DirectSource::Punctual(l) if l.intensity == 0.0));
-    let lights = DirectLight::new(sources, &mesh, &exitance, tau_direct);
+    let lit = |s: &DirectSource| !matches!(s, DirectSource::Punctual(l) if l.intensity == 0.0);
+    let (emitted, exitance, lights) = light(scene, &mesh, &bounds, tau_direct, lit);
     Meshed {
         mesh,
         adaptive: base.adaptive.clone(),
@@ -116,6 +110,23 @@ pub fn relight<'a>(base: &Meshed, scene: &'a Scene, tau_direct: f64) -> Meshed<'
         exitance,
         lights,
     }
+}
+
+/// What each patch of `mesh` emits (all of it, and its Lambertian part) and the direct sources
+/// on it that `keep` takes.
+fn light<'a>(
+    scene: &'a Scene,
+    mesh: &PatchMesh,
+    bounds: &ProfileBounds,
+    tau_direct: f64,
+    keep: impl Fn(&DirectSource) -> bool,
+) -> (Vec<DVec3>, Vec<DVec3>, DirectLight<'a>) {
+    let emitted = emitters::patch_exitance(scene, mesh);
+    let exitance = emitters::diffuse_part(scene, mesh, &emitted);
+    let mut sources = DirectSource::all(scene, mesh, &emitted, bounds);
+    sources.retain(|s| keep(s));
+    let lights = DirectLight::new(sources, mesh, &exitance, tau_direct);
+    (emitted, exitance, lights)
 }
 
 /// Build the patch mesh for patch size `h`.

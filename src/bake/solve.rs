@@ -37,6 +37,7 @@ pub struct Radiosity {
 }
 
 /// How many links the rows had.
+#[derive(Clone, Copy)]
 pub struct LinkCounts {
     pub links: usize,
     pub cluster_links: usize,
@@ -120,12 +121,11 @@ pub fn stage_many(
     }
     drop(operator);
     // The rows are done with: keep what the energy report needs.
-    let counts = || LinkCounts {
+    let counts = LinkCounts {
         links: links.link_count(),
         cluster_links: links.far_links().filter(|l| l.is_cluster()).count(),
         closed_receivers: links.closed.iter().filter(|c| **c).count(),
     };
-    let counts_each: Vec<LinkCounts> = solved.iter().map(|_| counts()).collect();
     let back = std::mem::take(&mut links.back);
     let closed = std::mem::take(&mut links.closed);
     drop(links);
@@ -134,8 +134,8 @@ pub fn stage_many(
     let n = solved.len();
     let mut tree = Some(tree);
     let mut out = Vec::with_capacity(n);
-    for (k, ((reflected, direct_patch, indirect_patch, indirect_vertex, stats), counts)) in
-        solved.into_iter().zip(counts_each).enumerate()
+    for (k, (reflected, direct_patch, indirect_patch, indirect_vertex, stats)) in
+        solved.into_iter().enumerate()
     {
         let tree = match k + 1 == n {
             true => tree.take().expect("the last solution takes the tree"),

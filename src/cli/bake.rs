@@ -137,6 +137,18 @@ pub enum UpArg {
     Z,
 }
 
+/// The settings' worker threads (a warning when more than the cores were asked for).
+pub fn worker_pool(settings: &Settings, progress: &dyn Progress) -> Result<rayon::ThreadPool> {
+    let (threads, clamped) = settings.worker_threads();
+    if let Some(w) = clamped {
+        progress.warn(&w);
+    }
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .context("cannot start worker threads")
+}
+
 /// Validate the raw arguments into settings (no work done yet).
 pub fn settings(args: &SettingsArgs) -> Result<Settings> {
     let exposure = match args.exposure.trim() {
@@ -231,14 +243,7 @@ pub fn run(args: &BakeArgs) -> Result<()> {
     for w in &scene.warnings {
         progress.warn(w);
     }
-    let (threads, clamped) = settings.worker_threads();
-    if let Some(w) = clamped {
-        progress.warn(&w);
-    }
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .context("cannot start worker threads")?;
+    let pool = worker_pool(&settings, &progress)?;
     let result = pool.install(|| luxbake::bake::bake(&scene, &settings, &progress))?;
     let options = ExportOptions {
         unlit: !settings.keep_lit_materials,
@@ -273,7 +278,7 @@ pub fn run(args: &BakeArgs) -> Result<()> {
             summary: &summary,
             input,
             output,
-            threads,
+            threads: pool.current_num_threads(),
             total_seconds: total,
         };
         batch.stage(path, &export::summary::bytes(&record))?;

@@ -8,7 +8,7 @@
 use super::bake::{SettingsArgs, UpArg};
 use super::progress::CliProgress;
 use super::report::FormatArg;
-use anyhow::{Context, Result};
+use anyhow::Result;
 use clap::{Args, ValueEnum};
 use luxbake::Error;
 use luxbake::export;
@@ -139,14 +139,7 @@ pub fn run(args: &FitArgs) -> Result<()> {
         ),
         false => fit::groups::parse_groups(&scene, &args.groups)?,
     };
-    let (threads, clamped) = settings.worker_threads();
-    if let Some(w) = clamped {
-        progress.warn(&w);
-    }
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .context("cannot start worker threads")?;
+    let pool = super::bake::worker_pool(&settings, &progress)?;
     let options = fit::Options {
         max_factor: args.max_factor,
         border: args.border,
