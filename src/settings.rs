@@ -65,6 +65,17 @@ impl Quality {
         }
     }
 
+    /// How far the first-bounce light may spread across the gathered receivers a vertex reads
+    /// (fraction of its illuminance) for it to read their rows instead of gathering its own
+    /// (`transport::sharing`); 0 gathers at every vertex.
+    pub fn receiver_tolerance(self) -> f64 {
+        match self {
+            Quality::Draft => 0.03,
+            Quality::Default => 0.01,
+            Quality::High => 0.0,
+        }
+    }
+
     /// How far a lightmap triangle's interpolated inter-reflected light may miss a gather at
     /// its middle texel (fraction of the texel's illuminance) before every texel is gathered.
     pub fn lightmap_tolerance(self) -> f64 {
@@ -110,6 +121,9 @@ pub struct Settings {
     pub gather_black: bool,
     /// Patches of one size everywhere instead of adaptive meshing (see `bake::meshing`).
     pub uniform_patches: bool,
+    /// Vertices share gathers where the light's estimate spreads by at most this fraction
+    /// (`--receiver-tolerance`); `None`: the quality's; 0 gathers at every vertex.
+    pub receiver_tolerance: Option<f64>,
     /// A grid of probes over the floor (`--probe-grid SPACING --probe-height H`).
     pub probe_grid: Option<ProbeGrid>,
     /// Probes given explicitly (read from a `--probes` CSV file by the caller).
@@ -175,6 +189,7 @@ impl Default for Settings {
             always_trace: false,
             gather_black: false,
             uniform_patches: false,
+            receiver_tolerance: None,
             probe_grid: None,
             extra_probes: Vec::new(),
             working_plane: None,
@@ -198,6 +213,13 @@ impl Settings {
 
     /// Check every value; the bake assumes a validated `Settings`.
     pub fn validate(&self) -> Result<()> {
+        if let Some(t) = self.receiver_tolerance
+            && !(t.is_finite() && (0.0..1.0).contains(&t))
+        {
+            return Err(Error::Settings(format!(
+                "--receiver-tolerance must be in [0, 1), got {t}"
+            )));
+        }
         if let Some(h) = self.patch_size
             && !(h.is_finite() && h > 0.0)
         {

@@ -61,6 +61,9 @@ pub struct SettingsRecord {
     pub exposure: Exposure,
     pub keep_lit_materials: bool,
     pub uniform_patches: bool,
+    /// `--receiver-tolerance` as asked (absent: the quality's).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub receiver_tolerance: Option<f64>,
     #[serde(deserialize_with = "required")]
     pub probe_grid: Option<ProbeGrid>,
     /// The working plane (height above the floor and spacing, m); `null`: none.
@@ -81,6 +84,7 @@ impl From<&Settings> for SettingsRecord {
             exposure: s.exposure,
             keep_lit_materials: s.keep_lit_materials,
             uniform_patches: s.uniform_patches,
+            receiver_tolerance: s.receiver_tolerance,
             probe_grid: s.probe_grid,
             working_plane: s.working_plane,
             probe_glyphs: s.probe_glyphs,
@@ -103,6 +107,10 @@ pub struct Counts {
     pub cluster_links: usize,
     /// Receivers whose rows were normalised because they are enclosed.
     pub closed_receivers: usize,
+    /// Receivers that gathered their own rows; the others read a blend of those
+    /// (`transport::sharing`).
+    #[serde(default)]
+    pub gathered_receivers: usize,
     /// Shadow and escape rays traced, in all and by stage.
     pub rays: u64,
     pub rays_by_stage: RaysByStage,

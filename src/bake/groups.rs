@@ -19,6 +19,9 @@ use crate::result::BakeResult;
 use crate::scene::{Scene, Surface};
 use crate::settings::Settings;
 use crate::visibility::{Occluder, OccluderOptions};
+use direct::PatchFlux;
+use glam::DVec3;
+use meshing::Meshed;
 
 /// Bake `groups` (each a scene lit by one group of sources) on the mesh of `mesh_scene`.
 pub fn bake_groups(
@@ -52,12 +55,6 @@ pub fn bake_groups(
         meshing::stage(mesh_scene, settings, h, &occluder, params.tau_direct)
     });
     let n = base.mesh.receivers.len() as u64;
-    progress.stage("form factors", n);
-    let rows = run.time(Stage::Links, || {
-        links::stage(mesh_scene, settings, params.tau, &base, &occluder)
-    });
-    run.rays(RayStage::Links, &occluder);
-
     let mut lit = Vec::with_capacity(groups.len());
     for scene in groups {
         progress.stage("direct light", n);
@@ -72,6 +69,33 @@ pub fn bake_groups(
         lit.push((meshed, vertex_direct, flux, light_flux));
     }
     run.rays(RayStage::DirectAtReceivers, &occluder);
+    // Light is linear in the sources: the groups' direct light summed is the whole scene's, what
+    // the shared gathers' estimate reads (the same rows as a plain bake of the scene).
+    let sum = |k: usize| {
+        let pick = |l: &(Meshed, Vec<DVec3>, PatchFlux, Vec<DVec3>)| match k {
+            0 => l.1.clone(),
+            _ => l.3.clone(),
+        };
+        let mut total = pick(&lit[0]);
+        for l in &lit[1..] {
+            total.iter_mut().zip(pick(l)).for_each(|(t, x)| *t += x);
+        }
+        total
+    };
+    progress.stage("form factors", n);
+    let rows = run.time(Stage::Links, || {
+        let (direct, flux) = match lit.is_empty() {
+            true => (
+                vec![DVec3::ZERO; n as usize],
+                vec![DVec3::ZERO; base.mesh.patches.len()],
+            ),
+            false => (sum(0), sum(1)),
+        };
+        links::stage(
+            mesh_scene, settings, params.tau, &base, &occluder, &direct, &flux,
+        )
+    });
+    run.rays(RayStage::Links, &occluder);
 
     progress.stage("solving", 0);
     let rhs = (lit.iter_mut())

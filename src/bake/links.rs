@@ -1,13 +1,16 @@
 //! The links stage: every vertex's view of the patch hierarchy, gathered once and kept as the
 //! rows the solver applies (see `transport::links`).
 //!
-//! Input: the meshed scene and the occluder. Output: [`Rows`]: the tree of all patches, each
-//! patch's reflectance, the black nodes nobody gathers from, and the vertices' rows.
+//! Input: the meshed scene, the occluder, and the direct light (at each vertex, and as flux into
+//! each patch: what estimates the light where vertices share gathers, `transport::sharing`).
+//! Output: [`Rows`]: the tree of all patches, each patch's reflectance, the black nodes nobody
+//! gathers from, and the vertices' rows.
 
 use super::meshing::Meshed;
 use crate::patches::PatchMesh;
 use crate::scene::Scene;
 use crate::settings::Settings;
+use crate::transport::sharing::{self, Sharing};
 use crate::transport::{gather::Gatherer, links::ReceiverLinks, tree::PatchTree};
 use crate::visibility::Occluder;
 use glam::DVec3;
@@ -33,6 +36,8 @@ pub fn stage(
     tau: f64,
     meshed: &Meshed,
     occluder: &Occluder,
+    vertex_direct: &[DVec3],
+    light_flux: &[DVec3],
 ) -> Rows {
     let mesh: &PatchMesh = &meshed.mesh;
     let tree = PatchTree::build(mesh, (0..mesh.patches.len() as u32).collect());
@@ -55,7 +60,25 @@ pub fn stage(
     let links = match dark.as_ref().is_some_and(|d| d[0]) {
         // Black throughout: nothing is reflected, so there is nothing to gather.
         true => ReceiverLinks::none(mesh.receivers.len(), tree.nodes.len()),
-        false => ReceiverLinks::build(&gatherer, &mesh.receivers),
+        false => {
+            let tolerance = settings
+                .receiver_tolerance
+                .unwrap_or(settings.quality.receiver_tolerance());
+            match tolerance > 0.0 {
+                false => ReceiverLinks::build(&gatherer, &mesh.receivers),
+                true => {
+                    let first_bounce: Vec<DVec3> = (0..mesh.patches.len())
+                        .map(|p| meshed.exitance[p] + rho[p] * light_flux[p] / mesh.patches[p].area)
+                        .collect();
+                    let sharing = Sharing {
+                        tolerance,
+                        direct: vertex_direct,
+                        first_bounce: &first_bounce,
+                    };
+                    sharing::build(&gatherer, &mesh.receivers, &sharing)
+                }
+            }
+        }
     };
     Rows {
         tree,

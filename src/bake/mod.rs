@@ -156,7 +156,15 @@ pub fn solve<'a>(
 
     progress.stage("form factors", n);
     let rows = run.time(Stage::Links, || {
-        links::stage(scene, settings, params.tau, &meshed, &occluder)
+        links::stage(
+            scene,
+            settings,
+            params.tau,
+            &meshed,
+            &occluder,
+            &vertex_direct,
+            &flux.per_patch,
+        )
     });
     run.rays(RayStage::Links, &occluder);
 
@@ -227,6 +235,7 @@ fn summary_of(
             links: radiosity.counts.links,
             cluster_links: radiosity.counts.cluster_links,
             closed_receivers: radiosity.counts.closed_receivers,
+            gathered_receivers: radiosity.counts.gathered_receivers,
             rays: occluder.rays_traced(),
             rays_by_stage: run.rays,
             convex_empty_scene: occluder.convex_empty,

@@ -42,6 +42,7 @@ pub struct LinkCounts {
     pub links: usize,
     pub cluster_links: usize,
     pub closed_receivers: usize,
+    pub gathered_receivers: usize,
 }
 
 impl Radiosity {
@@ -125,6 +126,7 @@ pub fn stage_many(
         links: links.link_count(),
         cluster_links: links.far_links().filter(|l| l.is_cluster()).count(),
         closed_receivers: links.closed.iter().filter(|c| **c).count(),
+        gathered_receivers: links.rows(),
     };
     let back = std::mem::take(&mut links.back);
     let closed = std::mem::take(&mut links.closed);

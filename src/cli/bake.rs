@@ -117,6 +117,11 @@ pub struct SettingsArgs {
     /// gather (default per quality: 0.03, 0.01, 0); 0 gathers at every texel.
     #[arg(long, value_name = "FRACTION", requires = "lightmaps", hide = true)]
     lightmap_tolerance: Option<f64>,
+    /// Vertices read nearby vertices' gathers where the first-bounce light spreads across them by
+    /// at most this fraction of the illuminance (default per quality: 0.03, 0.01, 0); 0 gathers
+    /// at every vertex.
+    #[arg(long, value_name = "FRACTION")]
+    receiver_tolerance: Option<f64>,
     /// Record stage timings in the output's extras (makes bakes differ from run to run).
     #[arg(long)]
     timings_in_output: bool,
@@ -178,6 +183,7 @@ pub fn settings(args: &SettingsArgs) -> Result<Settings> {
         uniform_patches: args.uniform_patches,
         always_trace: args.always_trace,
         gather_black: args.gather_black,
+        receiver_tolerance: args.receiver_tolerance,
         lightmaps: args.lightmaps.then_some(LightmapSettings {
             texel_size: args.texel_size,
             max_size: args.lightmap_size,

@@ -22,11 +22,16 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 pub struct ReceiverLinks {
-    /// The rows of receivers `k·CHUNK .. (k+1)·CHUNK` in chunk k, each chunk's links in one
-    /// exactly sized allocation: the rows are never copied into one array, whose doubling (and
-    /// the slack of rows grown link by link) set the bake's peak memory on large scenes.
+    /// The gathered rows, `CHUNK` to a chunk, each chunk's links in one exactly sized
+    /// allocation: the rows are never copied into one array, whose doubling (and the slack of
+    /// rows grown link by link) set the bake's peak memory on large scenes. Rows are appended
+    /// in batches ([`ReceiverLinks::append`]); a batch's last chunk may be short.
     chunks: Vec<RowChunk>,
-    /// Coverage before normalisation.
+    /// Per batch: its first row and its first chunk.
+    batches: Vec<(u32, u32)>,
+    /// How receivers read rows; `None`: receiver r reads row r.
+    blend: Option<Blend>,
+    /// Coverage before normalisation, per receiver.
     pub coverage: Vec<f32>,
     /// Fraction covered by back faces (after normalisation for closed receivers).
     pub back: Vec<f32>,
@@ -38,6 +43,24 @@ pub struct ReceiverLinks {
     /// The nodes cluster links name: the only ones whose normal distributions the solver's
     /// node fields need.
     pub clusters: ClusterSlots,
+}
+
+/// Receivers whose rows are weighted means of gathered rows (`transport::sharing`): receiver
+/// r's row is Σ weight × row over `terms[at[r]..at[r + 1]]`, the weights summing to 1.
+pub struct Blend {
+    pub at: Vec<u32>,
+    pub terms: Vec<(u32, f32)>,
+    /// The receiver each row was gathered at.
+    pub gathered_at: Vec<u32>,
+}
+
+/// What a gather says of its receiver besides the links: coverage, back, closed, dark.
+#[derive(Clone, Copy)]
+pub struct RowStats {
+    pub coverage: f32,
+    pub back: f32,
+    pub closed: bool,
+    pub dark: f32,
 }
 
 /// The rows of [`CHUNK`] consecutive receivers: row j is `leaves[leaf_at[j]..leaf_at[j + 1]]`
@@ -61,100 +84,113 @@ const CHUNK: usize = 64;
 
 impl ReceiverLinks {
     pub fn build(gatherer: &Gatherer, receivers: &[Vertex]) -> Self {
-        type Built = (RowChunk, Vec<(f32, f32, bool, f32)>);
-        let built: Vec<Built> = receivers
+        let points: Vec<(DVec3, DVec3)> = receivers.iter().map(|r| (r.point, r.normal)).collect();
+        let mut links = ReceiverLinks::empty(gatherer.dark.is_some());
+        let stats = links.append(gatherer, &points);
+        links.finish(None, &stats, gatherer.tree.nodes.len());
+        links
+    }
+
+    /// No rows yet; `dark`: the gatherer has black nodes.
+    pub fn empty(dark: bool) -> Self {
+        ReceiverLinks {
+            chunks: Vec::new(),
+            batches: Vec::new(),
+            blend: None,
+            coverage: Vec::new(),
+            back: Vec::new(),
+            closed: Vec::new(),
+            dark: if dark { vec![0.0] } else { Vec::new() },
+            clusters: ClusterSlots::named(0, std::iter::empty()),
+        }
+    }
+
+    /// Gather rows at `points` (point, unit normal), appended as rows `rows()..`, in parallel
+    /// over fixed chunks, kept in order: deterministic. Returns what each gather said.
+    pub fn append(&mut self, gatherer: &Gatherer, points: &[(DVec3, DVec3)]) -> Vec<RowStats> {
+        let built: Vec<(RowChunk, Vec<RowStats>)> = points
             .par_chunks(CHUNK)
             .map(|chunk| {
                 let rows: Vec<Row> = chunk
                     .iter()
-                    .map(|r| gather_row(gatherer, r.point, r.normal))
+                    .map(|&(p, n)| gather_row(gatherer, p, n))
                     .collect();
-                let is_leaf = |l: &&Link| l.coeff > 0.0 && l.grad == [0.0; 3];
-                let all = rows.iter().flat_map(|r| &r.links);
-                let n_leaves = all.clone().filter(is_leaf).count();
-                let mut leaves = Vec::with_capacity(n_leaves);
-                let mut far = Vec::with_capacity(all.count() - n_leaves);
-                let (mut leaf_at, mut far_at) = (vec![0], vec![0]);
-                for row in &rows {
-                    for l in &row.links {
-                        if is_leaf(&l) {
-                            leaves.push(Leaf {
-                                node: l.node,
-                                coeff: l.coeff,
-                            });
-                        } else {
-                            far.push(*l);
-                        }
-                    }
-                    leaf_at.push(leaves.len() as u32);
-                    far_at.push(far.len() as u32);
-                }
                 let stats = rows
                     .iter()
-                    .map(|r| (r.coverage as f32, r.back as f32, r.closed, r.dark as f32))
+                    .map(|r| RowStats {
+                        coverage: r.coverage as f32,
+                        back: r.back as f32,
+                        closed: r.closed,
+                        dark: r.dark as f32,
+                    })
                     .collect();
-                let chunk = RowChunk {
-                    leaf_at,
-                    leaves,
-                    far_at,
-                    far,
-                };
-                (chunk, stats)
+                (RowChunk::of(&rows), stats)
             })
             .collect();
-        let mut chunks = Vec::with_capacity(built.len());
-        let mut coverage = Vec::with_capacity(receivers.len());
-        let mut back = Vec::with_capacity(receivers.len());
-        let mut closed = Vec::with_capacity(receivers.len());
-        let mut dark = Vec::with_capacity(gatherer.dark.map_or(0, |_| receivers.len()));
+        self.batches
+            .push((self.rows() as u32, self.chunks.len() as u32));
+        let mut out = Vec::with_capacity(points.len());
         for (chunk, stats) in built {
-            chunks.push(chunk);
-            for (c, b, k, d) in stats {
-                coverage.push(c);
-                back.push(b);
-                closed.push(k);
-                if gatherer.dark.is_some() {
-                    dark.push(d);
-                }
-            }
+            self.chunks.push(chunk);
+            out.extend(stats);
         }
-        let clusters = ClusterSlots::named(
-            gatherer.tree.nodes.len(),
-            chunks
-                .iter()
-                .flat_map(|c| c.far.iter())
-                .filter(|l| l.is_cluster())
-                .map(|l| l.node),
+        out
+    }
+
+    /// Set how receivers read the rows (`None`: receiver r reads row r, one stat per row) and
+    /// their stats: a blended receiver's coverage, back and dark are its terms' weighted means;
+    /// it is closed when all its terms are. `nodes`: the tree's node count.
+    pub fn finish(&mut self, blend: Option<Blend>, rows: &[RowStats], nodes: usize) {
+        let per_receiver: Vec<RowStats> = match &blend {
+            None => rows.to_vec(),
+            Some(b) => (0..b.at.len() - 1)
+                .map(|r| {
+                    let terms = &b.terms[b.at[r] as usize..b.at[r + 1] as usize];
+                    let mean = |f: &dyn Fn(&RowStats) -> f32| {
+                        terms
+                            .iter()
+                            .map(|&(g, w)| w * f(&rows[g as usize]))
+                            .sum::<f32>()
+                    };
+                    RowStats {
+                        coverage: mean(&|s| s.coverage),
+                        back: mean(&|s| s.back),
+                        closed: terms.iter().all(|&(g, _)| rows[g as usize].closed),
+                        dark: mean(&|s| s.dark),
+                    }
+                })
+                .collect(),
+        };
+        self.coverage = per_receiver.iter().map(|s| s.coverage).collect();
+        self.back = per_receiver.iter().map(|s| s.back).collect();
+        self.closed = per_receiver.iter().map(|s| s.closed).collect();
+        if !self.dark.is_empty() {
+            self.dark = per_receiver.iter().map(|s| s.dark).collect();
+        }
+        self.blend = blend;
+        self.clusters = ClusterSlots::named(
+            nodes,
+            self.far_links().filter(|l| l.is_cluster()).map(|l| l.node),
         );
-        ReceiverLinks {
-            chunks,
-            coverage,
-            back,
-            closed,
-            dark,
-            clusters,
-        }
     }
 
     /// No rows at all, for `n` receivers over a tree of `nodes` nodes: a scene that is black
     /// throughout reflects nothing, so nothing needs gathering (each receiver covered by
     /// nothing, enclosed by nothing).
     pub fn none(n: usize, nodes: usize) -> Self {
-        ReceiverLinks {
-            chunks: (0..n.div_ceil(CHUNK))
-                .map(|k| RowChunk {
-                    leaf_at: vec![0; CHUNK.min(n - k * CHUNK) + 1],
-                    leaves: Vec::new(),
-                    far_at: vec![0; CHUNK.min(n - k * CHUNK) + 1],
-                    far: Vec::new(),
-                })
-                .collect(),
-            coverage: vec![0.0; n],
-            back: vec![0.0; n],
-            closed: vec![false; n],
-            dark: Vec::new(),
-            clusters: ClusterSlots::named(nodes, std::iter::empty()),
-        }
+        let mut links = ReceiverLinks::empty(false);
+        links.batches.push((0, 0));
+        links.chunks = (0..n.div_ceil(CHUNK))
+            .map(|k| RowChunk::of(&vec![Row::default(); CHUNK.min(n - k * CHUNK)]))
+            .collect();
+        let stats = RowStats {
+            coverage: 0.0,
+            back: 0.0,
+            closed: false,
+            dark: 0.0,
+        };
+        links.finish(None, &vec![stats; n], nodes);
+        links
     }
 
     /// Did the gatherer have black nodes (so rows leave out what they cover)?
@@ -168,15 +204,57 @@ impl ReceiverLinks {
         self.dark.get(r).copied().unwrap_or(0.0)
     }
 
-    /// Receiver `r`'s row.
-    pub fn row(&self, r: usize) -> RowRef<'_> {
-        let chunk = &self.chunks[r / CHUNK];
-        let j = r % CHUNK;
+    /// Number of gathered rows.
+    pub fn rows(&self) -> usize {
+        self.chunks.iter().map(|c| c.leaf_at.len() - 1).sum()
+    }
+
+    /// Number of receivers.
+    pub fn receivers(&self) -> usize {
+        self.coverage.len()
+    }
+
+    /// Gathered row `g` (receiver g's own row when nothing is blended).
+    pub fn row(&self, g: usize) -> RowRef<'_> {
+        let b = self
+            .batches
+            .partition_point(|&(first, _)| first as usize <= g)
+            - 1;
+        let (first, chunk) = self.batches[b];
+        let k = g - first as usize;
+        let chunk = &self.chunks[chunk as usize + k / CHUNK];
+        let j = k % CHUNK;
         let span = |at: &[u32]| at[j] as usize..at[j + 1] as usize;
         RowRef {
             leaves: &chunk.leaves[span(&chunk.leaf_at)],
             far: &chunk.far[span(&chunk.far_at)],
         }
+    }
+
+    /// The rows receiver `r` reads, with their weights.
+    pub fn terms(&self, r: usize) -> Vec<(u32, f32)> {
+        match &self.blend {
+            None => vec![(r as u32, 1.0)],
+            Some(b) => b.terms[b.at[r] as usize..b.at[r + 1] as usize].to_vec(),
+        }
+    }
+
+    /// The receiver row `g` was gathered at.
+    pub fn gathered_at(&self, g: usize) -> usize {
+        self.blend.as_ref().map_or(g, |b| b.gathered_at[g] as usize)
+    }
+
+    /// Per-receiver weights `at` carried to the rows they read (the blend's transpose), in
+    /// receiver order: deterministic.
+    pub fn to_rows(&self, at: Vec<f64>) -> Vec<f64> {
+        let Some(b) = &self.blend else { return at };
+        let mut out = vec![0.0; self.rows()];
+        for (r, a) in at.iter().enumerate() {
+            for &(g, w) in &b.terms[b.at[r] as usize..b.at[r + 1] as usize] {
+                out[g as usize] += a * w as f64;
+            }
+        }
+        out
     }
 
     /// Every far-field and cluster link of every row (the leaf links aside).
@@ -194,16 +272,70 @@ impl ReceiverLinks {
 
     /// E at every receiver from a node-summarised exitance field.
     pub fn apply(&self, field: &NodeField, out: &mut [DVec3]) {
+        let gather = |g: usize| {
+            let row = self.row(g);
+            field.gather_leaves(row.leaves) + field.gather(row.far)
+        };
+        let Some(b) = &self.blend else {
+            out.par_chunks_mut(256).enumerate().for_each(|(c, chunk)| {
+                for (k, e) in chunk.iter_mut().enumerate() {
+                    *e = gather(c * 256 + k);
+                }
+            });
+            return;
+        };
+        let mut at = vec![DVec3::ZERO; self.rows()];
+        at.par_chunks_mut(256).enumerate().for_each(|(c, chunk)| {
+            for (k, e) in chunk.iter_mut().enumerate() {
+                *e = gather(c * 256 + k);
+            }
+        });
         out.par_chunks_mut(256).enumerate().for_each(|(c, chunk)| {
             for (k, e) in chunk.iter_mut().enumerate() {
-                let row = self.row(c * 256 + k);
-                *e = field.gather_leaves(row.leaves) + field.gather(row.far);
+                let r = c * 256 + k;
+                *e = b.terms[b.at[r] as usize..b.at[r + 1] as usize]
+                    .iter()
+                    .map(|&(g, w)| at[g as usize] * w as f64)
+                    .sum();
             }
         });
     }
 }
 
+impl RowChunk {
+    /// Rows packed: leaf links (no gradient) apart from the rest.
+    fn of(rows: &[Row]) -> Self {
+        let is_leaf = |l: &&Link| l.coeff > 0.0 && l.grad == [0.0; 3];
+        let all = rows.iter().flat_map(|r| &r.links);
+        let n_leaves = all.clone().filter(is_leaf).count();
+        let mut leaves = Vec::with_capacity(n_leaves);
+        let mut far = Vec::with_capacity(all.count() - n_leaves);
+        let (mut leaf_at, mut far_at) = (vec![0], vec![0]);
+        for row in rows {
+            for l in &row.links {
+                if is_leaf(&l) {
+                    leaves.push(Leaf {
+                        node: l.node,
+                        coeff: l.coeff,
+                    });
+                } else {
+                    far.push(*l);
+                }
+            }
+            leaf_at.push(leaves.len() as u32);
+            far_at.push(far.len() as u32);
+        }
+        RowChunk {
+            leaf_at,
+            leaves,
+            far_at,
+            far,
+        }
+    }
+}
+
 /// One point's gather row, normalised when the point is enclosed.
+#[derive(Clone, Default)]
 pub struct Row {
     pub links: Vec<Link>,
     /// Coverage before normalisation.

@@ -8,5 +8,6 @@ pub mod gather;
 pub mod link;
 pub mod links;
 pub mod operator;
+pub mod sharing;
 pub mod silhouette;
 pub mod tree;

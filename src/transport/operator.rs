@@ -122,6 +122,8 @@ impl<'a> PatchOperator<'a> {
                 at[v as usize] += y[i] * self.row[i] / 3.0;
             }
         }
+        // Receiver → the rows it reads (itself, or the gathered rows it is blended from).
+        let at = self.links.to_rows(at);
         // Receiver → node (scatter along the links): leaf and far-field coefficients per node,
         // first moments and cluster distributions per inner node (only they are far sources).
         let nodes = self.tree.nodes.len();
@@ -133,7 +135,7 @@ impl<'a> PatchOperator<'a> {
         // in order into its own arrays, the parts summed in order: deterministic. The count is
         // fixed rather than the part size because every part costs a pass over all nodes: parts
         // of a fixed number of receivers would make that pass quadratic in the scene.
-        let n = mesh.receivers.len();
+        let n = at.len();
         let per_part = n.div_ceil(TRANSPOSE_PARTS).max(1);
         type Part = (Vec<f64>, Vec<DVec3>, Vec<[f64; DIST]>);
         let parts: Vec<Part> = (0..TRANSPOSE_PARTS)
@@ -416,7 +418,41 @@ mod tests {
         let (mesh, tree, links) = cluttered_links();
         let clusters = links.far_links().filter(|l| l.is_cluster()).count();
         assert!(clusters > 100, "{clusters} cluster links");
-        let mut op = PatchOperator::new(&mesh, &tree, &links);
+        transpose_matches_apply(&mesh, &tree, &links);
+    }
+
+    /// Receivers that read blends of gathered rows (`transport::sharing`): the transpose carries
+    /// their weights back to the rows.
+    #[test]
+    fn transpose_matches_apply_with_shared_rows() {
+        let scene = cluttered_room();
+        let occluder = Occluder::build(&scene, OccluderOptions::default());
+        let mesh = crate::patches::build(&scene, 0.2, None);
+        let tree = PatchTree::build(&mesh, (0..mesh.patches.len() as u32).collect());
+        let gatherer = Gatherer {
+            mesh: &mesh,
+            tree: &tree,
+            occluder: &occluder,
+            tau: 0.3,
+            dark: None,
+        };
+        let first_bounce = vec![DVec3::splat(100.0); mesh.patches.len()];
+        let direct = vec![DVec3::ZERO; mesh.receivers.len()];
+        let sharing = crate::transport::sharing::Sharing {
+            tolerance: 0.03,
+            direct: &direct,
+            first_bounce: &first_bounce,
+        };
+        let links = crate::transport::sharing::build(&gatherer, &mesh.receivers, &sharing);
+        let blended = (0..links.receivers())
+            .filter(|&r| links.terms(r).len() > 1)
+            .count();
+        assert!(blended > 100, "{blended} blended receivers");
+        transpose_matches_apply(&mesh, &tree, &links);
+    }
+
+    fn transpose_matches_apply(mesh: &PatchMesh, tree: &PatchTree, links: &ReceiverLinks) {
+        let mut op = PatchOperator::new(mesh, tree, links);
         // Non-trivial scalings, as after balancing.
         let n = mesh.patches.len();
         let wave = |k: usize, a: f64| 1.0 + 0.3 * ((k as f64) * a).sin();
