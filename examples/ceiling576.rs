@@ -23,7 +23,10 @@ fn main() {
     let values: Vec<String> = (0..n)
         .map(|k| {
             let g = (k as f64 * 2.5).to_radians();
-            format!("{:.6}", 1000.0 * if g <= 1.5708 { g.cos().max(0.0) } else { 0.0 })
+            format!(
+                "{:.6}",
+                1000.0 * if g <= 1.5708 { g.cos().max(0.0) } else { 0.0 }
+            )
         })
         .collect();
     let angles: Vec<String> = (0..n).map(|k| format!("{}", k as f64 * 2.5)).collect();
@@ -64,5 +67,9 @@ fn main() {
     let r = bake(&b.build(), &settings, &Silent).expect("bakes");
     let t = r.summary.timings_seconds.expect("timings");
     let vertices: usize = r.surfaces.iter().map(|s| s.positions.len()).sum();
-    println!("vertices {vertices} direct {:.3} total_stages {:.3}", t.direct, t.named().iter().map(|x| x.1).sum::<f64>());
+    println!(
+        "vertices {vertices} direct {:.3} total_stages {:.3}",
+        t.direct,
+        t.named().iter().map(|x| x.1).sum::<f64>()
+    );
 }

@@ -83,13 +83,18 @@ pub fn into_patches(
                     corners,
                     normal: p.normal,
                     c,
-                    size: corners.iter().map(|v| (*v - c).length()).fold(0.0, f64::max),
+                    size: corners
+                        .iter()
+                        .map(|v| (*v - c).length())
+                        .fold(0.0, f64::max),
                     dark_back,
                     double_sided: p.double_sided,
                     row: &mut row,
                 };
                 let normals = [p.normal, -p.normal];
-                lights.cut.run(sources, groups, c, &normals, settle, &mut into);
+                lights
+                    .cut
+                    .run(sources, groups, c, &normals, settle, &mut into);
                 let mut front = DVec3::ZERO;
                 for (k, &(f, b)) in row.iter().enumerate() {
                     let color = sources[k].color();

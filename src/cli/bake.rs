@@ -76,7 +76,12 @@ pub struct SettingsArgs {
     far_field: Option<f64>,
     /// Light cut: far luminaires as bounded clusters within this fraction of the direct light
     /// at each receiver and patch (0: every luminaire summed exactly).
-    #[arg(long, value_name = "FRACTION", hide = true, allow_negative_numbers = true)]
+    #[arg(
+        long,
+        value_name = "FRACTION",
+        hide = true,
+        allow_negative_numbers = true
+    )]
     light_cut_fraction: Option<f64>,
     /// Worker threads (default: all cores; more than the cores are clamped with a warning).
     /// The output does not depend on it.

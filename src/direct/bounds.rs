@@ -109,15 +109,16 @@ impl AngleBounds {
                 self.low_bands[k][a].min(self.low_bands[k][b]),
                 self.bands[k][a].max(self.bands[k][b]),
             ),
-            Some((first, count)) => (0..count).map(|i| (first + i) % 36).fold(
-                (f64::INFINITY, 0.0f64),
-                |(lo, hi), s| {
-                    (
-                        lo.min(self.low[k][a][s]).min(self.low[k][b][s]),
-                        hi.max(self.cells[k][a][s]).max(self.cells[k][b][s]),
-                    )
-                },
-            ),
+            Some((first, count)) => {
+                (0..count)
+                    .map(|i| (first + i) % 36)
+                    .fold((f64::INFINITY, 0.0f64), |(lo, hi), s| {
+                        (
+                            lo.min(self.low[k][a][s]).min(self.low[k][b][s]),
+                            hi.max(self.cells[k][a][s]).max(self.cells[k][b][s]),
+                        )
+                    })
+            }
         }
     }
 
@@ -427,21 +428,27 @@ mod tests {
     }
 
     /// The range over a cone holds the distribution at every direction of the cone (a lumpy
-    /// distribution with a dark sector, cones of three sizes all over the sphere), and is not
-    /// vacuous: over a small cone of a smooth piece it is within 30 %.
+    /// distribution with a dark sector, cones of three sizes all over the sphere) up to the
+    /// table's sampling (between samples 1° apart in C a smooth maximum or minimum may pass them
+    /// by f''·h²/8, about 2·10⁻⁴ here), and is not vacuous: over a small cone of a smooth piece
+    /// it is within 30 %.
     #[test]
     fn range_over_a_cone_holds_the_distribution() {
         let f = |d: DVec3| {
-            let (g, c) = (gamma_deg(d), d.y.atan2(d.x).to_degrees().rem_euclid(360.0));
-            let lump = 1.0 + 0.5 * (g / 20.0).sin() * (c / 45.0).cos();
-            if (200.0..230.0).contains(&c) && g > 30.0 { 0.0 } else { lump }
+            let (g, c) = (gamma_deg(d), d.y.atan2(d.x));
+            let lump = 1.0 + 0.5 * (2.5 * g.to_radians()).sin() * (3.0 * c).cos();
+            let dark = (200.0..230.0).contains(&c.to_degrees().rem_euclid(360.0)) && g > 30.0;
+            if dark { 0.0 } else { lump }
         };
         let b = AngleBounds::new(f);
         let frame = DMat3::from_rotation_x(0.4) * DMat3::from_rotation_z(0.2);
         let mut tight = 0;
         for i in 0..=36 {
             for j in 0..24 {
-                let axis = unit((i as f64 * 5.0).to_radians(), (j as f64 * 15.0).to_radians());
+                let axis = unit(
+                    (i as f64 * 5.0).to_radians(),
+                    (j as f64 * 15.0).to_radians(),
+                );
                 for radius in [0.002f64, 0.03, 0.2] {
                     let (lo, hi) = b.range_over_cone(&frame, frame * axis, radius);
                     let e1 = axis.any_orthonormal_vector();
@@ -452,7 +459,8 @@ mod tests {
                             let phi = a as f64 * std::f64::consts::PI / 6.0;
                             let d = axis * t.cos() + (e1 * phi.cos() + e2 * phi.sin()) * t.sin();
                             let v = f(d);
-                            assert!(lo <= v + 1e-12 && v <= hi + 1e-12, "{lo} {v} {hi}");
+                            let slack = 5e-4;
+                            assert!(lo <= v + slack && v <= hi + slack, "{lo} {v} {hi}");
                         }
                     }
                     if radius < 0.01 && lo > 0.0 && hi < 1.3 * lo {

@@ -90,8 +90,10 @@ impl Cut {
             .map(|i| {
                 let (_, _, members, _) = groups.node(i);
                 let first = lum(*members.first()?)?;
-                (members.iter().all(|&k| lum(k).is_some_and(|s| s.same_kind(first))))
-                    .then_some(members[0])
+                (members
+                    .iter()
+                    .all(|&k| lum(k).is_some_and(|s| s.same_kind(first))))
+                .then_some(members[0])
             })
             .collect();
         Cut { kind, fraction }
@@ -182,7 +184,9 @@ impl Cut {
             each: vec![0.0; m],
             heap: BinaryHeap::new(),
         };
-        let mut pending: Vec<(u32, u32)> = (0..sets.len() as u32).map(|k| (k, sets[k as usize])).collect();
+        let mut pending: Vec<(u32, u32)> = (0..sets.len() as u32)
+            .map(|k| (k, sets[k as usize]))
+            .collect();
         loop {
             while let Some((set, node)) = pending.pop() {
                 let (lo_box, hi_box, members, children) = groups.node(node);
@@ -202,7 +206,13 @@ impl Cut {
                             s.low[pl] += lo * g;
                             key += (hi - lo) * g;
                         }
-                        s.heap.push(Item { key, node, set, lo, hi });
+                        s.heap.push(Item {
+                            key,
+                            node,
+                            set,
+                            lo,
+                            hi,
+                        });
                     }
                     (None, Some([a, b])) => pending.extend([(set, b), (set, a)]),
                     (None, None) => s.exact(t, members),
@@ -228,7 +238,10 @@ impl Cut {
             let mid = 0.5 * (item.lo + item.hi);
             let row = bases[item.set as usize].0 + offset(item.set, item.node);
             for (j, &k) in groups.node(item.node).2.iter().enumerate() {
-                for (v, g) in values.iter_mut().zip(&geo[(row + j) * m..(row + j + 1) * m]) {
+                for (v, g) in values
+                    .iter_mut()
+                    .zip(&geo[(row + j) * m..(row + j + 1) * m])
+                {
                     *v = mid * g;
                 }
                 t.accept(k as usize, &values);

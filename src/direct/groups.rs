@@ -138,7 +138,12 @@ impl Groups {
     pub fn node(&self, i: u32) -> (DVec3, DVec3, &[u32], Option<[u32; 2]>) {
         let n = &self.nodes[i as usize];
         let children = (n.children[0] != LEAF).then_some(n.children);
-        (n.lo, n.hi, &self.order[n.start as usize..n.end as usize], children)
+        (
+            n.lo,
+            n.hi,
+            &self.order[n.start as usize..n.end as usize],
+            children,
+        )
     }
 
     /// Where node `i`'s members start in the tree's order (so a child's members sit at

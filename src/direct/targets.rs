@@ -27,7 +27,12 @@ pub struct AtPoint<'a, 's> {
 }
 
 impl<'a, 's> AtPoint<'a, 's> {
-    pub fn new(sources: &'s [DirectSource<'a>], occ: &'s Occluder, p: DVec3, normals: &'s [DVec3]) -> Self {
+    pub fn new(
+        sources: &'s [DirectSource<'a>],
+        occ: &'s Occluder,
+        p: DVec3,
+        normals: &'s [DVec3],
+    ) -> Self {
         AtPoint {
             sources,
             occ,

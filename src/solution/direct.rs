@@ -76,7 +76,8 @@ impl<'a> DirectLight<'a> {
         let starts: Vec<DVec3> = normals.iter().map(|n| p + *n * occ.epsilon).collect();
         let settle = |lo: DVec3, hi: DVec3, _n: DVec3| occ.settle(&starts, lo, hi);
         let mut at = AtPoint::new(&self.sources, occ, p, normals);
-        self.cut.run(&self.sources, &self.groups, p, normals, settle, &mut at);
+        self.cut
+            .run(&self.sources, &self.groups, p, normals, settle, &mut at);
         let mut e = at.rgb;
         let gatherer = Gatherer {
             mesh,
