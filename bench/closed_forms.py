@@ -101,6 +101,9 @@ ROWS = [
     ("576 cosine luminaires over a floor, far ones grouped; with a screen hiding part",
      "Σ I₀h²/d⁴ over the unhidden", "10⁻⁵",
      lambda m: f"{sci(m['grouped/open'])} / {sci(m['grouped/screen'])} worst"),
+    ("the same 576 with the light cut at f = 1 % (`--light-cut-fraction 0.01`)",
+     "Σ I₀h²/d⁴ over the unhidden", "f + 10⁻⁵",
+     lambda m: f"{sci(m['grouped/open-cut'])} / {sci(m['grouped/screen-cut'])} worst"),
     ("the same 576 over a floor half under a table top whose slanted edge crosses columns of "
      "them", "each luminaire traced alone; Σ I₀h²/d⁴ over the unhidden", "10⁻¹² / 2·10⁻⁵",
      lambda m: f"{sci(m['grouped/slanted-traced'])} / {sci(m['grouped/slanted'])} worst"),

@@ -140,6 +140,10 @@ pub struct Settings {
     pub max_patches: Option<u64>,
     /// Most probes (`--max-probes`; `None`: as for patches).
     pub max_probes: Option<u64>,
+    /// Light cut (`direct::cut`): far groups of luminaires proved visible are evaluated as
+    /// bounded clusters while the summed bound stays within this fraction of the direct light at
+    /// the receiver; 0 sums every luminaire exactly.
+    pub light_cut: f64,
 }
 
 /// What `--lightmaps` asks for.
@@ -197,6 +201,7 @@ impl Default for Settings {
             lightmaps: None,
             max_patches: None,
             max_probes: None,
+            light_cut: 0.0,
         }
     }
 }
@@ -232,6 +237,12 @@ impl Settings {
         {
             return Err(Error::Settings(format!(
                 "--far-field must be in (0, 1), got {t}"
+            )));
+        }
+        if !(self.light_cut.is_finite() && (0.0..=0.1).contains(&self.light_cut)) {
+            return Err(Error::Settings(format!(
+                "--light-cut-fraction must be in [0, 0.1], got {}",
+                self.light_cut
             )));
         }
         if let Exposure::White { lux } = self.exposure

@@ -73,6 +73,13 @@ pub struct SettingsRecord {
     /// `--lightmaps` as asked (absent: none).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub lightmaps: Option<crate::settings::LightmapSettings>,
+    /// The light cut's fraction (`--light-cut-fraction`; absent: 0, every luminaire summed).
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub light_cut: f64,
+}
+
+fn is_zero(x: &f64) -> bool {
+    *x == 0.0
 }
 
 impl From<&Settings> for SettingsRecord {
@@ -89,6 +96,7 @@ impl From<&Settings> for SettingsRecord {
             working_plane: s.working_plane,
             probe_glyphs: s.probe_glyphs,
             lightmaps: s.lightmaps,
+            light_cut: s.light_cut,
         }
     }
 }

@@ -3,9 +3,12 @@
 //!
 //! Input: the meshed scene, its [`DirectLight`] and the occluder. Output: direct illuminance at
 //! each vertex (lx, RGB), and [`PatchFlux`]. Both are sums over fixed chunks in order:
-//! deterministic whatever the thread count.
+//! deterministic whatever the thread count. Both go through the light's cut (`direct::cut`):
+//! with a fraction f above 0, each vertex's light and each patch's front flux from the
+//! luminaires are within f of their full sums.
 
 use crate::direct::enclosed::Solids;
+use crate::direct::targets::IntoPatch;
 use crate::patches::PatchMesh;
 use crate::progress::Progress;
 use crate::scene::Scene;
@@ -74,16 +77,24 @@ pub fn into_patches(
                     true => Some(None),
                     false => solids.of(mesh.groups[p.group as usize].surface).map(Some),
                 };
-                groups.visit(c, &[p.normal, -p.normal], settle, |k, known| {
-                    if dark_back
-                        .is_some_and(|solid| sources[k].behind_and_outside(c, p.normal, solid))
-                    {
-                        return;
-                    }
-                    let (front, back) = sources[k].patch_flux(occ, &corners, p.normal, known);
-                    // A double-sided patch's back is its twin, which takes that light as front.
-                    row[k] = (front, if p.double_sided { 0.0 } else { back });
-                });
+                let mut into = IntoPatch {
+                    sources,
+                    occ,
+                    corners,
+                    normal: p.normal,
+                    c,
+                    size: corners
+                        .iter()
+                        .map(|v| (*v - c).length())
+                        .fold(0.0, f64::max),
+                    dark_back,
+                    double_sided: p.double_sided,
+                    row: &mut row,
+                };
+                let normals = [p.normal, -p.normal];
+                lights
+                    .cut
+                    .run(sources, groups, c, &normals, settle, &mut into);
                 let mut front = DVec3::ZERO;
                 for (k, &(f, b)) in row.iter().enumerate() {
                     let color = sources[k].color();

@@ -18,6 +18,8 @@
 //! a quarter of it. `--uniform-patches` turns it off (the harness measures both).
 
 use crate::contacts::{self, Contacts};
+use crate::direct::cut::Cut;
+use crate::direct::targets::AtPoint;
 use crate::direct::{bounds::ProfileBounds, emitters, sources::DirectSource};
 use crate::patches::{self, PatchMesh, adapt::Adapt};
 use crate::scene::Scene;
@@ -76,7 +78,8 @@ pub fn stage<'a>(
     let bounds = ProfileBounds::new(scene);
     let contacts = contacts::find(scene, contact_gap(h), occluder);
     let (mesh, adaptive) = mesh(scene, settings, h, occluder, &bounds, &contacts);
-    let (emitted, exitance, lights) = light(scene, &mesh, &bounds, tau_direct, |_| true);
+    let cut = settings.light_cut;
+    let (emitted, exitance, lights) = light(scene, &mesh, &bounds, (tau_direct, cut), |_| true);
     let contacts = ContactsRecord {
         gap_m: contacts.gap,
         covers: contacts.count(),
@@ -97,11 +100,12 @@ pub fn stage<'a>(
 /// `base`'s mesh lit by the sources of `scene` instead: a scene with the same surfaces and
 /// materials whose sources differ (`bake fit` lights one mesh by one group of sources at a
 /// time). Punctual lights of zero intensity are left out (they would cost rays for nothing).
-pub fn relight<'a>(base: &Meshed, scene: &'a Scene, tau_direct: f64) -> Meshed<'a> {
+/// `light_cut`: the light cut's fraction (`direct::cut`).
+pub fn relight<'a>(base: &Meshed, scene: &'a Scene, tau_direct: f64, light_cut: f64) -> Meshed<'a> {
     let mesh = base.mesh.clone();
     let bounds = ProfileBounds::new(scene);
     let lit = |s: &DirectSource| !matches!(s, DirectSource::Punctual(l) if l.intensity == 0.0);
-    let (emitted, exitance, lights) = light(scene, &mesh, &bounds, tau_direct, lit);
+    let (emitted, exitance, lights) = light(scene, &mesh, &bounds, (tau_direct, light_cut), lit);
     Meshed {
         mesh,
         adaptive: base.adaptive.clone(),
@@ -113,19 +117,19 @@ pub fn relight<'a>(base: &Meshed, scene: &'a Scene, tau_direct: f64) -> Meshed<'
 }
 
 /// What each patch of `mesh` emits (all of it, and its Lambertian part) and the direct sources
-/// on it that `keep` takes.
+/// on it that `keep` takes (`(tau_direct, light_cut)`: as for [`DirectLight::new`]).
 fn light<'a>(
     scene: &'a Scene,
     mesh: &PatchMesh,
     bounds: &ProfileBounds,
-    tau_direct: f64,
+    (tau_direct, light_cut): (f64, f64),
     keep: impl Fn(&DirectSource) -> bool,
 ) -> (Vec<DVec3>, Vec<DVec3>, DirectLight<'a>) {
     let emitted = emitters::patch_exitance(scene, mesh);
     let exitance = emitters::diffuse_part(scene, mesh, &emitted);
     let mut sources = DirectSource::all(scene, mesh, &emitted, bounds);
     sources.retain(|s| keep(s));
-    let lights = DirectLight::new(sources, mesh, &exitance, tau_direct);
+    let lights = DirectLight::new(sources, mesh, &exitance, tau_direct, light_cut);
     (emitted, exitance, lights)
 }
 
@@ -153,14 +157,14 @@ fn mesh(
     // light from downlights, yet its inter-reflected light drops to zero under the fitting: a
     // coarse patch with a covered corner would take a third of the light it receives away.
     let groups = DirectSource::groups(&sources);
+    let cut = Cut::new(&sources, &groups, settings.light_cut);
     let direct = |p: DVec3, n: DVec3| -> f64 {
-        let mut e = [0.0];
         let starts = [p + n * occluder.epsilon];
         let settle = |lo: DVec3, hi: DVec3, _n: DVec3| occluder.settle(&starts, lo, hi);
-        groups.visit(p, &[n], settle, |k, known| {
-            sources[k].illuminance_faces(occluder, p, &[n], &mut e, known);
-        });
-        e[0]
+        let normals = [n];
+        let mut at = AtPoint::new(&sources, occluder, p, &normals);
+        cut.run(&sources, &groups, p, &normals, settle, &mut at);
+        at.luma[0]
     };
     // Each group's mean direct light from at most `SAMPLED` of its receivers, evenly spaced in
     // its order: the estimate needs the scene's levels, not every vertex of every chair.

@@ -74,6 +74,15 @@ pub struct SettingsArgs {
     /// Far-field acceptance ratio, radius/distance (overrides the one of --quality).
     #[arg(long, value_name = "RATIO", hide = true, allow_negative_numbers = true)]
     far_field: Option<f64>,
+    /// Light cut: far luminaires as bounded clusters within this fraction of the direct light
+    /// at each receiver and patch (0: every luminaire summed exactly).
+    #[arg(
+        long,
+        value_name = "FRACTION",
+        hide = true,
+        allow_negative_numbers = true
+    )]
+    light_cut_fraction: Option<f64>,
     /// Worker threads (default: all cores; more than the cores are clamped with a warning).
     /// The output does not depend on it.
     #[arg(long)]
@@ -191,6 +200,9 @@ pub fn settings(args: &SettingsArgs) -> Result<Settings> {
         }),
         ..Settings::default()
     };
+    if let Some(f) = args.light_cut_fraction {
+        settings.light_cut = f;
+    }
     args.probes.apply(&mut settings)?;
     settings.validate()?;
     Ok(settings)

@@ -8,7 +8,9 @@
 //! [`ProfileBounds`] builds each profile's table once per bake, for every source and stage that
 //! uses it. Invariant: a bound is never below the distribution anywhere in the piece, up to the
 //! table's sampling (0.25° in γ, 1° in C), covered by margins of one step in γ and 1° in C
-//! (see [`GAMMA_MARGIN`]).
+//! (see [`GAMMA_MARGIN`]). Beside the maxima, a table of minima on the same cells gives a lower
+//! bound over a cone ([`AngleBounds::range_over_cone`], for the light cut, `super::cut`), exact
+//! up to the same sampling.
 
 use crate::scene::Scene;
 use glam::{DMat3, DVec3};
@@ -27,6 +29,9 @@ pub struct AngleBounds {
     /// `lit[k][b]`: every C sector of `cells[k][b]` is above zero, so any range of C in those
     /// bands holds some light ([`AngleBounds::lights_cone`] answers without finding its sectors).
     lit: Vec<Vec<bool>>,
+    /// `low[k][b][s]` and `low_bands[k][b]`: the minima, as `cells` and `bands` hold the maxima.
+    low: Vec<Vec<[f64; 36]>>,
+    low_bands: Vec<Vec<f64>>,
 }
 
 impl AngleBounds {
@@ -45,6 +50,7 @@ impl AngleBounds {
             })
             .collect();
         let mut max = vec![[0.0f64; 36]; 180];
+        let mut min = vec![[f64::INFINITY; 36]; 180];
         for (ig, row) in rows.iter().enumerate() {
             let band = (ig / 4).min(179);
             for (ic, &i) in row.iter().enumerate() {
@@ -54,31 +60,17 @@ impl AngleBounds {
                     .flatten()
                 {
                     max[b][sector] = max[b][sector].max(i);
+                    min[b][sector] = min[b][sector].min(i);
                     if ic % 10 == 0 {
                         let prev = (sector + 35) % 36;
                         max[b][prev] = max[b][prev].max(i);
+                        min[b][prev] = min[b][prev].min(i);
                     }
                 }
             }
         }
-        let mut cells = vec![max];
-        while 1usize << cells.len() <= 180 {
-            let half = 1usize << (cells.len() - 1);
-            let last = cells.last().expect("level 0 exists");
-            let next: Vec<[f64; 36]> = (0..last.len() - half)
-                .map(|b| std::array::from_fn(|s| last[b][s].max(last[b + half][s])))
-                .collect();
-            cells.push(next);
-        }
-        let bands = cells
-            .iter()
-            .map(|level| {
-                level
-                    .iter()
-                    .map(|row| row.iter().fold(0.0f64, |a, b| a.max(*b)))
-                    .collect()
-            })
-            .collect();
+        let (cells, bands) = sparse(max, f64::max, 0.0);
+        let (low, low_bands) = sparse(min, f64::min, f64::INFINITY);
         let lit = cells
             .iter()
             .map(|level| {
@@ -88,7 +80,46 @@ impl AngleBounds {
                     .collect()
             })
             .collect();
-        AngleBounds { cells, bands, lit }
+        AngleBounds {
+            cells,
+            bands,
+            lit,
+            low,
+            low_bands,
+        }
+    }
+
+    /// Lower and upper bounds of the distribution over the directions within `radius` (rad) of
+    /// the unit world direction `dir` (placed by `world_from_photometric`), widened as
+    /// [`AngleBounds::over_cone`] widens.
+    pub fn range_over_cone(
+        &self,
+        world_from_photometric: &DMat3,
+        dir: DVec3,
+        radius: f64,
+    ) -> (f64, f64) {
+        let local = world_from_photometric.transpose() * dir;
+        let g = gamma_deg(local);
+        let widen = radius.to_degrees() + C_MARGIN;
+        let gammas = (g - widen, g + widen);
+        let (k, a, b) = band_runs(gammas);
+        let (g0, g1) = (gammas.0.max(0.0), gammas.1.min(180.0));
+        match c_sectors(&[local; 3], g0, g1, widen) {
+            None => (
+                self.low_bands[k][a].min(self.low_bands[k][b]),
+                self.bands[k][a].max(self.bands[k][b]),
+            ),
+            Some((first, count)) => {
+                (0..count)
+                    .map(|i| (first + i) % 36)
+                    .fold((f64::INFINITY, 0.0f64), |(lo, hi), s| {
+                        (
+                            lo.min(self.low[k][a][s]).min(self.low[k][b][s]),
+                            hi.max(self.cells[k][a][s]).max(self.cells[k][b][s]),
+                        )
+                    })
+            }
+        }
     }
 
     /// Bound over the directions within `radius` (rad) of the unit world direction `dir`, for a
@@ -154,6 +185,31 @@ impl AngleBounds {
             .map(|i| (first + i) % 36)
             .fold(0.0f64, |m, s| m.max(ra[s]).max(rb[s]))
     }
+}
+
+/// Sparse tables of one cell table under `pick` (max or min): level k holds runs of 2^k bands;
+/// and per level the same over all C sectors.
+type Tables = (Vec<Vec<[f64; 36]>>, Vec<Vec<f64>>);
+fn sparse(level0: Vec<[f64; 36]>, pick: fn(f64, f64) -> f64, start: f64) -> Tables {
+    let mut cells = vec![level0];
+    while 1usize << cells.len() <= 180 {
+        let half = 1usize << (cells.len() - 1);
+        let last = cells.last().expect("level 0 exists");
+        let next: Vec<[f64; 36]> = (0..last.len() - half)
+            .map(|b| std::array::from_fn(|s| pick(last[b][s], last[b + half][s])))
+            .collect();
+        cells.push(next);
+    }
+    let bands = cells
+        .iter()
+        .map(|level| {
+            level
+                .iter()
+                .map(|row| row.iter().fold(start, |a, b| pick(a, *b)))
+                .collect()
+        })
+        .collect();
+    (cells, bands)
 }
 
 /// The γ bands (1° each) a range of γ in degrees touches, clamped to 0..180, as the two
@@ -369,6 +425,51 @@ mod tests {
             }
         }
         assert!(lit > 1000 && dark > 1000, "lit {lit}, dark {dark}");
+    }
+
+    /// The range over a cone holds the distribution at every direction of the cone (a lumpy
+    /// distribution with a dark sector, cones of three sizes all over the sphere) up to the
+    /// table's sampling (between samples 1° apart in C a smooth maximum or minimum may pass them
+    /// by f''·h²/8, about 2·10⁻⁴ here), and is not vacuous: over a small cone of a smooth piece
+    /// it is within 30 %.
+    #[test]
+    fn range_over_a_cone_holds_the_distribution() {
+        let f = |d: DVec3| {
+            let (g, c) = (gamma_deg(d), d.y.atan2(d.x));
+            let lump = 1.0 + 0.5 * (2.5 * g.to_radians()).sin() * (3.0 * c).cos();
+            let dark = (200.0..230.0).contains(&c.to_degrees().rem_euclid(360.0)) && g > 30.0;
+            if dark { 0.0 } else { lump }
+        };
+        let b = AngleBounds::new(f);
+        let frame = DMat3::from_rotation_x(0.4) * DMat3::from_rotation_z(0.2);
+        let mut tight = 0;
+        for i in 0..=36 {
+            for j in 0..24 {
+                let axis = unit(
+                    (i as f64 * 5.0).to_radians(),
+                    (j as f64 * 15.0).to_radians(),
+                );
+                for radius in [0.002f64, 0.03, 0.2] {
+                    let (lo, hi) = b.range_over_cone(&frame, frame * axis, radius);
+                    let e1 = axis.any_orthonormal_vector();
+                    let e2 = axis.cross(e1);
+                    for r in 0..=4 {
+                        for a in 0..12 {
+                            let t = radius * r as f64 / 4.0;
+                            let phi = a as f64 * std::f64::consts::PI / 6.0;
+                            let d = axis * t.cos() + (e1 * phi.cos() + e2 * phi.sin()) * t.sin();
+                            let v = f(d);
+                            let slack = 5e-4;
+                            assert!(lo <= v + slack && v <= hi + slack, "{lo} {v} {hi}");
+                        }
+                    }
+                    if radius < 0.01 && lo > 0.0 && hi < 1.3 * lo {
+                        tight += 1;
+                    }
+                }
+            }
+        }
+        assert!(tight > 300, "{tight} tight ranges");
     }
 
     #[test]

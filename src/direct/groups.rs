@@ -133,6 +133,35 @@ impl Groups {
         index
     }
 
+    /// Node `i`'s box of openings `(lo, hi)`, its members (source indices, a contiguous run of
+    /// [`Groups::order`]) and its children (`None` for a single luminaire).
+    pub fn node(&self, i: u32) -> (DVec3, DVec3, &[u32], Option<[u32; 2]>) {
+        let n = &self.nodes[i as usize];
+        let children = (n.children[0] != LEAF).then_some(n.children);
+        (
+            n.lo,
+            n.hi,
+            &self.order[n.start as usize..n.end as usize],
+            children,
+        )
+    }
+
+    /// Where node `i`'s members start in the tree's order (so a child's members sit at
+    /// `start(child) - start(parent)` within its parent's).
+    pub fn start(&self, i: u32) -> usize {
+        self.nodes[i as usize].start as usize
+    }
+
+    /// Number of nodes (node 0 is the root).
+    pub fn len(&self) -> usize {
+        self.nodes.len()
+    }
+
+    /// No luminaire.
+    pub fn is_empty(&self) -> bool {
+        self.nodes.is_empty()
+    }
+
     /// Call `f(source index, what is known of its visibility)` once for every source, as seen
     /// from `p`. A group is settled only when its box lies wholly in front of one of the planes
     /// through `p` with unit `normals`: `settle(lo, hi, n)` says what is proved of the shadow
@@ -143,6 +172,20 @@ impl Groups {
         p: DVec3,
         normals: &[DVec3],
         settle: impl Fn(DVec3, DVec3, DVec3) -> Option<bool>,
+        f: impl FnMut(usize, Known),
+    ) {
+        self.visit_with(p, normals, settle, |_, _| false, f)
+    }
+
+    /// [`Groups::visit`], offering each group proved seen to `cluster(node, n)` first (`n`: the
+    /// normal of the plane its box lies in front of): when that takes it (the light cut,
+    /// [`super::cut`]), its members are not visited.
+    pub fn visit_with(
+        &self,
+        p: DVec3,
+        normals: &[DVec3],
+        settle: impl Fn(DVec3, DVec3, DVec3) -> Option<bool>,
+        mut cluster: impl FnMut(u32, DVec3) -> bool,
         mut f: impl FnMut(usize, Known),
     ) {
         for &k in &self.others {
@@ -165,6 +208,9 @@ impl Groups {
             if let (true, Some(&n)) = (group, plane)
                 && let Some(seen) = settle(node.lo, node.hi, n)
             {
+                if seen && cluster(i, n) {
+                    continue;
+                }
                 let known = if seen { Known::Seen } else { Known::Hidden };
                 for &k in members {
                     f(k as usize, known);

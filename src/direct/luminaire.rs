@@ -221,6 +221,53 @@ impl<'a> Source<'a> {
         });
     }
 
+    /// Whether `other` emits the same distribution the same way (profile, frame, colour): then a
+    /// group of both has one intensity range per direction ([`super::cut`]).
+    pub fn same_kind(&self, other: &Source) -> bool {
+        self.profile == other.profile
+            && std::ptr::eq(self.photometry, other.photometry)
+            && self.world_from_photometric == other.world_from_photometric
+            && self.color == other.color
+    }
+
+    /// Lower and upper bounds of the unscaled distribution over the world directions within
+    /// `radius` (rad) of the unit `dir` (away from the luminaire).
+    pub fn profile_range(&self, dir: DVec3, radius: f64) -> (f64, f64) {
+        self.bounds
+            .range_over_cone(&self.world_from_photometric, dir, radius)
+    }
+
+    /// What [`Source::illuminance_faces`] multiplies the unscaled intensity by, summed over the
+    /// same sub-sources, for a luminaire known seen: scale × share × cos / d² per plane, added to
+    /// `out`. The illuminance lies between it times the least and the greatest intensity toward `p`.
+    pub fn geometry_faces(&self, p: DVec3, normals: &[DVec3], out: &mut [f64]) {
+        self.each_sub(p, (NEAR_FIELD_RATIO, MAX_SPLITS), &mut |q, share| {
+            let d = q - p;
+            let dist2 = d.length_squared();
+            if dist2 <= 0.0 {
+                return;
+            }
+            let w = self.scale * share / (dist2 * dist2.sqrt());
+            for (e, n) in out.iter_mut().zip(normals) {
+                let cos = n.dot(d);
+                if cos > 0.0 {
+                    *e += w * cos;
+                }
+            }
+        });
+    }
+
+    /// What [`Source::patch_flux`] multiplies the unscaled intensity by for a patch known to see
+    /// it: scale × share × the patch's solid angle from each sub-source (sr), summed.
+    pub fn geometry_patch(&self, corners: &[DVec3; 3]) -> f64 {
+        let c = (corners[0] + corners[1] + corners[2]) / 3.0;
+        let mut g = 0.0;
+        self.each_sub(c, (PATCH_RATIO, PATCH_MAX_SPLITS), &mut |q, share| {
+            g += share * lambert::triangle_solid_angle(q, corners);
+        });
+        self.scale * g
+    }
+
     /// `(front, back)` flux (lm) into a triangle patch, split as seen from its centroid.
     pub fn patch_flux(
         &self,

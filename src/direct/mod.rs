@@ -2,6 +2,7 @@
 //! receiver and as flux into every patch (what the radiosity solution then reflects).
 
 pub mod bounds;
+pub mod cut;
 pub mod emitters;
 pub mod enclosed;
 pub mod flux;
@@ -10,3 +11,4 @@ pub mod luminaire;
 pub mod profiled;
 pub mod punctual;
 pub mod sources;
+pub mod targets;

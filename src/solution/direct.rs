@@ -8,6 +8,8 @@
 //! for every receiver after it.
 
 use super::receivers::Receiver;
+use crate::direct::cut::Cut;
+use crate::direct::targets::AtPoint;
 use crate::direct::{groups::Groups, sources::DirectSource};
 use crate::patches::PatchMesh;
 use crate::transport::{field::NodeField, gather::Gatherer, tree::PatchTree};
@@ -20,6 +22,8 @@ pub struct DirectLight<'a> {
     pub sources: Vec<DirectSource<'a>>,
     /// The luminaires among `sources`, grouped for shared visibility.
     pub groups: Groups,
+    /// The light cut over `groups` (`direct::cut`; fraction 0: every luminaire summed).
+    pub cut: Cut,
     /// The Lambertian emitting patches, and their exitance summarised on it.
     emitter_tree: PatchTree,
     emitters: NodeField,
@@ -29,20 +33,23 @@ pub struct DirectLight<'a> {
 
 impl<'a> DirectLight<'a> {
     /// `exitance`: the Lambertian exitance of every patch of `mesh` (lm/m², RGB; zero for patches
-    /// that emit none).
+    /// that emit none); `light_cut`: the light cut's fraction.
     pub fn new(
         sources: Vec<DirectSource<'a>>,
         mesh: &PatchMesh,
         exitance: &[DVec3],
         tau: f64,
+        light_cut: f64,
     ) -> Self {
         let emitting: Vec<u32> = (0..mesh.patches.len() as u32)
             .filter(|&p| exitance[p as usize] != DVec3::ZERO)
             .collect();
         let emitter_tree = PatchTree::build(mesh, emitting);
         let emitters = NodeField::new(&emitter_tree, mesh, exitance);
+        let groups = DirectSource::groups(&sources);
         DirectLight {
-            groups: DirectSource::groups(&sources),
+            cut: Cut::new(&sources, &groups, light_cut),
+            groups,
             sources,
             emitter_tree,
             emitters,
@@ -64,20 +71,14 @@ impl<'a> DirectLight<'a> {
     /// between the planes (sub-sources, intensities, shadow rays).
     pub fn at(&self, mesh: &PatchMesh, occ: &Occluder, r: &Receiver) -> Vec<DVec3> {
         let (p, normals) = (r.point, r.planes.as_slice());
-        let mut e = vec![DVec3::ZERO; normals.len()];
-        let mut each = vec![0.0; normals.len()];
         // A sub-source's ray leaves `p` pulled off the first plane that faces it: a group's query
         // starts from every such point.
         let starts: Vec<DVec3> = normals.iter().map(|n| p + *n * occ.epsilon).collect();
         let settle = |lo: DVec3, hi: DVec3, _n: DVec3| occ.settle(&starts, lo, hi);
-        self.groups.visit(p, normals, settle, |k, known| {
-            let source = &self.sources[k];
-            each.fill(0.0);
-            source.illuminance_faces(occ, p, normals, &mut each, known);
-            for (e, x) in e.iter_mut().zip(&each) {
-                *e += source.color() * *x;
-            }
-        });
+        let mut at = AtPoint::new(&self.sources, occ, p, normals);
+        self.cut
+            .run(&self.sources, &self.groups, p, normals, settle, &mut at);
+        let mut e = at.rgb;
         let gatherer = Gatherer {
             mesh,
             tree: &self.emitter_tree,
