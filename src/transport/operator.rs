@@ -396,8 +396,11 @@ mod tests {
         b.build()
     }
 
-    /// [`cluttered_room`] meshed at 0.2 m, its tree and every receiver's links (τ = 0.3).
-    fn cluttered_links() -> (crate::patches::PatchMesh, PatchTree, ReceiverLinks) {
+    /// [`cluttered_room`] meshed at 0.2 m, its tree and every receiver's links (τ = 0.3): its
+    /// own gather, or with `sharing` the rows `transport::sharing` shares at that tolerance.
+    fn cluttered_links(
+        sharing: Option<f64>,
+    ) -> (crate::patches::PatchMesh, PatchTree, ReceiverLinks) {
         let scene = cluttered_room();
         let occluder = Occluder::build(&scene, OccluderOptions::default());
         let mesh = crate::patches::build(&scene, 0.2, None);
@@ -409,13 +412,25 @@ mod tests {
             tau: 0.3,
             dark: None,
         };
-        let links = ReceiverLinks::build(&gatherer, &mesh.receivers);
+        let links = match sharing {
+            None => ReceiverLinks::build(&gatherer, &mesh.receivers),
+            Some(tolerance) => {
+                let first_bounce = vec![DVec3::splat(100.0); mesh.patches.len()];
+                let direct = vec![DVec3::ZERO; mesh.receivers.len()];
+                let sharing = crate::transport::sharing::Sharing {
+                    tolerance,
+                    direct: &direct,
+                    first_bounce: &first_bounce,
+                };
+                crate::transport::sharing::build(&gatherer, &mesh.receivers, &sharing)
+            }
+        };
         (mesh, tree, links)
     }
 
     #[test]
     fn transpose_matches_apply_with_cluster_links() {
-        let (mesh, tree, links) = cluttered_links();
+        let (mesh, tree, links) = cluttered_links(None);
         let clusters = links.far_links().filter(|l| l.is_cluster()).count();
         assert!(clusters > 100, "{clusters} cluster links");
         transpose_matches_apply(&mesh, &tree, &links);
@@ -425,25 +440,7 @@ mod tests {
     /// their weights back to the rows.
     #[test]
     fn transpose_matches_apply_with_shared_rows() {
-        let scene = cluttered_room();
-        let occluder = Occluder::build(&scene, OccluderOptions::default());
-        let mesh = crate::patches::build(&scene, 0.2, None);
-        let tree = PatchTree::build(&mesh, (0..mesh.patches.len() as u32).collect());
-        let gatherer = Gatherer {
-            mesh: &mesh,
-            tree: &tree,
-            occluder: &occluder,
-            tau: 0.3,
-            dark: None,
-        };
-        let first_bounce = vec![DVec3::splat(100.0); mesh.patches.len()];
-        let direct = vec![DVec3::ZERO; mesh.receivers.len()];
-        let sharing = crate::transport::sharing::Sharing {
-            tolerance: 0.03,
-            direct: &direct,
-            first_bounce: &first_bounce,
-        };
-        let links = crate::transport::sharing::build(&gatherer, &mesh.receivers, &sharing);
+        let (mesh, tree, links) = cluttered_links(Some(0.03));
         let blended = (0..links.receivers())
             .filter(|&r| links.terms(r).len() > 1)
             .count();
@@ -471,7 +468,7 @@ mod tests {
     /// only those: bit for bit the full field's, so every row gathers the same light from both.
     #[test]
     fn solver_fields_keep_only_the_named_clusters_bit_for_bit() {
-        let (mesh, tree, links) = cluttered_links();
+        let (mesh, tree, links) = cluttered_links(None);
         let kept = links.clusters.len();
         assert!(
             kept > 0 && kept < tree.inner_nodes / 2,
