@@ -1,8 +1,9 @@
 //! The inter-reflection operator at the receivers, built once and applied at every solver step.
 //!
-//! Input: a [`Gatherer`] over the tree of all patches, and the receivers. Output: [`ReceiverLinks`]
-//! in compressed rows: receiver r gathers E_r = Σ coeff·B(node) over its row's leaf links (one
-//! patch each, 8 bytes) and far-field and cluster links ([`Link`]).
+//! Input: a [`Gatherer`] over the tree of all patches, and the points to gather at. Output:
+//! [`ReceiverLinks`] in compressed rows: row g gathers E_g = Σ coeff·B(node) over its leaf links
+//! (one patch each, 8 bytes) and far-field and cluster links ([`Link`]). Receiver r reads row r,
+//! or with a [`Blend`] (`transport::sharing`) a weighted mean of rows, weights summing to 1.
 //!
 //! Closure: a receiver inside a closed space sees geometry in every direction, so its true
 //! coverage is exactly 1; the far-field expansion and sampled visibility leave it off by a little,
