@@ -19,9 +19,7 @@ use crate::result::BakeResult;
 use crate::scene::{Scene, Surface};
 use crate::settings::Settings;
 use crate::visibility::{Occluder, OccluderOptions};
-use direct::PatchFlux;
 use glam::DVec3;
-use meshing::Meshed;
 
 /// Bake `groups` (each a scene lit by one group of sources) on the mesh of `mesh_scene`.
 pub fn bake_groups(
@@ -71,26 +69,10 @@ pub fn bake_groups(
     run.rays(RayStage::DirectAtReceivers, &occluder);
     // Light is linear in the sources: the groups' direct light summed is the whole scene's, what
     // the shared gathers' estimate reads (the same rows as a plain bake of the scene).
-    let sum = |k: usize| {
-        let pick = |l: &(Meshed, Vec<DVec3>, PatchFlux, Vec<DVec3>)| match k {
-            0 => l.1.clone(),
-            _ => l.3.clone(),
-        };
-        let mut total = pick(&lit[0]);
-        for l in &lit[1..] {
-            total.iter_mut().zip(pick(l)).for_each(|(t, x)| *t += x);
-        }
-        total
-    };
     progress.stage("form factors", n);
     let rows = run.time(Stage::Links, || {
-        let (direct, flux) = match lit.is_empty() {
-            true => (
-                vec![DVec3::ZERO; n as usize],
-                vec![DVec3::ZERO; base.mesh.patches.len()],
-            ),
-            false => (sum(0), sum(1)),
-        };
+        let direct = sum(lit.iter().map(|l| &l.1[..]), n as usize);
+        let flux = sum(lit.iter().map(|l| &l.3[..]), base.mesh.patches.len());
         links::stage(
             mesh_scene, settings, params.tau, &base, &occluder, &direct, &flux,
         )
@@ -127,6 +109,15 @@ pub fn bake_groups(
         out.push(finish(scene, settings, solved, progress));
     }
     Ok(out)
+}
+
+/// The element-wise sum of `parts`, each of length `len` (zeros when there are none).
+fn sum<'a>(parts: impl Iterator<Item = &'a [DVec3]>, len: usize) -> Vec<DVec3> {
+    let mut total = vec![DVec3::ZERO; len];
+    for part in parts {
+        total.iter_mut().zip(part).for_each(|(t, x)| *t += *x);
+    }
+    total
 }
 
 /// `a` and `b` have the same surfaces (positions, triangles, materials).

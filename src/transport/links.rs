@@ -55,6 +55,13 @@ pub struct Blend {
     pub gathered_at: Vec<u32>,
 }
 
+impl Blend {
+    /// The rows receiver `r` reads, with their weights.
+    pub fn of(&self, r: usize) -> &[(u32, f32)] {
+        &self.terms[self.at[r] as usize..self.at[r + 1] as usize]
+    }
+}
+
 /// What a gather says of its receiver besides the links: coverage, back, closed, dark.
 #[derive(Clone, Copy)]
 pub struct RowStats {
@@ -146,7 +153,7 @@ impl ReceiverLinks {
             None => rows.to_vec(),
             Some(b) => (0..b.at.len() - 1)
                 .map(|r| {
-                    let terms = &b.terms[b.at[r] as usize..b.at[r + 1] as usize];
+                    let terms = b.of(r);
                     let mean = |f: &dyn Fn(&RowStats) -> f32| {
                         terms
                             .iter()
@@ -236,7 +243,7 @@ impl ReceiverLinks {
     pub fn terms(&self, r: usize) -> Vec<(u32, f32)> {
         match &self.blend {
             None => vec![(r as u32, 1.0)],
-            Some(b) => b.terms[b.at[r] as usize..b.at[r + 1] as usize].to_vec(),
+            Some(b) => b.of(r).to_vec(),
         }
     }
 
@@ -251,7 +258,7 @@ impl ReceiverLinks {
         let Some(b) = &self.blend else { return at };
         let mut out = vec![0.0; self.rows()];
         for (r, a) in at.iter().enumerate() {
-            for &(g, w) in &b.terms[b.at[r] as usize..b.at[r + 1] as usize] {
+            for &(g, w) in b.of(r) {
                 out[g as usize] += a * w as f64;
             }
         }
@@ -278,29 +285,26 @@ impl ReceiverLinks {
             field.gather_leaves(row.leaves) + field.gather(row.far)
         };
         let Some(b) = &self.blend else {
-            out.par_chunks_mut(256).enumerate().for_each(|(c, chunk)| {
-                for (k, e) in chunk.iter_mut().enumerate() {
-                    *e = gather(c * 256 + k);
-                }
-            });
-            return;
+            return fill(out, gather);
         };
         let mut at = vec![DVec3::ZERO; self.rows()];
-        at.par_chunks_mut(256).enumerate().for_each(|(c, chunk)| {
-            for (k, e) in chunk.iter_mut().enumerate() {
-                *e = gather(c * 256 + k);
-            }
-        });
-        out.par_chunks_mut(256).enumerate().for_each(|(c, chunk)| {
-            for (k, e) in chunk.iter_mut().enumerate() {
-                let r = c * 256 + k;
-                *e = b.terms[b.at[r] as usize..b.at[r + 1] as usize]
-                    .iter()
-                    .map(|&(g, w)| at[g as usize] * w as f64)
-                    .sum();
-            }
+        fill(&mut at, gather);
+        fill(out, |r| {
+            b.of(r)
+                .iter()
+                .map(|&(g, w)| at[g as usize] * w as f64)
+                .sum()
         });
     }
+}
+
+/// `out[i] = value(i)`, in parallel over fixed chunks.
+fn fill(out: &mut [DVec3], value: impl Fn(usize) -> DVec3 + Sync) {
+    out.par_chunks_mut(256).enumerate().for_each(|(c, chunk)| {
+        for (k, e) in chunk.iter_mut().enumerate() {
+            *e = value(c * 256 + k);
+        }
+    });
 }
 
 impl RowChunk {
