@@ -32,6 +32,7 @@ pub mod report;
 pub mod result;
 pub mod scene;
 pub mod settings;
+pub mod shardfile;
 pub mod sheet;
 pub mod solution;
 pub mod solve;

@@ -10,7 +10,7 @@ use super::meshing::Meshed;
 use crate::patches::PatchMesh;
 use crate::scene::Scene;
 use crate::settings::Settings;
-use crate::transport::sharing::{self, Sharing};
+use crate::transport::sharing::{self, Part, Sharing};
 use crate::transport::{gather::Gatherer, links::ReceiverLinks, tree::PatchTree};
 use crate::visibility::Occluder;
 use glam::DVec3;
@@ -39,6 +39,93 @@ pub fn stage(
     vertex_direct: &[DVec3],
     light_flux: &[DVec3],
 ) -> Rows {
+    let (tree, rho, dark) = setup(scene, settings, meshed);
+    let mesh: &PatchMesh = &meshed.mesh;
+    let gatherer = Gatherer {
+        mesh,
+        tree: &tree,
+        occluder,
+        tau,
+        dark: dark.as_deref(),
+    };
+    let tolerance = tolerance(settings);
+    let links = match dark.as_ref().is_some_and(|d| d[0]) {
+        // Black throughout: nothing is reflected, so there is nothing to gather.
+        true => ReceiverLinks::none(mesh.receivers.len(), tree.nodes.len()),
+        false if tolerance > 0.0 => {
+            let first_bounce = first_bounce(meshed, &rho, light_flux);
+            let sharing = Sharing {
+                tolerance,
+                direct: vertex_direct,
+                first_bounce: &first_bounce,
+            };
+            sharing::build(&gatherer, &mesh.receivers, &sharing)
+        }
+        false => ReceiverLinks::build(&gatherer, &mesh.receivers),
+    };
+    Rows {
+        tree,
+        rho,
+        dark,
+        links,
+    }
+}
+
+/// The rows of the receivers of `subset` (ascending, whole groups), as [`stage`] would make
+/// them, to be assembled with the other parts' by [`assembled`] (a distributed bake's task).
+#[allow(clippy::too_many_arguments)]
+pub fn part(
+    scene: &Scene,
+    settings: &Settings,
+    tau: f64,
+    meshed: &Meshed,
+    occluder: &Occluder,
+    vertex_direct: &[DVec3],
+    light_flux: &[DVec3],
+    subset: &[u32],
+) -> Part {
+    let (tree, rho, dark) = setup(scene, settings, meshed);
+    let gatherer = Gatherer {
+        mesh: &meshed.mesh,
+        tree: &tree,
+        occluder,
+        tau,
+        dark: dark.as_deref(),
+    };
+    let first_bounce = match dark.as_ref().is_some_and(|d| d[0]) {
+        true => return Part::nothing(dark.is_some(), subset),
+        false => first_bounce(meshed, &rho, light_flux),
+    };
+    let sharing = Sharing {
+        tolerance: tolerance(settings),
+        direct: vertex_direct,
+        first_bounce: &first_bounce,
+    };
+    sharing::part(&gatherer, &meshed.mesh.receivers, subset, &sharing)
+}
+
+/// The [`Rows`] of [`part`]s that together cover every receiver once: the same as [`stage`]'s.
+pub fn assembled(scene: &Scene, settings: &Settings, meshed: &Meshed, parts: Vec<Part>) -> Rows {
+    let (tree, rho, dark) = setup(scene, settings, meshed);
+    let n = meshed.mesh.receivers.len();
+    let links = match dark.as_ref().is_some_and(|d| d[0]) {
+        true => ReceiverLinks::none(n, tree.nodes.len()),
+        false => sharing::assemble(parts, n, tree.nodes.len()),
+    };
+    Rows {
+        tree,
+        rho,
+        dark,
+        links,
+    }
+}
+
+/// The tree of all patches, each patch's reflectance, and the black nodes (when skipped).
+fn setup(
+    scene: &Scene,
+    settings: &Settings,
+    meshed: &Meshed,
+) -> (PatchTree, Vec<DVec3>, Option<Vec<bool>>) {
     let mesh: &PatchMesh = &meshed.mesh;
     let tree = PatchTree::build(mesh, (0..mesh.patches.len() as u32).collect());
     let rho: Vec<DVec3> = mesh
@@ -50,40 +137,19 @@ pub fn stage(
         true => None,
         false => tree.nodes_where(|p| black(&rho, &meshed.exitance, p)),
     };
-    let gatherer = Gatherer {
-        mesh,
-        tree: &tree,
-        occluder,
-        tau,
-        dark: dark.as_deref(),
-    };
-    let links = match dark.as_ref().is_some_and(|d| d[0]) {
-        // Black throughout: nothing is reflected, so there is nothing to gather.
-        true => ReceiverLinks::none(mesh.receivers.len(), tree.nodes.len()),
-        false => {
-            let tolerance = settings
-                .receiver_tolerance
-                .unwrap_or(settings.quality.receiver_tolerance());
-            match tolerance > 0.0 {
-                false => ReceiverLinks::build(&gatherer, &mesh.receivers),
-                true => {
-                    let first_bounce: Vec<DVec3> = (0..mesh.patches.len())
-                        .map(|p| meshed.exitance[p] + rho[p] * light_flux[p] / mesh.patches[p].area)
-                        .collect();
-                    let sharing = Sharing {
-                        tolerance,
-                        direct: vertex_direct,
-                        first_bounce: &first_bounce,
-                    };
-                    sharing::build(&gatherer, &mesh.receivers, &sharing)
-                }
-            }
-        }
-    };
-    Rows {
-        tree,
-        rho,
-        dark,
-        links,
-    }
+    (tree, rho, dark)
+}
+
+fn tolerance(settings: &Settings) -> f64 {
+    settings
+        .receiver_tolerance
+        .unwrap_or(settings.quality.receiver_tolerance())
+}
+
+/// First-bounce exitance of each patch (lm/m², RGB): emitted plus reflected direct light.
+fn first_bounce(meshed: &Meshed, rho: &[DVec3], light_flux: &[DVec3]) -> Vec<DVec3> {
+    let patches = &meshed.mesh.patches;
+    (0..patches.len())
+        .map(|p| meshed.exitance[p] + rho[p] * light_flux[p] / patches[p].area)
+        .collect()
 }

@@ -27,6 +27,7 @@ mod meshing;
 mod output;
 pub mod probes;
 mod run;
+pub mod shard;
 mod solve;
 
 use crate::error::{Error, Result};
@@ -38,6 +39,7 @@ use crate::solution::{PlaneLight, Solution, solved};
 use crate::summary::{Counts, EnergyBalance, RunSummary, SettingsRecord, Units};
 use crate::visibility::{Occluder, OccluderOptions};
 use glam::DVec3;
+pub use direct::PatchFlux;
 pub use groups::bake_groups;
 use run::{RayStage, Run, Stage};
 
@@ -115,6 +117,51 @@ pub fn solve<'a>(
     settings: &Settings,
     progress: &dyn Progress,
 ) -> Result<Solved<'a>> {
+    let mut m = mesh(scene, settings, progress)?;
+    let direct = light(scene, &mut m, progress);
+    let params = settings.params();
+    progress.stage("form factors", m.meshed.mesh.receivers.len() as u64);
+    let rows = m.run.time(Stage::Links, || {
+        links::stage(
+            scene,
+            settings,
+            params.tau,
+            &m.meshed,
+            &m.occluder,
+            &direct.vertex,
+            &direct.flux.per_patch,
+        )
+    });
+    m.run.rays(RayStage::Links, &m.occluder);
+    complete(scene, settings, m, direct, rows, progress)
+}
+
+/// The scene meshed: patches, receivers and light sources on them, the occluder, the run so far.
+pub struct Meshing<'a> {
+    meshed: meshing::Meshed<'a>,
+    occluder: Occluder,
+    run: Run,
+    h: f64,
+}
+
+impl Meshing<'_> {
+    pub fn mesh(&self) -> &crate::patches::PatchMesh {
+        &self.meshed.mesh
+    }
+}
+
+/// Direct light: exact at every vertex (lx, RGB), and as flux into every patch.
+pub struct Direct {
+    pub vertex: Vec<DVec3>,
+    pub flux: direct::PatchFlux,
+}
+
+/// Validate the settings, check the budget, mesh the scene (stage 1).
+pub fn mesh<'a>(
+    scene: &'a Scene,
+    settings: &Settings,
+    progress: &dyn Progress,
+) -> Result<Meshing<'a>> {
     settings.validate()?;
     let params = settings.params();
     let areas: Vec<f64> = scene.surfaces.iter().map(Surface::area).collect();
@@ -142,32 +189,50 @@ pub fn solve<'a>(
         progress.warn("the scene has no light source (no emitting material, light or luminaire): everything bakes to 0 lx");
     }
     run.rays(RayStage::Meshing, &occluder);
+    Ok(Meshing {
+        meshed,
+        occluder,
+        run,
+        h,
+    })
+}
 
-    let n = meshed.mesh.receivers.len() as u64;
+/// Direct light at the vertices and into the patches (stage 2).
+pub fn light(scene: &Scene, m: &mut Meshing, progress: &dyn Progress) -> Direct {
+    let n = m.meshed.mesh.receivers.len() as u64;
     progress.stage("direct light", n);
-    let vertex_direct = run.time(Stage::Direct, || {
-        direct::at_vertices(&meshed.lights, &meshed.mesh, &occluder, progress)
+    let (meshed, occluder) = (&m.meshed, &m.occluder);
+    let vertex = m.run.time(Stage::Direct, || {
+        direct::at_vertices(&meshed.lights, &meshed.mesh, occluder, progress)
     });
-    run.rays(RayStage::DirectAtReceivers, &occluder);
-    let mut flux = run.time(Stage::Direct, || {
-        direct::into_patches(scene, &meshed.lights, &meshed.mesh, &occluder)
+    m.run.rays(RayStage::DirectAtReceivers, occluder);
+    let flux = m.run.time(Stage::Direct, || {
+        direct::into_patches(scene, &meshed.lights, &meshed.mesh, occluder)
     });
-    run.rays(RayStage::DirectIntoPatches, &occluder);
+    m.run.rays(RayStage::DirectIntoPatches, occluder);
+    Direct { vertex, flux }
+}
 
-    progress.stage("form factors", n);
-    let rows = run.time(Stage::Links, || {
-        links::stage(
-            scene,
-            settings,
-            params.tau,
-            &meshed,
-            &occluder,
-            &vertex_direct,
-            &flux.per_patch,
-        )
-    });
-    run.rays(RayStage::Links, &occluder);
-
+/// The stages after the links: solve, energy balance, summary (stages 4 and 5).
+fn complete<'a>(
+    scene: &'a Scene,
+    settings: &Settings,
+    m: Meshing<'a>,
+    direct: Direct,
+    rows: links::Rows,
+    progress: &dyn Progress,
+) -> Result<Solved<'a>> {
+    let params = settings.params();
+    let Meshing {
+        meshed,
+        occluder,
+        mut run,
+        h,
+    } = m;
+    let Direct {
+        vertex: vertex_direct,
+        mut flux,
+    } = direct;
     progress.stage("solving", 0);
     let light_flux = std::mem::take(&mut flux.per_patch);
     let radiosity = run.time(Stage::Solve, || {

@@ -50,6 +50,26 @@ pub struct BakeArgs {
     /// --report).
     #[arg(long, value_name = "FILE")]
     targets: Option<PathBuf>,
+    /// Distributed bake, step 1: mesh and light the scene, write the state and the task list
+    /// to DIR (state.bin, plan.json); no output yet. `dist/dask_bake.py` runs the three steps
+    /// on a Dask cluster.
+    #[arg(long, value_name = "DIR", help_heading = "Distributed bake",
+          conflicts_with_all = ["shard_gather", "shard_merge"])]
+    shard_plan: Option<PathBuf>,
+    /// Number of tasks of --shard-plan (whole surfaces each; the output does not depend on it).
+    #[arg(long, value_name = "N", default_value_t = 2, help_heading = "Distributed bake")]
+    shard_tasks: usize,
+    /// Step 2, anywhere the input and DIR are: gather the rows of task --shard-task K of the
+    /// plan in DIR (DIR/task-K.bin). Run it with the plan's options.
+    #[arg(long, value_name = "DIR", help_heading = "Distributed bake",
+          requires = "shard_task", conflicts_with = "shard_merge")]
+    shard_gather: Option<PathBuf>,
+    #[arg(long, value_name = "K", help_heading = "Distributed bake", requires = "shard_gather")]
+    shard_task: Option<usize>,
+    /// Step 3: read the plan and every task's rows from DIR and finish the bake into OUTPUT,
+    /// byte for byte the output of the same bake in one process.
+    #[arg(long, value_name = "DIR", help_heading = "Distributed bake")]
+    shard_merge: Option<PathBuf>,
 }
 
 /// What the bake computes and how: the options `bake` and `bake fit` share.
@@ -262,7 +282,17 @@ pub fn run(args: &BakeArgs) -> Result<()> {
         progress.warn(w);
     }
     let pool = worker_pool(&settings, &progress)?;
-    let result = pool.install(|| luxbake::bake::bake(&scene, &settings, &progress))?;
+    if let Some(dir) = &args.shard_plan {
+        let tasks = args.shard_tasks;
+        return pool.install(|| super::shard::plan(dir, tasks, &scene, &settings, &progress));
+    }
+    if let (Some(dir), Some(k)) = (&args.shard_gather, args.shard_task) {
+        return pool.install(|| super::shard::gather(dir, k, &scene, &settings, &progress));
+    }
+    let result = match &args.shard_merge {
+        Some(dir) => pool.install(|| super::shard::merge(dir, &scene, &settings, &progress))?,
+        None => pool.install(|| luxbake::bake::bake(&scene, &settings, &progress))?,
+    };
     let options = ExportOptions {
         unlit: !settings.keep_lit_materials,
         probe_glyphs: settings

@@ -11,4 +11,5 @@ pub mod plan;
 pub mod probes;
 pub mod progress;
 pub mod report;
+pub mod shard;
 pub mod view;

@@ -145,6 +145,15 @@ impl ReceiverLinks {
         out
     }
 
+    /// Append copies of `rows` (gathered elsewhere: another part's) as one batch.
+    pub fn append_rows(&mut self, rows: &[RowRef]) {
+        self.batches
+            .push((self.rows() as u32, self.chunks.len() as u32));
+        for chunk in rows.chunks(CHUNK) {
+            self.chunks.push(RowChunk::copied(chunk));
+        }
+    }
+
     /// Set how receivers read the rows (`None`: receiver r reads row r, one stat per row) and
     /// their stats: a blended receiver's coverage, back and dark are its terms' weighted means;
     /// it is closed when all its terms are. `nodes`: the tree's node count.
@@ -308,6 +317,23 @@ fn fill(out: &mut [DVec3], value: impl Fn(usize) -> DVec3 + Sync) {
 }
 
 impl RowChunk {
+    /// Rows copied from elsewhere, packed as [`RowChunk::of`] packs them.
+    fn copied(rows: &[RowRef]) -> Self {
+        let mut c = RowChunk {
+            leaf_at: vec![0],
+            leaves: Vec::with_capacity(rows.iter().map(|r| r.leaves.len()).sum()),
+            far_at: vec![0],
+            far: Vec::with_capacity(rows.iter().map(|r| r.far.len()).sum()),
+        };
+        for r in rows {
+            c.leaves.extend_from_slice(r.leaves);
+            c.far.extend_from_slice(r.far);
+            c.leaf_at.push(c.leaves.len() as u32);
+            c.far_at.push(c.far.len() as u32);
+        }
+        c
+    }
+
     /// Rows packed: leaf links (no gradient) apart from the rest.
     fn of(rows: &[Row]) -> Self {
         let is_leaf = |l: &&Link| l.coeff > 0.0 && l.grad == [0.0; 3];

@@ -81,16 +81,72 @@ const NONE: u32 = u32::MAX;
 
 /// Rows for `receivers`, shared where [`Sharing`] allows (see the module doc).
 pub fn build(gatherer: &Gatherer, receivers: &[Vertex], sharing: &Sharing) -> ReceiverLinks {
+    let all: Vec<u32> = (0..receivers.len() as u32).collect();
+    assemble(vec![part(gatherer, receivers, &all, sharing)], receivers.len(), gatherer.tree.nodes.len())
+}
+
+/// The rows of some receivers (whole groups: nothing is shared across groups), gathered and
+/// shared as [`build`] does, before [`assemble`] numbers them among every other part's.
+pub struct Part {
+    /// The rows gathered, one batch per level (unfinished: no blend, no stats).
+    pub links: ReceiverLinks,
+    /// What each row's gather said.
+    pub stats: Vec<RowStats>,
+    /// Per level, the receivers gathered there, in row order.
+    pub picks: Vec<Vec<u32>>,
+    /// The part's receivers, ascending, and what each reads: `terms[at[k]..at[k + 1]]`, rows
+    /// of this part with weights (a gathered receiver reads its own row with weight 1).
+    pub receivers: Vec<u32>,
+    pub at: Vec<u32>,
+    pub terms: Vec<(u32, f32)>,
+}
+
+impl Part {
+    /// No rows for `subset`: nothing to gather (the scene is black throughout).
+    pub fn nothing(dark: bool, subset: &[u32]) -> Part {
+        Part {
+            links: ReceiverLinks::empty(dark),
+            stats: Vec::new(),
+            picks: Vec::new(),
+            receivers: subset.to_vec(),
+            at: vec![0; subset.len() + 1],
+            terms: Vec::new(),
+        }
+    }
+}
+
+/// The [`Part`] of `subset` (ascending receiver indices, whole groups).
+pub fn part(
+    gatherer: &Gatherer,
+    receivers: &[Vertex],
+    subset: &[u32],
+    sharing: &Sharing,
+) -> Part {
     let n = receivers.len();
-    let nodes = gatherer.tree.nodes.len();
     let mut links = ReceiverLinks::empty(gatherer.dark.is_some());
+    if sharing.tolerance <= 0.0 {
+        // Nothing shared: every receiver gathered, in order.
+        let points: Vec<(DVec3, DVec3)> = (subset.iter())
+            .map(|&r| (receivers[r as usize].point, receivers[r as usize].normal))
+            .collect();
+        let stats = links.append(gatherer, &points);
+        return Part {
+            links,
+            stats,
+            picks: vec![subset.to_vec()],
+            receivers: subset.to_vec(),
+            at: (0..=subset.len() as u32).collect(),
+            terms: (0..subset.len() as u32).map(|g| (g, 1.0)).collect(),
+        };
+    }
     let mut stats: Vec<RowStats> = Vec::new();
     let mut gathered: Vec<Gathered> = Vec::new();
     let mut own = vec![NONE; n];
     let mut blended: Vec<Vec<(u32, f32)>> = vec![Vec::new(); n];
-    let mut open: Vec<u32> = (0..n as u32).collect();
+    let mut open: Vec<u32> = subset.to_vec();
+    let mut picked: Vec<Vec<u32>> = Vec::new();
     let h = gatherer.mesh.patch_size.max(1e-9);
-    let near = nearness(gatherer, receivers);
+    let near = nearness(gatherer, receivers, subset);
     for level in 0..=LEVELS {
         if open.is_empty() {
             break;
@@ -116,6 +172,7 @@ pub fn build(gatherer: &Gatherer, receivers: &[Vertex], sharing: &Sharing) -> Re
         for (k, &r) in picks.iter().enumerate() {
             own[r as usize] = (first + k) as u32;
         }
+        picked.push(picks);
         if last {
             break;
         }
@@ -144,38 +201,121 @@ pub fn build(gatherer: &Gatherer, receivers: &[Vertex], sharing: &Sharing) -> Re
             }
         }
     }
-    let mut gathered_at = vec![0; links.rows()];
-    let mut at = Vec::with_capacity(n + 1);
-    let mut terms = Vec::with_capacity(n);
+    let mut at = Vec::with_capacity(subset.len() + 1);
+    let mut terms = Vec::with_capacity(subset.len());
     at.push(0);
-    for r in 0..n {
-        match own[r] {
-            NONE => terms.extend_from_slice(&blended[r]),
-            g => {
-                terms.push((g, 1.0));
-                gathered_at[g as usize] = r as u32;
-            }
+    for &r in subset {
+        match own[r as usize] {
+            NONE => terms.append(&mut blended[r as usize]),
+            g => terms.push((g, 1.0)),
         }
         at.push(terms.len() as u32);
     }
+    Part {
+        links,
+        stats,
+        picks: picked,
+        receivers: subset.to_vec(),
+        at,
+        terms,
+    }
+}
 
-    let blend = Blend {
+/// Every receiver's rows from `parts` (together covering the `n` receivers once), numbered as
+/// one [`part`] of all of them numbers them: level by level, in receiver order within a level.
+/// So the links, and all that is computed from them, do not depend on how the receivers were
+/// split. `nodes`: the tree's node count.
+pub fn assemble(mut parts: Vec<Part>, n: usize, nodes: usize) -> ReceiverLinks {
+    let whole = parts.len() == 1 && parts[0].receivers.len() == n;
+    let (mut links, stats, numbering) = match whole {
+        // One part of all receivers: its rows are numbered already.
+        true => {
+            let p = &mut parts[0];
+            let links = std::mem::replace(&mut p.links, ReceiverLinks::empty(false));
+            let numbering = vec![(0..p.stats.len() as u32).collect::<Vec<u32>>()];
+            (links, std::mem::take(&mut p.stats), numbering)
+        }
+        false => renumber(&parts),
+    };
+    let mut gathered_at = vec![0; links.rows()];
+    let mut reads: Vec<(u32, u32)> = vec![(u32::MAX, 0); n];
+    for (p, part) in parts.iter().enumerate() {
+        let mut row = 0;
+        for picks in &part.picks {
+            for &r in picks {
+                gathered_at[numbering[p][row] as usize] = r;
+                row += 1;
+            }
+        }
+        for (k, &r) in part.receivers.iter().enumerate() {
+            reads[r as usize] = (p as u32, k as u32);
+        }
+    }
+    let mut at = Vec::with_capacity(n + 1);
+    let mut terms = Vec::with_capacity(n);
+    at.push(0);
+    for &(p, k) in &reads {
+        assert!(p != u32::MAX, "every receiver is in a part");
+        let part = &parts[p as usize];
+        let mine = &part.terms[part.at[k as usize] as usize..part.at[k as usize + 1] as usize];
+        let number = &numbering[p as usize];
+        terms.extend(mine.iter().map(|&(g, w)| (number[g as usize], w)));
+        at.push(terms.len() as u32);
+    }
+    // Every receiver reading its own row, numbered as the receivers: no blend at all (what
+    // `ReceiverLinks::build` makes).
+    let own = gathered_at.len() == n
+        && (gathered_at.iter().enumerate()).all(|(g, &r)| r as usize == g)
+        && (at.windows(2).enumerate()).all(|(r, w)| w[1] - w[0] == 1 && terms[w[0] as usize] == (r as u32, 1.0));
+    let blend = (!own).then_some(Blend {
         at,
         terms,
         gathered_at,
-    };
-    links.finish(Some(blend), &stats, nodes);
+    });
+    links.finish(blend, &stats, nodes);
     links
 }
 
-/// Per receiver, the harmonic mean distance (m) of what [`NEAR_RAYS`]² cosine-distributed rays
-/// hit (misses count as infinitely far): small beside a leg it stands next to, or pressed
-/// against a face.
-fn nearness(gatherer: &Gatherer, receivers: &[Vertex]) -> Vec<f64> {
+/// The rows of several parts copied into one set, level by level in receiver order; their
+/// stats in that order; per part, each of its rows' new number.
+fn renumber(parts: &[Part]) -> (ReceiverLinks, Vec<RowStats>, Vec<Vec<u32>>) {
+    let dark = parts.iter().any(|p| p.links.has_dark());
+    let mut links = ReceiverLinks::empty(dark);
+    let mut stats = Vec::new();
+    let mut numbering: Vec<Vec<u32>> = parts.iter().map(|p| vec![0; p.stats.len()]).collect();
+    let mut first: Vec<usize> = vec![0; parts.len()];
+    let levels = parts.iter().map(|p| p.picks.len()).max().unwrap_or(0);
+    for level in 0..levels {
+        // (receiver, part, row in the part) of every row gathered at this level.
+        let mut rows: Vec<(u32, usize, usize)> = Vec::new();
+        for (p, part) in parts.iter().enumerate() {
+            if let Some(picks) = part.picks.get(level) {
+                rows.extend(picks.iter().enumerate().map(|(k, &r)| (r, p, first[p] + k)));
+                first[p] += picks.len();
+            }
+        }
+        rows.sort_unstable();
+        let at = links.rows() as u32;
+        for (k, &(_, p, g)) in rows.iter().enumerate() {
+            numbering[p][g] = at + k as u32;
+            stats.push(parts[p].stats[g]);
+        }
+        let refs: Vec<_> = rows.iter().map(|&(_, p, g)| parts[p].links.row(g)).collect();
+        links.append_rows(&refs);
+    }
+    (links, stats, numbering)
+}
+
+/// Per receiver of `subset` (others: infinity), the harmonic mean distance (m) of what
+/// [`NEAR_RAYS`]² cosine-distributed rays hit (misses count as infinitely far): small beside a
+/// leg it stands next to, or pressed against a face.
+fn nearness(gatherer: &Gatherer, receivers: &[Vertex], subset: &[u32]) -> Vec<f64> {
     let occ = gatherer.occluder;
-    receivers
+    let mut near = vec![f64::INFINITY; receivers.len()];
+    let values: Vec<f64> = subset
         .par_iter()
-        .map(|v| {
+        .map(|&r| {
+            let v = &receivers[r as usize];
             let from = v.point + v.normal * occ.epsilon;
             let inverse: f64 = crate::geom::samples::cosine_directions(v.normal, NEAR_RAYS)
                 .map(|d| {
@@ -188,7 +328,11 @@ fn nearness(gatherer: &Gatherer, receivers: &[Vertex]) -> Vec<f64> {
                 false => f64::INFINITY,
             }
         })
-        .collect()
+        .collect();
+    for (&r, v) in subset.iter().zip(values) {
+        near[r as usize] = v;
+    }
+    near
 }
 
 /// The receivers of `open` to gather at this level: per group and cube of edge `spacing`, in
@@ -600,6 +744,55 @@ mod tests {
 
     /// A closed room: rows normalised to coverage 1 blend into rows of coverage 1 (energy
     /// conservation per bounce holds at every receiver).
+    #[test]
+    fn parts_of_whole_groups_assemble_into_the_links_of_one_build() {
+        let b = built(&room());
+        let gatherer = Gatherer {
+            mesh: &b.mesh,
+            tree: &b.tree,
+            occluder: &b.occluder,
+            tau: 0.3,
+            dark: None,
+        };
+        let (_, whole, field) = both(&b, 0.01);
+        let direct = vec![DVec3::ZERO; b.mesh.receivers.len()];
+        let sharing = Sharing {
+            tolerance: 0.01,
+            direct: &direct,
+            first_bounce: &field,
+        };
+        // Three parts of interleaved groups (so no part is a contiguous range of receivers),
+        // assembled in an order that is not the groups'.
+        let groups = b.mesh.groups.len() as u32;
+        assert!(groups >= 6, "{groups} groups");
+        let n = b.mesh.receivers.len();
+        let mut parts: Vec<Part> = [2u32, 0, 1]
+            .iter()
+            .map(|&k| {
+                let subset: Vec<u32> = (0..n as u32)
+                    .filter(|&r| b.mesh.receivers[r as usize].group % 3 == k)
+                    .collect();
+                part(&gatherer, &b.mesh.receivers, &subset, &sharing)
+            })
+            .collect();
+        assert!(parts.iter().all(|p| !p.receivers.is_empty()));
+        let parted = assemble(std::mem::take(&mut parts), n, b.tree.nodes.len());
+        assert_eq!(parted.rows(), whole.rows());
+        for g in 0..whole.rows() {
+            let (a, c) = (whole.row(g), parted.row(g));
+            assert_eq!(a.leaves, c.leaves, "row {g}");
+            assert_eq!(a.far, c.far, "row {g}");
+            assert_eq!(whole.gathered_at(g), parted.gathered_at(g));
+        }
+        for r in 0..n {
+            assert_eq!(whole.terms(r), parted.terms(r), "receiver {r}");
+        }
+        assert_eq!(whole.coverage, parted.coverage);
+        assert_eq!(whole.closed, parted.closed);
+        let (e1, e2) = (apply(&b, &whole, &field), apply(&b, &parted, &field));
+        assert!(e1.iter().zip(&e2).all(|(x, y)| x.to_bits() == y.to_bits()));
+    }
+
     #[test]
     fn blends_of_closed_rows_keep_coverage_one() {
         let b = built(&room());

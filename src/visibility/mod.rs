@@ -345,6 +345,12 @@ impl Occluder {
         self.rays.total()
     }
 
+    /// Count `n` rays traced elsewhere (by another process of a distributed bake) as traced here.
+    pub fn credit_rays(&self, n: u64) {
+        let last = self.rays.shards.len() - 1;
+        self.rays.shards[last].0.fetch_add(n, Ordering::Relaxed);
+    }
+
     /// Is the segment from point `a` (surface normal `na`) to point `b` (normal `nb`) free of
     /// blockers? Either normal may be zero (a point in free space, e.g. a light).
     pub fn clear(&self, a: DVec3, na: DVec3, b: DVec3, nb: DVec3) -> bool {

@@ -1,0 +1,253 @@
+//! A bake split across processes or machines: the links stage (every receiver's gather over
+//! the patch hierarchy, most of a large scene's time) runs as independent tasks.
+//!
+//! 1. [`plan`]: mesh the scene and light it; out comes a [`State`]: what the tasks and the merge
+//!    need that meshing does not remake (the direct light), a fingerprint of the mesh, and the
+//!    task list (contiguous ranges of groups, so no task shares a gather with another).
+//! 2. [`gather`]: one task, anywhere: mesh the scene again (deterministic: the fingerprint must
+//!    match the state's) and gather its receivers' rows ([`TaskResult`]).
+//! 3. [`merge`]: mesh again, read the direct light from the state and the rows from every task,
+//!    and finish the bake as [`super::bake`] does.
+//!
+//! Invariant: the merged [`BakeResult`] equals the single-process bake's, whatever the task
+//! count, the order the tasks ran in and each process's thread count (rows are numbered
+//! as one process numbers them, `transport::sharing::assemble`; ray counts are summed).
+
+use super::run::{RayStage, Stage};
+use super::{Direct, PatchFlux, complete, finish, light, links, mesh};
+use crate::error::{Error, Result};
+use crate::patches::PatchMesh;
+use crate::progress::Progress;
+use crate::result::BakeResult;
+use crate::scene::Scene;
+use crate::settings::Settings;
+use crate::summary::SettingsRecord;
+use crate::transport::sharing::Part;
+use glam::DVec3;
+
+/// What [`plan`] hands the tasks and the merge.
+pub struct State {
+    /// The settings record (JSON): tasks and merge must run with the same settings.
+    pub settings: String,
+    /// [`fingerprint`] of the mesh.
+    pub fingerprint: u64,
+    /// Direct illuminance at every receiver (lx, RGB).
+    pub vertex_direct: Vec<DVec3>,
+    pub flux: PatchFlux,
+    /// Rays the direct stage traced: at receivers, into patches.
+    pub rays: [u64; 2],
+    /// Per task, its range of groups `[start, end)`.
+    pub tasks: Vec<(u32, u32)>,
+}
+
+/// One task's rows.
+pub struct TaskResult {
+    pub task: u32,
+    pub fingerprint: u64,
+    /// Rays its gathers traced.
+    pub rays: u64,
+    pub part: Part,
+}
+
+/// Mesh and light the scene; the receivers split into `tasks` tasks (at most one per group) of
+/// about equal receiver counts.
+pub fn plan(
+    scene: &Scene,
+    settings: &Settings,
+    tasks: usize,
+    progress: &dyn Progress,
+) -> Result<State> {
+    let mut m = mesh(scene, settings, progress)?;
+    let direct = light(scene, &mut m, progress);
+    let mesh = m.mesh();
+    Ok(State {
+        settings: settings_json(settings),
+        fingerprint: fingerprint(mesh),
+        vertex_direct: direct.vertex,
+        flux: direct.flux,
+        rays: [m.run.rays.direct_at_receivers, m.run.rays.direct_into_patches],
+        tasks: split(mesh, tasks.max(1)),
+    })
+}
+
+/// Task `task` of `state`: its receivers' rows.
+pub fn gather(
+    scene: &Scene,
+    settings: &Settings,
+    state: &State,
+    task: usize,
+    progress: &dyn Progress,
+) -> Result<TaskResult> {
+    let &(start, end) = state.tasks.get(task).ok_or_else(|| {
+        Error::Settings(format!(
+            "task {task} is not in the plan (it has {} tasks: 0 to {})",
+            state.tasks.len(),
+            state.tasks.len().saturating_sub(1)
+        ))
+    })?;
+    check_settings(settings, state)?;
+    let m = mesh(scene, settings, progress)?;
+    check_mesh(m.mesh(), state)?;
+    let receivers = &m.mesh().receivers;
+    let subset: Vec<u32> = (0..receivers.len() as u32)
+        .filter(|&r| (start..end).contains(&receivers[r as usize].group))
+        .collect();
+    progress.stage("form factors", subset.len() as u64);
+    let before = m.occluder.rays_traced();
+    let part = links::part(
+        scene,
+        settings,
+        settings.params().tau,
+        &m.meshed,
+        &m.occluder,
+        &state.vertex_direct,
+        &state.flux.per_patch,
+        &subset,
+    );
+    Ok(TaskResult {
+        task: task as u32,
+        fingerprint: state.fingerprint,
+        rays: m.occluder.rays_traced() - before,
+        part,
+    })
+}
+
+/// The bake, from `state` and every task's result (any order).
+pub fn merge(
+    scene: &Scene,
+    settings: &Settings,
+    state: State,
+    mut results: Vec<TaskResult>,
+    progress: &dyn Progress,
+) -> Result<BakeResult> {
+    check_settings(settings, &state)?;
+    results.sort_by_key(|r| r.task);
+    let ids: Vec<u32> = results.iter().map(|r| r.task).collect();
+    if ids != (0..state.tasks.len() as u32).collect::<Vec<_>>() {
+        return Err(Error::Settings(format!(
+            "the merge needs the results of tasks 0 to {} once each, got tasks {ids:?}",
+            state.tasks.len().saturating_sub(1)
+        )));
+    }
+    if let Some(r) = results.iter().find(|r| r.fingerprint != state.fingerprint) {
+        return Err(Error::Settings(format!(
+            "task {}'s result is from another plan (mesh fingerprint {:016x}, the state's {:016x})",
+            r.task, r.fingerprint, state.fingerprint
+        )));
+    }
+    let mut m = mesh(scene, settings, progress)?;
+    check_mesh(m.mesh(), &state)?;
+    // The direct stage ran in the plan: its light and its rays.
+    m.occluder.credit_rays(state.rays[0]);
+    m.run.rays(RayStage::DirectAtReceivers, &m.occluder);
+    m.occluder.credit_rays(state.rays[1]);
+    m.run.rays(RayStage::DirectIntoPatches, &m.occluder);
+    let direct = Direct {
+        vertex: state.vertex_direct,
+        flux: state.flux,
+    };
+    m.occluder.credit_rays(results.iter().map(|r| r.rays).sum());
+    let parts = results.into_iter().map(|r| r.part).collect();
+    let rows = m
+        .run
+        .time(Stage::Links, || links::assembled(scene, settings, &m.meshed, parts));
+    m.run.rays(RayStage::Links, &m.occluder);
+    let solved = complete(scene, settings, m, direct, rows, progress)?;
+    Ok(finish(scene, settings, solved, progress))
+}
+
+/// The settings as recorded in the output (threads aside: they do not change the result).
+fn settings_json(settings: &Settings) -> String {
+    serde_json::to_string(&SettingsRecord::from(settings)).expect("settings serialise")
+}
+
+fn check_settings(settings: &Settings, state: &State) -> Result<()> {
+    match settings_json(settings) == state.settings {
+        true => Ok(()),
+        false => Err(Error::Settings(format!(
+            "the settings differ from the plan's: run every task and the merge with the plan's \
+             options (the plan's: {}, these: {})",
+            state.settings,
+            settings_json(settings)
+        ))),
+    }
+}
+
+fn check_mesh(mesh: &PatchMesh, state: &State) -> Result<()> {
+    let here = fingerprint(mesh);
+    match here == state.fingerprint && mesh.receivers.len() == state.vertex_direct.len() {
+        true => Ok(()),
+        false => Err(Error::Settings(format!(
+            "the scene meshes differently from the plan's (fingerprint {here:016x}, the plan's \
+             {:016x}): the input or the bake binary changed",
+            state.fingerprint
+        ))),
+    }
+}
+
+/// A 64-bit FNV-1a hash of the mesh: every receiver's point, normal and group, every patch's
+/// vertices, group and area.
+pub fn fingerprint(mesh: &PatchMesh) -> u64 {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    let mut eat = |x: u64| {
+        for b in x.to_le_bytes() {
+            h = (h ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3);
+        }
+    };
+    eat(mesh.receivers.len() as u64);
+    for v in &mesh.receivers {
+        for x in [v.point, v.normal] {
+            x.to_array().iter().for_each(|c| eat(c.to_bits()));
+        }
+        eat(v.group as u64);
+    }
+    eat(mesh.patches.len() as u64);
+    for p in &mesh.patches {
+        p.v.iter().for_each(|&i| eat(i as u64));
+        eat(p.group as u64);
+        eat(p.area.to_bits());
+    }
+    h
+}
+
+/// Contiguous ranges of groups, about equal in receivers, at most `tasks` (at least one).
+fn split(mesh: &PatchMesh, tasks: usize) -> Vec<(u32, u32)> {
+    let groups = mesh.groups.len();
+    let mut count = vec![0usize; groups];
+    for v in &mesh.receivers {
+        count[v.group as usize] += 1;
+    }
+    let total: usize = count.iter().sum();
+    let mut out = Vec::new();
+    let (mut start, mut sum) = (0usize, 0usize);
+    for (g, c) in count.iter().enumerate() {
+        sum += c;
+        // Close a task when the running total passes its share of the receivers.
+        if sum * tasks >= total * (out.len() + 1) && out.len() + 1 < tasks {
+            out.push((start as u32, g as u32 + 1));
+            start = g + 1;
+        }
+    }
+    out.push((start as u32, groups as u32));
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tasks_split_the_groups_once_each_in_order() {
+        let scene = crate::fixtures::closed_box_with_balls(DVec3::new(4.0, 3.0, 5.0), 0.5, 0.5, 100.0);
+        let settings = Settings::default();
+        let m = mesh(&scene, &settings, &crate::progress::Silent).unwrap();
+        let groups = m.mesh().groups.len() as u32;
+        for tasks in [1, 2, 3, 7, 1000] {
+            let t = split(m.mesh(), tasks);
+            assert!(!t.is_empty() && t.len() <= tasks.max(1));
+            assert_eq!(t[0].0, 0);
+            assert_eq!(t.last().unwrap().1, groups);
+            assert!(t.windows(2).all(|w| w[0].1 == w[1].0 && w[0].0 < w[0].1));
+        }
+    }
+}
