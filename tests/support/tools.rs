@@ -244,3 +244,18 @@ pub fn render_three(gltf: &Path, out: &Path, camera: &str, size: &str) {
         String::from_utf8_lossy(&run.stderr)
     );
 }
+
+/// The Python of `dist/install.sh`'s venv (`<repo>/.venv-dask`) when `dask.distributed` imports
+/// there.
+pub fn dask_python() -> Option<PathBuf> {
+    let python = repo().join(".venv-dask").join("bin").join("python");
+    let ok = Command::new(&python)
+        .args(["-c", "import dask.distributed"])
+        .output()
+        .is_ok_and(|o| o.status.success());
+    ok.then_some(python)
+}
+
+pub fn have_dask() -> bool {
+    dask_python().is_some() || missing("a Python with dask.distributed", "run dist/install.sh")
+}

@@ -1,0 +1,151 @@
+//! The distributed bake (`--shard-plan`, `--shard-gather`, `--shard-merge`; `dist/dask_bake.py`
+//! on a Dask cluster) writes the same bytes as one `bake` process, whatever the task count,
+//! the tasks' order and threads; its errors name the file and leave no output.
+//! The Dask test is skipped locally without `.venv-dask` (dist/install.sh), never under CI.
+
+mod support;
+
+use std::path::{Path, PathBuf};
+use support::cli::bake;
+use support::{scratch, tools};
+
+/// A small open-plan floor (desks, chairs, screens, luminaires) written by `bake generate`.
+fn floor(dir: &Path) -> PathBuf {
+    let input = dir.join("floor.gltf");
+    let run = bake([
+        "generate", "openplan", "--triangles", "3000", "-q", "-o", input.to_str().unwrap(),
+    ]);
+    assert!(run.ok(), "{}", run.stderr);
+    input
+}
+
+fn args<'a>(input: &'a Path, out: &'a Path, options: &[&'a str]) -> Vec<&'a str> {
+    let mut a = vec![input.to_str().unwrap(), "-o", out.to_str().unwrap(), "-q"];
+    a.extend_from_slice(options);
+    a
+}
+
+/// Plan, gather the tasks in `order` (each with its own `--threads`), merge; the output's bytes.
+fn sharded(input: &Path, out: &Path, options: &[&str], tasks: usize, order: &[usize]) -> Vec<u8> {
+    let dir = out.with_extension("state");
+    let dir_s = dir.to_str().unwrap();
+    let n = tasks.to_string();
+    let mut plan = args(input, out, options);
+    plan.extend(["--shard-plan", dir_s, "--shard-tasks", &n]);
+    let run = bake(&plan);
+    assert!(run.ok(), "plan: {}", run.stderr);
+    assert!(!out.exists(), "the plan writes no output");
+    let plan: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.join("plan.json")).unwrap()).unwrap();
+    assert_eq!(plan["tasks"], tasks, "{plan}");
+    for (i, &k) in order.iter().enumerate() {
+        let (k, threads) = (k.to_string(), (1 + i % 2).to_string());
+        let mut gather = args(input, out, options);
+        gather.extend(["--threads", &threads, "--shard-gather", dir_s, "--shard-task", &k]);
+        let run = bake(&gather);
+        assert!(run.ok(), "gather {k}: {}", run.stderr);
+    }
+    let mut merge = args(input, out, options);
+    merge.extend(["--shard-merge", dir_s]);
+    let run = bake(&merge);
+    assert!(run.ok(), "merge: {}", run.stderr);
+    std::fs::read(out).unwrap()
+}
+
+fn single(input: &Path, out: &Path, options: &[&str]) -> Vec<u8> {
+    let run = bake(args(input, out, options));
+    assert!(run.ok(), "{}", run.stderr);
+    std::fs::read(out).unwrap()
+}
+
+#[test]
+fn tasks_merged_in_any_order_give_the_single_bake_bytes() {
+    let dir = scratch("distributed-bytes");
+    let input = floor(&dir);
+    let one = single(&input, &dir.join("one.glb"), &[]);
+    let three = sharded(&input, &dir.join("three.glb"), &[], 3, &[2, 0, 1]);
+    assert!(one == three, "3 tasks: the merged output differs from the single bake");
+    // Every vertex gathered (no sharing: the other code path), with probes and a working plane.
+    let options = ["--quality", "draft", "--receiver-tolerance", "0", "--working-plane", "0.75"];
+    let one = single(&input, &dir.join("one-full.glb"), &options);
+    let two = sharded(&input, &dir.join("two-full.glb"), &options, 2, &[1, 0]);
+    assert!(one == two, "2 tasks, no sharing: the merged output differs");
+}
+
+#[test]
+fn a_missing_or_foreign_task_fails_the_merge_with_no_output() {
+    let dir = scratch("distributed-errors");
+    let input = floor(&dir);
+    let out = dir.join("out.glb");
+    let state = dir.join("state");
+    let s = state.to_str().unwrap();
+    let draft = ["--quality", "draft"];
+    let mut plan = args(&input, &out, &draft);
+    plan.extend(["--shard-plan", s, "--shard-tasks", "2"]);
+    assert!(bake(&plan).ok());
+    let mut gather = args(&input, &out, &draft);
+    gather.extend(["--shard-gather", s, "--shard-task", "0"]);
+    assert!(bake(&gather).ok());
+
+    // Task 1 never ran.
+    let mut merge = args(&input, &out, &draft);
+    merge.extend(["--shard-merge", s]);
+    let run = bake(&merge);
+    assert!(!run.ok() && run.stderr.contains("task-1.bin"), "{}", run.stderr);
+    assert!(!out.exists());
+
+    // A task run with other settings, and a task the plan does not have.
+    let mut other = args(&input, &out, &["--quality", "default"]);
+    other.extend(["--shard-gather", s, "--shard-task", "1"]);
+    let run = bake(&other);
+    assert!(!run.ok() && run.stderr.contains("settings differ"), "{}", run.stderr);
+    let mut beyond = args(&input, &out, &draft);
+    beyond.extend(["--shard-gather", s, "--shard-task", "2"]);
+    let run = bake(&beyond);
+    assert!(!run.ok() && run.stderr.contains("task 2 is not in the plan"), "{}", run.stderr);
+
+    // A damaged task file: named, and nothing written.
+    std::fs::copy(state.join("task-0.bin"), state.join("task-1.bin")).unwrap();
+    let bytes = std::fs::read(state.join("task-0.bin")).unwrap();
+    std::fs::write(state.join("task-0.bin"), &bytes[..bytes.len() / 2]).unwrap();
+    let run = bake(&merge);
+    assert!(!run.ok() && run.stderr.contains("task-0.bin"), "{}", run.stderr);
+    assert!(!out.exists());
+    // Whole again, but task 1's file is task 0's result.
+    std::fs::write(state.join("task-0.bin"), &bytes).unwrap();
+    let run = bake(&merge);
+    assert!(!run.ok() && run.stderr.contains("once each"), "{}", run.stderr);
+    assert!(!out.exists());
+}
+
+#[test]
+fn a_local_dask_cluster_bakes_the_single_bake_bytes() {
+    if !tools::have_dask() {
+        return;
+    }
+    let python = tools::dask_python().unwrap();
+    let dir = scratch("distributed-dask");
+    let input = floor(&dir);
+    let options = ["--quality", "draft"];
+    let one = single(&input, &dir.join("one.glb"), &options);
+    let out = dir.join("dask.glb");
+    let timings = dir.join("timings.json");
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("dist/dask_bake.py");
+    let run = std::process::Command::new(python)
+        .arg(script)
+        .arg(&input)
+        .arg("-o")
+        .arg(&out)
+        .args(["--local-workers", "2", "--tasks", "3", "--bake", env!("CARGO_BIN_EXE_bake")])
+        .arg("--timings")
+        .arg(&timings)
+        .arg("--")
+        .args(options)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(run.status.success(), "dask_bake.py failed: {stderr}");
+    assert!(one == std::fs::read(&out).unwrap(), "the Dask bake differs from the single bake");
+    let t: serde_json::Value = serde_json::from_slice(&std::fs::read(&timings).unwrap()).unwrap();
+    assert!(t.to_string().contains("merge"), "{t}");
+}
