@@ -5,7 +5,7 @@
         [--bake PATH] [--state DIR] [--keep-state] [--task-threads T] [--timings FILE.json]
         -- [extra bake options]
 
-Three stages, each the bake binary with the same command line plus one hidden flag:
+Three stages, each the bake binary with the same command line plus one flag:
   plan    (here)            bake IN -o OUT OPTS --shard-plan DIR [--shard-tasks N]
   gather  (a Dask task, K)  bake IN -o OUT OPTS --threads T --shard-gather DIR --shard-task K
   merge   (here)            bake IN -o OUT OPTS --shard-merge DIR

@@ -73,9 +73,15 @@ pub fn bake_groups(
     let rows = run.time(Stage::Links, || {
         let direct = sum(lit.iter().map(|l| &l.1[..]), n as usize);
         let flux = sum(lit.iter().map(|l| &l.3[..]), base.mesh.patches.len());
-        links::stage(
-            mesh_scene, settings, params.tau, &base, &occluder, &direct, &flux,
-        )
+        links::stage(&links::Inputs {
+            scene: mesh_scene,
+            settings,
+            tau: params.tau,
+            meshed: &base,
+            occluder: &occluder,
+            vertex_direct: &direct,
+            light_flux: &flux,
+        })
     });
     run.rays(RayStage::Links, &occluder);
 

@@ -30,78 +30,71 @@ pub fn black(rho: &[DVec3], exitance: &[DVec3], p: usize) -> bool {
     rho[p] == DVec3::ZERO && exitance[p] == DVec3::ZERO
 }
 
-pub fn stage(
-    scene: &Scene,
-    settings: &Settings,
-    tau: f64,
-    meshed: &Meshed,
-    occluder: &Occluder,
-    vertex_direct: &[DVec3],
-    light_flux: &[DVec3],
-) -> Rows {
-    let (tree, rho, dark) = setup(scene, settings, meshed);
-    let mesh: &PatchMesh = &meshed.mesh;
-    let gatherer = Gatherer {
-        mesh,
-        tree: &tree,
-        occluder,
-        tau,
-        dark: dark.as_deref(),
-    };
-    let tolerance = tolerance(settings);
-    let links = match dark.as_ref().is_some_and(|d| d[0]) {
-        // Black throughout: nothing is reflected, so there is nothing to gather.
-        true => ReceiverLinks::none(mesh.receivers.len(), tree.nodes.len()),
-        false if tolerance > 0.0 => {
-            let first_bounce = first_bounce(meshed, &rho, light_flux);
-            let sharing = Sharing {
-                tolerance,
-                direct: vertex_direct,
-                first_bounce: &first_bounce,
-            };
-            sharing::build(&gatherer, &mesh.receivers, &sharing)
-        }
-        false => ReceiverLinks::build(&gatherer, &mesh.receivers),
-    };
-    Rows {
-        tree,
-        rho,
-        dark,
-        links,
-    }
+/// What the links stage reads: the meshed scene, the occluder, and the direct light (at each
+/// vertex, and as flux into each patch).
+pub struct Inputs<'s> {
+    pub scene: &'s Scene,
+    pub settings: &'s Settings,
+    /// Far-field acceptance ratio.
+    pub tau: f64,
+    pub meshed: &'s Meshed<'s>,
+    pub occluder: &'s Occluder,
+    pub vertex_direct: &'s [DVec3],
+    pub light_flux: &'s [DVec3],
+}
+
+/// Every receiver's row.
+pub fn stage(i: &Inputs) -> Rows {
+    gathered(i, None).0
 }
 
 /// The rows of the receivers of `subset` (ascending, whole groups), as [`stage`] would make
 /// them, to be assembled with the other parts' by [`assembled`] (a distributed bake's task).
-#[allow(clippy::too_many_arguments)]
-pub fn part(
-    scene: &Scene,
-    settings: &Settings,
-    tau: f64,
-    meshed: &Meshed,
-    occluder: &Occluder,
-    vertex_direct: &[DVec3],
-    light_flux: &[DVec3],
-    subset: &[u32],
-) -> Part {
-    let (tree, rho, dark) = setup(scene, settings, meshed);
+pub fn part(i: &Inputs, subset: &[u32]) -> Part {
+    gathered(i, Some(subset)).1.expect("a part was asked for")
+}
+
+/// All rows (`subset` `None`), or the [`Part`] of `subset`.
+fn gathered(i: &Inputs, subset: Option<&[u32]>) -> (Rows, Option<Part>) {
+    let (tree, rho, dark) = setup(i.scene, i.settings, i.meshed);
+    let mesh: &PatchMesh = &i.meshed.mesh;
     let gatherer = Gatherer {
-        mesh: &meshed.mesh,
+        mesh,
         tree: &tree,
-        occluder,
-        tau,
+        occluder: i.occluder,
+        tau: i.tau,
         dark: dark.as_deref(),
     };
-    let first_bounce = match dark.as_ref().is_some_and(|d| d[0]) {
-        true => return Part::nothing(dark.is_some(), subset),
-        false => first_bounce(meshed, &rho, light_flux),
+    let black = dark.as_ref().is_some_and(|d| d[0]);
+    let first_bounce = match black {
+        true => Vec::new(),
+        false => first_bounce(i.meshed, &rho, i.light_flux),
     };
     let sharing = Sharing {
-        tolerance: tolerance(settings),
-        direct: vertex_direct,
+        tolerance: tolerance(i.settings),
+        direct: i.vertex_direct,
         first_bounce: &first_bounce,
     };
-    sharing::part(&gatherer, &meshed.mesh.receivers, subset, &sharing)
+    let (links, part) = match (black, subset) {
+        // Black throughout: nothing is reflected, so there is nothing to gather.
+        (true, None) => (ReceiverLinks::none(mesh.receivers.len(), tree.nodes.len()), None),
+        (true, Some(s)) => (ReceiverLinks::empty(false), Some(Part::nothing(dark.is_some(), s))),
+        (false, None) if sharing.tolerance > 0.0 => {
+            (sharing::build(&gatherer, &mesh.receivers, &sharing), None)
+        }
+        (false, None) => (ReceiverLinks::build(&gatherer, &mesh.receivers), None),
+        (false, Some(s)) => (
+            ReceiverLinks::empty(false),
+            Some(sharing::part(&gatherer, &mesh.receivers, s, &sharing)),
+        ),
+    };
+    let rows = Rows {
+        tree,
+        rho,
+        dark,
+        links,
+    };
+    (rows, part)
 }
 
 /// The [`Rows`] of [`part`]s that together cover every receiver once: the same as [`stage`]'s.

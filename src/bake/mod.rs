@@ -121,17 +121,16 @@ pub fn solve<'a>(
     let direct = light(scene, &mut m, progress);
     let params = settings.params();
     progress.stage("form factors", m.meshed.mesh.receivers.len() as u64);
-    let rows = m.run.time(Stage::Links, || {
-        links::stage(
-            scene,
-            settings,
-            params.tau,
-            &m.meshed,
-            &m.occluder,
-            &direct.vertex,
-            &direct.flux.per_patch,
-        )
-    });
+    let inputs = links::Inputs {
+        scene,
+        settings,
+        tau: params.tau,
+        meshed: &m.meshed,
+        occluder: &m.occluder,
+        vertex_direct: &direct.vertex,
+        light_flux: &direct.flux.per_patch,
+    };
+    let rows = m.run.time(Stage::Links, || links::stage(&inputs));
     m.run.rays(RayStage::Links, &m.occluder);
     complete(scene, settings, m, direct, rows, progress)
 }

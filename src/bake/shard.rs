@@ -94,16 +94,16 @@ pub fn gather(
         .collect();
     progress.stage("form factors", subset.len() as u64);
     let before = m.occluder.rays_traced();
-    let part = links::part(
+    let inputs = links::Inputs {
         scene,
         settings,
-        settings.params().tau,
-        &m.meshed,
-        &m.occluder,
-        &state.vertex_direct,
-        &state.flux.per_patch,
-        &subset,
-    );
+        tau: settings.params().tau,
+        meshed: &m.meshed,
+        occluder: &m.occluder,
+        vertex_direct: &state.vertex_direct,
+        light_flux: &state.flux.per_patch,
+    };
+    let part = links::part(&inputs, &subset);
     Ok(TaskResult {
         task: task as u32,
         fingerprint: state.fingerprint,

@@ -659,15 +659,19 @@ mod tests {
         }
     }
 
-    /// Full rows and shared rows of `b`, a field lit brighter toward −x (lm/m²).
-    fn both(b: &Built, tolerance: f64) -> (ReceiverLinks, ReceiverLinks, Vec<DVec3>) {
-        let gatherer = Gatherer {
+    fn gatherer(b: &Built) -> Gatherer<'_> {
+        Gatherer {
             mesh: &b.mesh,
             tree: &b.tree,
             occluder: &b.occluder,
             tau: 0.3,
             dark: None,
-        };
+        }
+    }
+
+    /// Full rows and shared rows of `b`, a field lit brighter toward −x (lm/m²).
+    fn both(b: &Built, tolerance: f64) -> (ReceiverLinks, ReceiverLinks, Vec<DVec3>) {
+        let gatherer = gatherer(b);
         let field: Vec<DVec3> = (b.mesh.patches.iter())
             .map(|p| {
                 let c = p.corners(&b.mesh.receivers);
@@ -747,13 +751,7 @@ mod tests {
     #[test]
     fn parts_of_whole_groups_assemble_into_the_links_of_one_build() {
         let b = built(&room());
-        let gatherer = Gatherer {
-            mesh: &b.mesh,
-            tree: &b.tree,
-            occluder: &b.occluder,
-            tau: 0.3,
-            dark: None,
-        };
+        let gatherer = gatherer(&b);
         let (_, whole, field) = both(&b, 0.01);
         let direct = vec![DVec3::ZERO; b.mesh.receivers.len()];
         let sharing = Sharing {
