@@ -1,0 +1,35 @@
+#!/usr/bin/env bash
+# The distributed bake against the single-process bake on one generated floor:
+#   bench/distributed.sh [SIZE] [WORK]     SIZE small|medium|large (default large, 10^6 triangles)
+# Bakes SIZE once in one process, then with dist/dask_bake.py on a local Dask cluster of two
+# workers (four tasks, TASKS=N for another count), each bake call under /usr/bin/time -v (wall, CPU, peak memory per process);
+# compares the two outputs byte for byte. Needs target/release/bake and dist/install.sh's venv.
+set -euo pipefail
+size="${1:-large}"
+repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+work="${2:-$repo/bench/work/distributed-$size}"
+bake="$repo/target/release/bake"
+mkdir -p "$work/times"
+rm -f "$work"/times/*
+cd "$work"
+[ -f "$size.gltf" ] || "$bake" generate openplan --size "$size" -o "$size.gltf" -q
+# Every bake call of the distributed run timed into times/STAGE-PID.txt.
+cat > timed-bake <<SH
+#!/usr/bin/env bash
+stage=other
+for a in "\$@"; do case "\$a" in --shard-plan) stage=plan;; --shard-merge) stage=merge;; --shard-task) stage=gather;; esac; done
+exec /usr/bin/time -v -o "$work/times/\$stage-\$\$.txt" "$bake" "\$@"
+SH
+chmod +x timed-bake
+/usr/bin/time -v -o times/single.txt "$bake" "$size.gltf" -o single.glb -q
+"$repo/.venv-dask/bin/python" "$repo/dist/dask_bake.py" "$size.gltf" -o dask.glb \
+  --local-workers 2 --tasks "${TASKS:-4}" --bake "$work/timed-bake" --timings dask-timings.json
+cmp single.glb dask.glb && echo "byte-identical: single.glb dask.glb"
+for f in times/*.txt; do
+  printf '%-24s wall %-10s user %-9s sys %-7s peak %s KiB\n' "$(basename "$f" .txt)" \
+    "$(grep 'Elapsed (wall' "$f" | awk '{print $NF}')" \
+    "$(grep 'User time' "$f" | awk '{print $NF}')" \
+    "$(grep 'System time' "$f" | awk '{print $NF}')" \
+    "$(grep 'Maximum resident' "$f" | awk '{print $NF}')"
+done
+cat dask-timings.json
