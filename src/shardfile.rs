@@ -128,7 +128,12 @@ pub fn read_task(bytes: &[u8]) -> Result<TaskResult, String> {
         for _ in level {
             let n = r.len(8)?;
             let leaves = (0..n)
-                .map(|_| Ok(Leaf { node: r.u32()?, coeff: r.f32()? }))
+                .map(|_| {
+                    Ok(Leaf {
+                        node: r.u32()?,
+                        coeff: r.f32()?,
+                    })
+                })
                 .collect::<Result<_, String>>()?;
             let n = r.len(20)?;
             let far = (0..n)
@@ -266,7 +271,10 @@ impl Reader<'_> {
         let left = (self.bytes.len() - self.at) as u64;
         match n.checked_mul(size as u64).is_some_and(|b| b <= left) {
             true => Ok(n as usize),
-            false => Err(format!("a count of {n} at byte {} runs past the end", self.at - 8)),
+            false => Err(format!(
+                "a count of {n} at byte {} runs past the end",
+                self.at - 8
+            )),
         }
     }
     fn vec3(&mut self) -> Result<DVec3, String> {

@@ -13,7 +13,13 @@ use support::{scratch, tools};
 fn floor(dir: &Path) -> PathBuf {
     let input = dir.join("floor.gltf");
     let run = bake([
-        "generate", "openplan", "--triangles", "3000", "-q", "-o", input.to_str().unwrap(),
+        "generate",
+        "openplan",
+        "--triangles",
+        "3000",
+        "-q",
+        "-o",
+        input.to_str().unwrap(),
     ]);
     assert!(run.ok(), "{}", run.stderr);
     input
@@ -41,7 +47,14 @@ fn sharded(input: &Path, out: &Path, options: &[&str], tasks: usize, order: &[us
     for (i, &k) in order.iter().enumerate() {
         let (k, threads) = (k.to_string(), (1 + i % 2).to_string());
         let mut gather = args(input, out, options);
-        gather.extend(["--threads", &threads, "--shard-gather", dir_s, "--shard-task", &k]);
+        gather.extend([
+            "--threads",
+            &threads,
+            "--shard-gather",
+            dir_s,
+            "--shard-task",
+            &k,
+        ]);
         let run = bake(&gather);
         assert!(run.ok(), "gather {k}: {}", run.stderr);
     }
@@ -64,9 +77,19 @@ fn tasks_merged_in_any_order_give_the_single_bake_bytes() {
     let input = floor(&dir);
     let one = single(&input, &dir.join("one.glb"), &[]);
     let three = sharded(&input, &dir.join("three.glb"), &[], 3, &[2, 0, 1]);
-    assert!(one == three, "3 tasks: the merged output differs from the single bake");
+    assert!(
+        one == three,
+        "3 tasks: the merged output differs from the single bake"
+    );
     // Every vertex gathered (no sharing: the other code path), with probes and a working plane.
-    let options = ["--quality", "draft", "--receiver-tolerance", "0", "--working-plane", "0.75"];
+    let options = [
+        "--quality",
+        "draft",
+        "--receiver-tolerance",
+        "0",
+        "--working-plane",
+        "0.75",
+    ];
     let one = single(&input, &dir.join("one-full.glb"), &options);
     let two = sharded(&input, &dir.join("two-full.glb"), &options, 2, &[1, 0]);
     assert!(one == two, "2 tasks, no sharing: the merged output differs");
@@ -91,30 +114,50 @@ fn a_missing_or_foreign_task_fails_the_merge_with_no_output() {
     let mut merge = args(&input, &out, &draft);
     merge.extend(["--shard-merge", s]);
     let run = bake(&merge);
-    assert!(!run.ok() && run.stderr.contains("task-1.bin"), "{}", run.stderr);
+    assert!(
+        !run.ok() && run.stderr.contains("task-1.bin"),
+        "{}",
+        run.stderr
+    );
     assert!(!out.exists());
 
     // A task run with other settings, and a task the plan does not have.
     let mut other = args(&input, &out, &["--quality", "default"]);
     other.extend(["--shard-gather", s, "--shard-task", "1"]);
     let run = bake(&other);
-    assert!(!run.ok() && run.stderr.contains("settings differ"), "{}", run.stderr);
+    assert!(
+        !run.ok() && run.stderr.contains("settings differ"),
+        "{}",
+        run.stderr
+    );
     let mut beyond = args(&input, &out, &draft);
     beyond.extend(["--shard-gather", s, "--shard-task", "2"]);
     let run = bake(&beyond);
-    assert!(!run.ok() && run.stderr.contains("task 2 is not in the plan"), "{}", run.stderr);
+    assert!(
+        !run.ok() && run.stderr.contains("task 2 is not in the plan"),
+        "{}",
+        run.stderr
+    );
 
     // A damaged task file: named, and nothing written.
     std::fs::copy(state.join("task-0.bin"), state.join("task-1.bin")).unwrap();
     let bytes = std::fs::read(state.join("task-0.bin")).unwrap();
     std::fs::write(state.join("task-0.bin"), &bytes[..bytes.len() / 2]).unwrap();
     let run = bake(&merge);
-    assert!(!run.ok() && run.stderr.contains("task-0.bin"), "{}", run.stderr);
+    assert!(
+        !run.ok() && run.stderr.contains("task-0.bin"),
+        "{}",
+        run.stderr
+    );
     assert!(!out.exists());
     // Whole again, but task 1's file is task 0's result.
     std::fs::write(state.join("task-0.bin"), &bytes).unwrap();
     let run = bake(&merge);
-    assert!(!run.ok() && run.stderr.contains("once each"), "{}", run.stderr);
+    assert!(
+        !run.ok() && run.stderr.contains("once each"),
+        "{}",
+        run.stderr
+    );
     assert!(!out.exists());
 }
 
@@ -136,7 +179,14 @@ fn a_local_dask_cluster_bakes_the_single_bake_bytes() {
         .arg(&input)
         .arg("-o")
         .arg(&out)
-        .args(["--local-workers", "2", "--tasks", "3", "--bake", env!("CARGO_BIN_EXE_bake")])
+        .args([
+            "--local-workers",
+            "2",
+            "--tasks",
+            "3",
+            "--bake",
+            env!("CARGO_BIN_EXE_bake"),
+        ])
         .arg("--timings")
         .arg(&timings)
         .arg("--")
@@ -145,7 +195,10 @@ fn a_local_dask_cluster_bakes_the_single_bake_bytes() {
         .unwrap();
     let stderr = String::from_utf8_lossy(&run.stderr);
     assert!(run.status.success(), "dask_bake.py failed: {stderr}");
-    assert!(one == std::fs::read(&out).unwrap(), "the Dask bake differs from the single bake");
+    assert!(
+        one == std::fs::read(&out).unwrap(),
+        "the Dask bake differs from the single bake"
+    );
     let t: serde_json::Value = serde_json::from_slice(&std::fs::read(&timings).unwrap()).unwrap();
     assert!(t.to_string().contains("merge"), "{t}");
 }

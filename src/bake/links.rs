@@ -77,8 +77,14 @@ fn gathered(i: &Inputs, subset: Option<&[u32]>) -> (Rows, Option<Part>) {
     };
     let (links, part) = match (black, subset) {
         // Black throughout: nothing is reflected, so there is nothing to gather.
-        (true, None) => (ReceiverLinks::none(mesh.receivers.len(), tree.nodes.len()), None),
-        (true, Some(s)) => (ReceiverLinks::empty(false), Some(Part::nothing(dark.is_some(), s))),
+        (true, None) => (
+            ReceiverLinks::none(mesh.receivers.len(), tree.nodes.len()),
+            None,
+        ),
+        (true, Some(s)) => (
+            ReceiverLinks::empty(false),
+            Some(Part::nothing(dark.is_some(), s)),
+        ),
         (false, None) if sharing.tolerance > 0.0 => {
             (sharing::build(&gatherer, &mesh.receivers, &sharing), None)
         }

@@ -38,8 +38,8 @@ use crate::settings::{LightmapSettings, Settings};
 use crate::solution::{PlaneLight, Solution, solved};
 use crate::summary::{Counts, EnergyBalance, RunSummary, SettingsRecord, Units};
 use crate::visibility::{Occluder, OccluderOptions};
-use glam::DVec3;
 pub use direct::PatchFlux;
+use glam::DVec3;
 pub use groups::bake_groups;
 use run::{RayStage, Run, Stage};
 

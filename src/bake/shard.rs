@@ -65,7 +65,10 @@ pub fn plan(
         fingerprint: fingerprint(mesh),
         vertex_direct: direct.vertex,
         flux: direct.flux,
-        rays: [m.run.rays.direct_at_receivers, m.run.rays.direct_into_patches],
+        rays: [
+            m.run.rays.direct_at_receivers,
+            m.run.rays.direct_into_patches,
+        ],
         tasks: split(mesh, tasks.max(1)),
     })
 }
@@ -148,9 +151,9 @@ pub fn merge(
     };
     m.occluder.credit_rays(results.iter().map(|r| r.rays).sum());
     let parts = results.into_iter().map(|r| r.part).collect();
-    let rows = m
-        .run
-        .time(Stage::Links, || links::assembled(scene, settings, &m.meshed, parts));
+    let rows = m.run.time(Stage::Links, || {
+        links::assembled(scene, settings, &m.meshed, parts)
+    });
     m.run.rays(RayStage::Links, &m.occluder);
     let solved = complete(scene, settings, m, direct, rows, progress)?;
     Ok(finish(scene, settings, solved, progress))
@@ -238,7 +241,8 @@ mod tests {
 
     #[test]
     fn tasks_split_the_groups_once_each_in_order() {
-        let scene = crate::fixtures::closed_box_with_balls(DVec3::new(4.0, 3.0, 5.0), 0.5, 0.5, 100.0);
+        let scene =
+            crate::fixtures::closed_box_with_balls(DVec3::new(4.0, 3.0, 5.0), 0.5, 0.5, 100.0);
         let settings = Settings::default();
         let m = mesh(&scene, &settings, &crate::progress::Silent).unwrap();
         let groups = m.mesh().groups.len() as u32;

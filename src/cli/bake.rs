@@ -57,14 +57,29 @@ pub struct BakeArgs {
           conflicts_with_all = ["shard_gather", "shard_merge"])]
     shard_plan: Option<PathBuf>,
     /// Number of tasks of --shard-plan (whole surfaces each; the output does not depend on it).
-    #[arg(long, value_name = "N", default_value_t = 2, help_heading = "Distributed bake")]
+    #[arg(
+        long,
+        value_name = "N",
+        default_value_t = 2,
+        help_heading = "Distributed bake"
+    )]
     shard_tasks: usize,
     /// Step 2, anywhere the input and DIR are: gather the rows of task --shard-task K of the
     /// plan in DIR (DIR/task-K.bin). Run it with the plan's options.
-    #[arg(long, value_name = "DIR", help_heading = "Distributed bake",
-          requires = "shard_task", conflicts_with = "shard_merge")]
+    #[arg(
+        long,
+        value_name = "DIR",
+        help_heading = "Distributed bake",
+        requires = "shard_task",
+        conflicts_with = "shard_merge"
+    )]
     shard_gather: Option<PathBuf>,
-    #[arg(long, value_name = "K", help_heading = "Distributed bake", requires = "shard_gather")]
+    #[arg(
+        long,
+        value_name = "K",
+        help_heading = "Distributed bake",
+        requires = "shard_gather"
+    )]
     shard_task: Option<usize>,
     /// Step 3: read the plan and every task's rows from DIR and finish the bake into OUTPUT,
     /// byte for byte the output of the same bake in one process.

@@ -68,8 +68,7 @@ pub fn merge(
             let path = task_path(dir, k);
             let bytes = std::fs::read(&path)
                 .with_context(|| format!("{}: cannot read task {k}'s result", path.display()))?;
-            shardfile::read_task(&bytes)
-                .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))
+            shardfile::read_task(&bytes).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))
         })
         .collect::<Result<Vec<_>>>()?;
     Ok(shard::merge(scene, settings, state, results, progress)?)
@@ -78,7 +77,10 @@ pub fn merge(
 fn read_state(dir: &Path) -> Result<State> {
     let path = state_path(dir);
     let bytes = std::fs::read(&path).with_context(|| {
-        format!("{}: cannot read the plan's state (run --shard-plan first)", path.display())
+        format!(
+            "{}: cannot read the plan's state (run --shard-plan first)",
+            path.display()
+        )
     })?;
     shardfile::read_state(&bytes).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))
 }

@@ -82,7 +82,11 @@ const NONE: u32 = u32::MAX;
 /// Rows for `receivers`, shared where [`Sharing`] allows (see the module doc).
 pub fn build(gatherer: &Gatherer, receivers: &[Vertex], sharing: &Sharing) -> ReceiverLinks {
     let all: Vec<u32> = (0..receivers.len() as u32).collect();
-    assemble(vec![part(gatherer, receivers, &all, sharing)], receivers.len(), gatherer.tree.nodes.len())
+    assemble(
+        vec![part(gatherer, receivers, &all, sharing)],
+        receivers.len(),
+        gatherer.tree.nodes.len(),
+    )
 }
 
 /// The rows of some receivers (whole groups: nothing is shared across groups), gathered and
@@ -116,12 +120,7 @@ impl Part {
 }
 
 /// The [`Part`] of `subset` (ascending receiver indices, whole groups).
-pub fn part(
-    gatherer: &Gatherer,
-    receivers: &[Vertex],
-    subset: &[u32],
-    sharing: &Sharing,
-) -> Part {
+pub fn part(gatherer: &Gatherer, receivers: &[Vertex], subset: &[u32], sharing: &Sharing) -> Part {
     let n = receivers.len();
     let mut links = ReceiverLinks::empty(gatherer.dark.is_some());
     if sharing.tolerance <= 0.0 {
@@ -266,7 +265,8 @@ pub fn assemble(mut parts: Vec<Part>, n: usize, nodes: usize) -> ReceiverLinks {
     // `ReceiverLinks::build` makes).
     let own = gathered_at.len() == n
         && (gathered_at.iter().enumerate()).all(|(g, &r)| r as usize == g)
-        && (at.windows(2).enumerate()).all(|(r, w)| w[1] - w[0] == 1 && terms[w[0] as usize] == (r as u32, 1.0));
+        && (at.windows(2).enumerate())
+            .all(|(r, w)| w[1] - w[0] == 1 && terms[w[0] as usize] == (r as u32, 1.0));
     let blend = (!own).then_some(Blend {
         at,
         terms,
@@ -300,7 +300,10 @@ fn renumber(parts: &[Part]) -> (ReceiverLinks, Vec<RowStats>, Vec<Vec<u32>>) {
             numbering[p][g] = at + k as u32;
             stats.push(parts[p].stats[g]);
         }
-        let refs: Vec<_> = rows.iter().map(|&(_, p, g)| parts[p].links.row(g)).collect();
+        let refs: Vec<_> = rows
+            .iter()
+            .map(|&(_, p, g)| parts[p].links.row(g))
+            .collect();
         links.append_rows(&refs);
     }
     (links, stats, numbering)
