@@ -1,20 +1,24 @@
-//! A uniform grid over triangles' bounding boxes: which triangles lie near a triangle.
+//! A uniform grid over triangles' bounding boxes: which triangles' boxes meet a query box.
 
 use glam::DVec3;
 use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
 
-/// Triangles spanning more cells than this are kept in a list every query returns.
+/// Triangles spanning more cells than this are kept in a list every query tests.
 const MAX_CELLS: usize = 4096;
 
 pub struct Grid {
     cell: f64,
-    pad: f64,
-    cells: HashMap<[i64; 3], Vec<u32>>,
+    cells: HashMap<[i64; 3], Vec<u32>, BuildHasherDefault<CellHasher>>,
     big: Vec<u32>,
+    /// Each triangle's bounding box, grown by the index's padding.
+    boxes: Vec<(DVec3, DVec3)>,
+    /// Each triangle's lowest cell (where a query that starts below it takes it).
+    first: Vec<[i64; 3]>,
 }
 
 impl Grid {
-    /// Index `tris`; queries return triangles whose boxes come within `pad` (m) of a box.
+    /// Index `tris`, their boxes grown by `pad` (m) on every side.
     pub fn new(tris: &[[DVec3; 3]], pad: f64) -> Self {
         // Cells about the size of a typical (median) triangle.
         let mut sizes: Vec<f64> = tris.iter().map(|t| extent(t).max_element()).collect();
@@ -27,18 +31,24 @@ impl Grid {
         sizes.sort_by(f64::total_cmp);
         let median = sizes.get(sizes.len() / 2).copied().unwrap_or(1.0);
         let cell = median.max(pad).max(diagonal * 1e-4);
+        let boxes = tris
+            .iter()
+            .map(|t| {
+                let p = DVec3::splat(pad);
+                (t[0].min(t[1]).min(t[2]) - p, t[0].max(t[1]).max(t[2]) + p)
+            })
+            .collect();
         let mut grid = Grid {
             cell,
-            pad,
-            cells: HashMap::new(),
+            cells: HashMap::default(),
             big: Vec::new(),
+            boxes,
+            first: Vec::with_capacity(tris.len()),
         };
-        for (i, t) in tris.iter().enumerate() {
-            let (a, b) = grid.range(t);
-            let count = (0..3)
-                .map(|k| (b[k] - a[k] + 1) as usize)
-                .product::<usize>();
-            if count > MAX_CELLS {
+        for i in 0..tris.len() {
+            let (a, b) = grid.range(grid.boxes[i]);
+            grid.first.push(a);
+            if cells_in(a, b) > MAX_CELLS {
                 grid.big.push(i as u32);
                 continue;
             }
@@ -53,43 +63,81 @@ impl Grid {
         grid
     }
 
-    /// The cells a triangle's box, padded, overlaps.
-    fn range(&self, t: &[DVec3; 3]) -> ([i64; 3], [i64; 3]) {
-        let lo = t[0].min(t[1]).min(t[2]) - DVec3::splat(self.pad);
-        let hi = t[0].max(t[1]).max(t[2]) + DVec3::splat(self.pad);
+    /// The cells a box overlaps.
+    fn range(&self, (lo, hi): (DVec3, DVec3)) -> ([i64; 3], [i64; 3]) {
         let c = |v: f64| (v / self.cell).floor() as i64;
         ([c(lo.x), c(lo.y), c(lo.z)], [c(hi.x), c(hi.y), c(hi.z)])
     }
 
-    /// The triangles near `t` (sorted, each once) into `out`.
-    pub fn near(&self, t: [DVec3; 3], out: &mut Vec<u32>) {
+    /// The triangles whose (padded) boxes meet the box `lo..hi`, sorted, each once, into `out`.
+    pub fn near(&self, lo: DVec3, hi: DVec3, out: &mut Vec<u32>) {
         out.clear();
-        out.extend_from_slice(&self.big);
-        let (a, b) = self.range(&t);
-        let count = (0..3)
-            .map(|k| (b[k] - a[k] + 1) as usize)
-            .product::<usize>();
-        if count > MAX_CELLS * 16 {
-            // A huge triangle: walk the occupied cells instead of the box's.
-            for (key, ids) in &self.cells {
-                if (0..3).all(|k| key[k] >= a[k] && key[k] <= b[k]) {
-                    out.extend_from_slice(ids);
-                }
-            }
-        } else {
-            for x in a[0]..=b[0] {
-                for y in a[1]..=b[1] {
-                    for z in a[2]..=b[2] {
-                        if let Some(ids) = self.cells.get(&[x, y, z]) {
-                            out.extend_from_slice(ids);
+        let meets = |i: u32| {
+            let (l, h) = self.boxes[i as usize];
+            l.cmple(hi).all() && h.cmpge(lo).all()
+        };
+        let (a, b) = self.range((lo, hi));
+        if cells_in(a, b) > self.boxes.len() {
+            // A box wider than the index has triangles: test them all.
+            out.extend((0..self.boxes.len() as u32).filter(|&i| meets(i)));
+            return;
+        }
+        out.extend(self.big.iter().copied().filter(|&i| meets(i)));
+        for x in a[0]..=b[0] {
+            for y in a[1]..=b[1] {
+                for z in a[2]..=b[2] {
+                    let Some(ids) = self.cells.get(&[x, y, z]) else {
+                        continue;
+                    };
+                    // A triangle is taken in one cell only: the first its box shares with the
+                    // query's (the component-wise larger of the two lowest cells).
+                    for &i in ids {
+                        let first = self.first[i as usize];
+                        if first[0].max(a[0]) == x
+                            && first[1].max(a[1]) == y
+                            && first[2].max(a[2]) == z
+                            && meets(i)
+                        {
+                            out.push(i);
                         }
                     }
                 }
             }
         }
         out.sort_unstable();
-        out.dedup();
     }
+}
+
+/// A multiplicative hash for cell keys (the standard library's SipHash costs more than the
+/// lookups it serves; keys are not attacker-chosen in a way that matters here).
+#[derive(Default)]
+struct CellHasher(u64);
+
+impl Hasher for CellHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for b in bytes {
+            self.write_u64(*b as u64);
+        }
+    }
+    fn write_u64(&mut self, x: u64) {
+        self.0 = (self.0.rotate_left(5) ^ x).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
+    }
+    fn write_i64(&mut self, x: i64) {
+        self.write_u64(x as u64);
+    }
+    fn write_usize(&mut self, x: usize) {
+        self.write_u64(x as u64);
+    }
+}
+
+/// Number of cells from `a` to `b` inclusive (saturating).
+fn cells_in(a: [i64; 3], b: [i64; 3]) -> usize {
+    (0..3)
+        .map(|k| (b[k] - a[k] + 1).max(0) as usize)
+        .fold(1usize, |n, k| n.saturating_mul(k))
 }
 
 fn extent(t: &[DVec3; 3]) -> DVec3 {

@@ -162,10 +162,20 @@ pub fn find(scene: &Scene, gap: f64, occ: &Occluder) -> Contacts {
             if lo.x > hi.x { 0.0 } else { (hi - lo).length() }
         })
         .collect();
-    let grid = grid::Grid::new(
-        &tris.iter().map(|t| t.p).collect::<Vec<_>>(),
-        gap + tolerance,
-    );
+    let grid = grid::Grid::new(&tris.iter().map(|t| t.p).collect::<Vec<_>>(), tolerance);
+    // What can cover a triangle or cut it along a seam lies within the gap of its plane, and
+    // within the gap × the tilt that still counts as parallel of its outline: its box grown by
+    // that (a desk top's box grown upward, not sideways), with margin.
+    let reach = |t: &Tri| {
+        let tilt = 0.05;
+        let pad = (t.normal.abs() + DVec3::splat(tilt)).min(DVec3::ONE) * gap
+            + DVec3::splat(4.0 * tolerance);
+        let (lo, hi) = (
+            t.p[0].min(t.p[1]).min(t.p[2]),
+            t.p[0].max(t.p[1]).max(t.p[2]),
+        );
+        (lo - pad, hi + pad)
+    };
     let context = Context {
         scene,
         surface_area: &surface_area,
@@ -183,7 +193,8 @@ pub fn find(scene: &Scene, gap: f64, occ: &Occluder) -> Contacts {
             let (mut covers, mut seams) = (Vec::new(), Vec::new());
             let mut near = Vec::new();
             for t in chunk {
-                grid.near(t.p, &mut near);
+                let (lo, hi) = reach(t);
+                grid.near(lo, hi, &mut near);
                 let (mut c, mut m) = (Vec::new(), Vec::new());
                 for &u in &near {
                     context.covers(t, &tris[u as usize], &mut c);
