@@ -1,18 +1,25 @@
 #!/usr/bin/env bash
 # The distributed bake against the single-process bake on one generated floor:
 #   bench/distributed.sh [SIZE] [WORK]     SIZE small|medium|large (default large, 10^6 triangles)
+#                                          or a triangle count (bake generate openplan --triangles)
 # Bakes SIZE once in one process, then with dist/dask_bake.py on a local Dask cluster of two
 # workers (four tasks, TASKS=N for another count), each bake call under /usr/bin/time -v (wall, CPU, peak memory per process);
-# compares the two outputs byte for byte. Needs target/release/bake and dist/install.sh's venv.
+# compares the two outputs byte for byte. Needs target/release/bake (BAKE=path for another
+# build) and dist/install.sh's venv. SINGLE=file.glb takes that file (baked by the same build,
+# with its own timing) as the single-process output instead of baking it again.
 set -euo pipefail
 size="${1:-large}"
 repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 work="${2:-$repo/bench/work/distributed-$size}"
-bake="$repo/target/release/bake"
+bake="${BAKE:-$repo/target/release/bake}"
 mkdir -p "$work/times"
 rm -f "$work"/times/*
 cd "$work"
-[ -f "$size.gltf" ] || "$bake" generate openplan --size "$size" -o "$size.gltf" -q
+case "$size" in
+  small|medium|large) scale=(--size "$size");;
+  *) scale=(--triangles "$size");;
+esac
+[ -f "$size.gltf" ] || "$bake" generate openplan "${scale[@]}" -o "$size.gltf" -q
 # Every bake call of the distributed run timed into times/STAGE-PID.txt.
 cat > timed-bake <<SH
 #!/usr/bin/env bash
@@ -21,7 +28,11 @@ for a in "\$@"; do case "\$a" in --shard-plan) stage=plan;; --shard-merge) stage
 exec /usr/bin/time -v -o "$work/times/\$stage-\$\$.txt" "$bake" "\$@"
 SH
 chmod +x timed-bake
-/usr/bin/time -v -o times/single.txt "$bake" "$size.gltf" -o single.glb -q
+if [ -n "${SINGLE:-}" ]; then
+  cp "$SINGLE" single.glb
+else
+  /usr/bin/time -v -o times/single.txt "$bake" "$size.gltf" -o single.glb -q
+fi
 "$repo/.venv-dask/bin/python" "$repo/dist/dask_bake.py" "$size.gltf" -o dask.glb \
   --local-workers 2 --tasks "${TASKS:-4}" --bake "$work/timed-bake" --timings dask-timings.json
 cmp single.glb dask.glb && echo "byte-identical: single.glb dask.glb"

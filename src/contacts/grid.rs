@@ -143,3 +143,73 @@ fn cells_in(a: [i64; 3], b: [i64; 3]) -> usize {
 fn extent(t: &[DVec3; 3]) -> DVec3 {
     t[0].max(t[1]).max(t[2]) - t[0].min(t[1]).min(t[2])
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A deterministic scatter of small, medium and huge triangles (glTF +Y up).
+    fn scatter() -> Vec<[DVec3; 3]> {
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        (0..3000)
+            .map(|i| {
+                let size = match i % 100 {
+                    0 => 30.0,
+                    1..=9 => 2.0,
+                    _ => 0.05,
+                };
+                let o = DVec3::new(next() * 20.0, next() * 3.0, next() * 15.0);
+                let mut d = || DVec3::new(next() - 0.5, next() - 0.5, next() - 0.5) * size;
+                [o, o + d(), o + d()]
+            })
+            .collect()
+    }
+
+    #[test]
+    fn near_names_every_box_that_meets_the_query_once_in_order() {
+        let tris = scatter();
+        let pad = 1e-3;
+        let grid = Grid::new(&tris, pad);
+        assert!(
+            !grid.big.is_empty(),
+            "the scatter has triangles listed apart"
+        );
+        let mut out = Vec::new();
+        let queries = [
+            (DVec3::new(5.0, 1.0, 5.0), DVec3::new(5.3, 1.2, 5.1)),
+            (DVec3::new(-1.0, -1.0, -1.0), DVec3::new(25.0, 4.0, 20.0)),
+            (DVec3::new(10.0, 0.0, 0.0), DVec3::new(10.0, 3.0, 15.0)),
+            (
+                DVec3::new(100.0, 100.0, 100.0),
+                DVec3::new(101.0, 101.0, 101.0),
+            ),
+        ];
+        let mut total = 0;
+        for (lo, hi) in queries.into_iter().chain(tris.iter().map(|t| {
+            let p = DVec3::new(0.0, 0.02, 0.0);
+            (t[0].min(t[1]).min(t[2]) - p, t[0].max(t[1]).max(t[2]) + p)
+        })) {
+            grid.near(lo, hi, &mut out);
+            let expected: Vec<u32> = (0..tris.len() as u32)
+                .filter(|&i| {
+                    let t = &tris[i as usize];
+                    let (l, h) = (t[0].min(t[1]).min(t[2]), t[0].max(t[1]).max(t[2]));
+                    (l - DVec3::splat(pad)).cmple(hi).all()
+                        && (h + DVec3::splat(pad)).cmpge(lo).all()
+                })
+                .collect();
+            assert_eq!(out, expected, "query {lo} .. {hi}");
+            total += out.len();
+        }
+        assert!(
+            total > tris.len(),
+            "queries found neighbours, not only themselves"
+        );
+    }
+}
