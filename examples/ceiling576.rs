@@ -25,7 +25,12 @@ fn main() {
             let g = (k as f64 * 2.5).to_radians();
             format!(
                 "{:.6}",
-                1000.0 * if g <= 1.5708 { g.cos().max(0.0) } else { 0.0 }
+                1000.0
+                    * if g <= std::f64::consts::FRAC_PI_2 {
+                        g.cos().max(0.0)
+                    } else {
+                        0.0
+                    }
             )
         })
         .collect();

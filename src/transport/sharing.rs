@@ -800,13 +800,12 @@ mod tests {
         let (_, shared, _) = both(&b, 0.03);
         let ones = vec![DVec3::ONE; b.mesh.patches.len()];
         let e = apply(&b, &shared, &ones);
-        for r in 0..e.len() {
+        for (r, got) in e.iter().enumerate() {
             if shared.closed[r] {
                 let expected = 1.0 - shared.back[r] as f64;
                 assert!(
-                    (e[r] - expected).abs() < 1e-5,
-                    "receiver {r}: {} vs {expected}",
-                    e[r]
+                    (got - expected).abs() < 1e-5,
+                    "receiver {r}: {got} vs {expected}"
                 );
             }
         }
