@@ -84,12 +84,8 @@ impl Occluder {
         // First one ray to the box's centre, inside the hull: a triangle on it rules out
         // "seen" and names the planes that may prove "hidden"; none rules out "hidden".
         let (from, to) = (starts[0], (corners[0] + corners[7]) * 0.5);
-        let len = (to - from).length();
-        if len <= 0.0 {
-            return None;
-        }
+        let ray = segment(from, to)?;
         self.rays.add();
-        let ray = Ray::new(as_vec3a(from), as_vec3a((to - from) / len), 0.0, len as f32);
         let mut hits: Vec<(f32, u32, usize)> = Vec::new();
         bvh.ray_traverse_anyhit(ray, |r, id| {
             let t = intersect(&tracer.triangles[id], r);
@@ -105,12 +101,8 @@ impl Occluder {
             if corners[..k].contains(c) {
                 continue;
             }
-            let len = (*c - from).length();
-            if len <= 0.0 {
-                return None;
-            }
+            let ray = segment(from, *c)?;
             self.rays.add();
-            let ray = Ray::new(as_vec3a(from), as_vec3a((*c - from) / len), 0.0, len as f32);
             if tracer.miss(ray) == blocked {
                 return None;
             }
@@ -311,6 +303,12 @@ fn box_corners(lo: DVec3, hi: DVec3) -> [DVec3; 8] {
             if i & 4 == 0 { lo.z } else { hi.z },
         )
     })
+}
+
+/// The ray along the segment from `a` to `b` (BVH units); `None` when they coincide.
+fn segment(a: DVec3, b: DVec3) -> Option<Ray> {
+    let len = (b - a).length();
+    (len > 0.0).then(|| Ray::new(as_vec3a(a), as_vec3a((b - a) / len), 0.0, len as f32))
 }
 
 /// Distance from `p` to the box `[lo, hi]`.
