@@ -11,10 +11,17 @@ use support::{scratch, tools};
 
 /// A small open-plan floor (desks, chairs, screens, luminaires) written by `bake generate`.
 fn floor(dir: &Path) -> PathBuf {
+    floor_of(dir, "1")
+}
+
+/// The floor of [`floor`] with chairs turned by random `seed`, in DIR/floor.gltf.
+fn floor_of(dir: &Path, seed: &str) -> PathBuf {
     let input = dir.join("floor.gltf");
     let run = bake([
         "generate",
         "openplan",
+        "--seed",
+        seed,
         "--triangles",
         "3000",
         "-q",
@@ -138,6 +145,20 @@ fn a_missing_or_foreign_task_fails_the_merge_with_no_output() {
         "{}",
         run.stderr
     );
+
+    // A task given another scene file than the plan's.
+    let other_dir = dir.join("other");
+    std::fs::create_dir_all(&other_dir).unwrap();
+    let other_input = floor_of(&other_dir, "2");
+    let mut foreign = args(&other_input, &out, &draft);
+    foreign.extend(["--shard-gather", s, "--shard-task", "1"]);
+    let run = bake(&foreign);
+    assert!(
+        !run.ok() && run.stderr.contains("not the scene the plan meshed"),
+        "{}",
+        run.stderr
+    );
+    assert!(!state.join("task-1.bin").exists());
 
     // A damaged task file: named, and nothing written.
     std::fs::copy(state.join("task-0.bin"), state.join("task-1.bin")).unwrap();

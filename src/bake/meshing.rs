@@ -97,6 +97,46 @@ pub fn stage<'a>(
     }
 }
 
+/// What meshing made that lighting does not remake: a distributed bake's plan hands it to its
+/// tasks and its merge ([`restore`]), so that meshing runs once.
+pub struct Saved {
+    pub mesh: PatchMesh,
+    pub adaptive: Option<MeshingRecord>,
+    pub contacts: ContactsRecord,
+}
+
+impl Meshed<'_> {
+    /// A copy of what [`restore`] needs.
+    pub fn saved(&self) -> Saved {
+        Saved {
+            mesh: self.mesh.clone(),
+            adaptive: self.adaptive.clone(),
+            contacts: self.contacts,
+        }
+    }
+}
+
+/// [`stage`]'s result from a [`Saved`] mesh of `scene`: the same sources set on it the same way.
+pub fn restore<'a>(
+    scene: &'a Scene,
+    settings: &Settings,
+    saved: Saved,
+    tau_direct: f64,
+) -> Meshed<'a> {
+    let bounds = ProfileBounds::new(scene);
+    let cut = settings.light_cut;
+    let lit = light(scene, &saved.mesh, &bounds, (tau_direct, cut), |_| true);
+    let (emitted, exitance, lights) = lit;
+    Meshed {
+        mesh: saved.mesh,
+        adaptive: saved.adaptive,
+        contacts: saved.contacts,
+        emitted,
+        exitance,
+        lights,
+    }
+}
+
 /// `base`'s mesh lit by the sources of `scene` instead: a scene with the same surfaces and
 /// materials whose sources differ (`bake fit` lights one mesh by one group of sources at a
 /// time). Punctual lights of zero intensity are left out (they would cost rays for nothing).

@@ -41,6 +41,7 @@ use crate::visibility::{Occluder, OccluderOptions};
 pub use direct::PatchFlux;
 use glam::DVec3;
 pub use groups::bake_groups;
+pub use meshing::Saved as SavedMesh;
 use run::{RayStage, Run, Stage};
 
 /// A solved scene, and the run summary of the stages so far.
@@ -147,6 +148,11 @@ impl Meshing<'_> {
     pub fn mesh(&self) -> &crate::patches::PatchMesh {
         &self.meshed.mesh
     }
+
+    /// What [`restore`] needs to make this again without meshing.
+    pub fn saved(&self) -> SavedMesh {
+        self.meshed.saved()
+    }
 }
 
 /// Direct light: exact at every vertex (lx, RGB), and as flux into every patch.
@@ -161,6 +167,54 @@ pub fn mesh<'a>(
     settings: &Settings,
     progress: &dyn Progress,
 ) -> Result<Meshing<'a>> {
+    let h = patch_size_checked(scene, settings, progress)?;
+    let mut run = Run::default();
+    progress.stage("meshing", 0);
+    let occluder = run.time(Stage::Mesh, || occluder(scene, settings));
+    let meshed = run.time(Stage::Mesh, || {
+        meshing::stage(scene, settings, h, &occluder, settings.params().tau_direct)
+    });
+    if meshed.lights.is_dark() {
+        progress.warn("the scene has no light source (no emitting material, light or luminaire): everything bakes to 0 lx");
+    }
+    run.rays(RayStage::Meshing, &occluder);
+    Ok(Meshing {
+        meshed,
+        occluder,
+        run,
+        h,
+    })
+}
+
+/// [`mesh`]'s result from a mesh it made before for `scene` and `settings` (the caller's to
+/// check: `shard` compares fingerprints), counting the `rays` that meshing traced then.
+pub fn restore<'a>(
+    scene: &'a Scene,
+    settings: &Settings,
+    saved: SavedMesh,
+    rays: u64,
+    progress: &dyn Progress,
+) -> Result<Meshing<'a>> {
+    let h = patch_size_checked(scene, settings, progress)?;
+    let mut run = Run::default();
+    progress.stage("meshing", 0);
+    let occluder = run.time(Stage::Mesh, || occluder(scene, settings));
+    let tau_direct = settings.params().tau_direct;
+    let meshed = run.time(Stage::Mesh, || {
+        meshing::restore(scene, settings, saved, tau_direct)
+    });
+    occluder.credit_rays(rays);
+    run.rays(RayStage::Meshing, &occluder);
+    Ok(Meshing {
+        meshed,
+        occluder,
+        run,
+        h,
+    })
+}
+
+/// Validate the settings and check the budget (warning of what it finds): the patch size (m).
+fn patch_size_checked(scene: &Scene, settings: &Settings, progress: &dyn Progress) -> Result<f64> {
     settings.validate()?;
     let params = settings.params();
     let areas: Vec<f64> = scene.surfaces.iter().map(Surface::area).collect();
@@ -174,26 +228,14 @@ pub fn mesh<'a>(
     {
         progress.warn(&w);
     }
-    let mut run = Run::default();
+    Ok(h)
+}
 
-    progress.stage("meshing", 0);
+fn occluder(scene: &Scene, settings: &Settings) -> Occluder {
     let options = OccluderOptions {
         always_trace: settings.always_trace,
     };
-    let occluder = run.time(Stage::Mesh, || Occluder::build(scene, options));
-    let meshed = run.time(Stage::Mesh, || {
-        meshing::stage(scene, settings, h, &occluder, params.tau_direct)
-    });
-    if meshed.lights.is_dark() {
-        progress.warn("the scene has no light source (no emitting material, light or luminaire): everything bakes to 0 lx");
-    }
-    run.rays(RayStage::Meshing, &occluder);
-    Ok(Meshing {
-        meshed,
-        occluder,
-        run,
-        h,
-    })
+    Occluder::build(scene, options)
 }
 
 /// Direct light at the vertices and into the patches (stage 2).

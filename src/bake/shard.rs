@@ -1,20 +1,21 @@
 //! A bake split across processes or machines: the links stage (every receiver's gather over
 //! the patch hierarchy, most of a large scene's time) runs as independent tasks.
 //!
-//! 1. [`plan`]: mesh the scene and light it; out comes a [`State`]: what the tasks and the merge
-//!    need that meshing does not remake (the direct light), a fingerprint of the mesh, and the
-//!    task list (contiguous ranges of groups, so no task shares a gather with another).
-//! 2. [`gather`]: one task, anywhere: mesh the scene again (deterministic: the fingerprint must
-//!    match the state's) and gather its receivers' rows ([`TaskResult`]).
-//! 3. [`merge`]: mesh again, read the direct light from the state and the rows from every task,
-//!    and finish the bake as [`super::bake`] does.
+//! 1. [`plan`]: mesh the scene and light it; out comes a [`State`]: the mesh and the direct
+//!    light, fingerprints of the scene and the mesh, and the task list (contiguous ranges of
+//!    groups, so no task shares a gather with another).
+//! 2. [`gather`]: one task, anywhere: the same scene file (its fingerprint must match the
+//!    state's), the mesh from the state (meshing runs once, in the plan); it gathers its
+//!    receivers' rows ([`TaskResult`]).
+//! 3. [`merge`]: the mesh and the direct light from the state, the rows from every task; it
+//!    finishes the bake as [`super::bake`] does.
 //!
 //! Invariant: the merged [`BakeResult`] equals the single-process bake's, whatever the task
 //! count, the order the tasks ran in and each process's thread count (rows are numbered
 //! as one process numbers them, `transport::sharing::assemble`; ray counts are summed).
 
 use super::run::{RayStage, Stage};
-use super::{Direct, PatchFlux, complete, finish, light, links, mesh};
+use super::{Direct, PatchFlux, SavedMesh, complete, finish, light, links, mesh, restore};
 use crate::error::{Error, Result};
 use crate::patches::PatchMesh;
 use crate::progress::Progress;
@@ -29,13 +30,16 @@ use glam::DVec3;
 pub struct State {
     /// The settings record (JSON): tasks and merge must run with the same settings.
     pub settings: String,
+    /// [`scene_fingerprint`] of the scene planned.
+    pub scene: u64,
     /// [`fingerprint`] of the mesh.
     pub fingerprint: u64,
+    pub mesh: SavedMesh,
     /// Direct illuminance at every receiver (lx, RGB).
     pub vertex_direct: Vec<DVec3>,
     pub flux: PatchFlux,
-    /// Rays the direct stage traced: at receivers, into patches.
-    pub rays: [u64; 2],
+    /// Rays traced: meshing, the direct stage at receivers and into patches.
+    pub rays: [u64; 3],
     /// Per task, its range of groups `[start, end)`.
     pub tasks: Vec<(u32, u32)>,
 }
@@ -62,14 +66,17 @@ pub fn plan(
     let mesh = m.mesh();
     Ok(State {
         settings: settings_json(settings),
+        scene: scene_fingerprint(scene),
         fingerprint: fingerprint(mesh),
+        tasks: split(mesh, tasks.max(1)),
+        mesh: m.saved(),
         vertex_direct: direct.vertex,
         flux: direct.flux,
         rays: [
+            m.run.rays.meshing,
             m.run.rays.direct_at_receivers,
             m.run.rays.direct_into_patches,
         ],
-        tasks: split(mesh, tasks.max(1)),
     })
 }
 
@@ -77,7 +84,7 @@ pub fn plan(
 pub fn gather(
     scene: &Scene,
     settings: &Settings,
-    state: &State,
+    state: State,
     task: usize,
     progress: &dyn Progress,
 ) -> Result<TaskResult> {
@@ -88,9 +95,9 @@ pub fn gather(
             state.tasks.len().saturating_sub(1)
         ))
     })?;
-    check_settings(settings, state)?;
-    let m = mesh(scene, settings, progress)?;
-    check_mesh(m.mesh(), state)?;
+    check_settings(settings, &state)?;
+    check_scene(scene, &state)?;
+    let m = restore(scene, settings, state.mesh, 0, progress)?;
     let receivers = &m.mesh().receivers;
     let subset: Vec<u32> = (0..receivers.len() as u32)
         .filter(|&r| (start..end).contains(&receivers[r as usize].group))
@@ -124,6 +131,7 @@ pub fn merge(
     progress: &dyn Progress,
 ) -> Result<BakeResult> {
     check_settings(settings, &state)?;
+    check_scene(scene, &state)?;
     results.sort_by_key(|r| r.task);
     let ids: Vec<u32> = results.iter().map(|r| r.task).collect();
     if ids != (0..state.tasks.len() as u32).collect::<Vec<_>>() {
@@ -138,12 +146,11 @@ pub fn merge(
             r.task, r.fingerprint, state.fingerprint
         )));
     }
-    let mut m = mesh(scene, settings, progress)?;
-    check_mesh(m.mesh(), &state)?;
-    // The direct stage ran in the plan: its light and its rays.
-    m.occluder.credit_rays(state.rays[0]);
-    m.run.rays(RayStage::DirectAtReceivers, &m.occluder);
+    // Meshing and the direct stage ran in the plan: their mesh, light and rays.
+    let mut m = restore(scene, settings, state.mesh, state.rays[0], progress)?;
     m.occluder.credit_rays(state.rays[1]);
+    m.run.rays(RayStage::DirectAtReceivers, &m.occluder);
+    m.occluder.credit_rays(state.rays[2]);
     m.run.rays(RayStage::DirectIntoPatches, &m.occluder);
     let direct = Direct {
         vertex: state.vertex_direct,
@@ -176,41 +183,77 @@ fn check_settings(settings: &Settings, state: &State) -> Result<()> {
     }
 }
 
-fn check_mesh(mesh: &PatchMesh, state: &State) -> Result<()> {
-    let here = fingerprint(mesh);
-    match here == state.fingerprint && mesh.receivers.len() == state.vertex_direct.len() {
+fn check_scene(scene: &Scene, state: &State) -> Result<()> {
+    let here = scene_fingerprint(scene);
+    match here == state.scene
+        && state
+            .mesh
+            .mesh
+            .groups
+            .iter()
+            .all(|g| g.surface < scene.surfaces.len())
+    {
         true => Ok(()),
         false => Err(Error::Settings(format!(
-            "the scene meshes differently from the plan's (fingerprint {here:016x}, the plan's \
-             {:016x}): the input or the bake binary changed",
-            state.fingerprint
+            "{} is not the scene the plan meshed (its surfaces' fingerprint {here:016x}, the \
+             plan's {:016x})",
+            scene.source_file.display(),
+            state.scene
         ))),
+    }
+}
+
+/// A 64-bit FNV-1a hash of the scene's surfaces: their positions, triangles and materials.
+pub fn scene_fingerprint(scene: &Scene) -> u64 {
+    let mut h = Fnv::default();
+    h.eat(scene.surfaces.len() as u64);
+    h.eat(scene.materials.len() as u64);
+    for s in &scene.surfaces {
+        h.eat(s.material as u64);
+        h.eat(s.positions.len() as u64);
+        for p in &s.positions {
+            p.to_array().iter().for_each(|c| h.eat(c.to_bits()));
+        }
+        h.eat(s.triangles.len() as u64);
+        s.triangles.iter().flatten().for_each(|&i| h.eat(i as u64));
+    }
+    h.0
+}
+
+struct Fnv(u64);
+
+impl Default for Fnv {
+    fn default() -> Self {
+        Fnv(0xcbf2_9ce4_8422_2325)
+    }
+}
+
+impl Fnv {
+    fn eat(&mut self, x: u64) {
+        for b in x.to_le_bytes() {
+            self.0 = (self.0 ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3);
+        }
     }
 }
 
 /// A 64-bit FNV-1a hash of the mesh: every receiver's point, normal and group, every patch's
 /// vertices, group and area.
 pub fn fingerprint(mesh: &PatchMesh) -> u64 {
-    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
-    let mut eat = |x: u64| {
-        for b in x.to_le_bytes() {
-            h = (h ^ b as u64).wrapping_mul(0x0000_0100_0000_01b3);
-        }
-    };
-    eat(mesh.receivers.len() as u64);
+    let mut h = Fnv::default();
+    h.eat(mesh.receivers.len() as u64);
     for v in &mesh.receivers {
         for x in [v.point, v.normal] {
-            x.to_array().iter().for_each(|c| eat(c.to_bits()));
+            x.to_array().iter().for_each(|c| h.eat(c.to_bits()));
         }
-        eat(v.group as u64);
+        h.eat(v.group as u64);
     }
-    eat(mesh.patches.len() as u64);
+    h.eat(mesh.patches.len() as u64);
     for p in &mesh.patches {
-        p.v.iter().for_each(|&i| eat(i as u64));
-        eat(p.group as u64);
-        eat(p.area.to_bits());
+        p.v.iter().for_each(|&i| h.eat(i as u64));
+        h.eat(p.group as u64);
+        h.eat(p.area.to_bits());
     }
-    h
+    h.0
 }
 
 /// Contiguous ranges of groups, about equal in receivers, at most `tasks` (at least one).

@@ -50,7 +50,7 @@ pub fn gather(
     progress: &dyn Progress,
 ) -> Result<()> {
     let state = read_state(dir)?;
-    let result = shard::gather(scene, settings, &state, k, progress)?;
+    let result = shard::gather(scene, settings, state, k, progress)?;
     write_atomic(&task_path(dir, k), &shardfile::task_bytes(&result))?;
     Ok(())
 }

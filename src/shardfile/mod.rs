@@ -2,16 +2,18 @@
 //! little-endian binary with a magic tag and a version. Bytes in, bytes out: the CLI reads and
 //! writes the files (atomically).
 
+mod codec;
+mod mesh;
+
 use crate::bake::PatchFlux;
 use crate::bake::shard::{State, TaskResult};
 use crate::transport::link::{Leaf, Link};
 use crate::transport::links::{ReceiverLinks, RowRef, RowStats};
 use crate::transport::sharing::Part;
-use glam::DVec3;
+use codec::{Reader, VERSION, Writer};
 
 const STATE_MAGIC: &[u8; 8] = b"LUXSTATE";
 const TASK_MAGIC: &[u8; 8] = b"LUXTASKR";
-const VERSION: u32 = 1;
 
 /// The state's bytes.
 pub fn state_bytes(s: &State) -> Vec<u8> {
@@ -20,7 +22,9 @@ pub fn state_bytes(s: &State) -> Vec<u8> {
     w.u32(VERSION);
     w.u64(s.settings.len() as u64);
     w.0.extend_from_slice(s.settings.as_bytes());
+    w.u64(s.scene);
     w.u64(s.fingerprint);
+    mesh::write(&mut w, &s.mesh);
     w.vec3s(&s.vertex_direct);
     w.vec3s(&s.flux.per_patch);
     w.vec3(s.flux.back);
@@ -41,21 +45,34 @@ pub fn read_state(bytes: &[u8]) -> Result<State, String> {
     r.header(STATE_MAGIC, "a luxbake state (state.bin)")?;
     let len = r.len(1)?;
     let settings = String::from_utf8(r.take(len)?.to_vec()).map_err(|e| e.to_string())?;
+    let scene = r.u64()?;
     let fingerprint = r.u64()?;
+    let mesh = mesh::read(&mut r)?;
     let vertex_direct = r.vec3s()?;
     let per_patch = r.vec3s()?;
     let back = r.vec3()?;
     let sources = r.len(8)?;
     let per_source = (0..sources).map(|_| r.f64()).collect::<Result<_, _>>()?;
-    let rays = [r.u64()?, r.u64()?];
+    let rays = [r.u64()?, r.u64()?, r.u64()?];
     let n = r.len(8)?;
-    let tasks = (0..n)
+    let tasks: Vec<(u32, u32)> = (0..n)
         .map(|_| Ok((r.u32()?, r.u32()?)))
         .collect::<Result<_, String>>()?;
     r.end()?;
+    let m = &mesh.mesh;
+    let sound = vertex_direct.len() == m.receivers.len()
+        && per_patch.len() == m.patches.len()
+        && tasks
+            .iter()
+            .all(|&(a, b)| a < b && b as usize <= m.groups.len());
+    if !sound || fingerprint != crate::bake::shard::fingerprint(m) {
+        return Err("its mesh, light and tasks do not fit together".into());
+    }
     Ok(State {
         settings,
+        scene,
         fingerprint,
+        mesh,
         vertex_direct,
         flux: PatchFlux {
             per_patch,
@@ -194,98 +211,91 @@ pub fn read_task(bytes: &[u8]) -> Result<TaskResult, String> {
     })
 }
 
-struct Writer(Vec<u8>);
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bake::shard;
+    use crate::fixtures::contacts::cubes_on_floor;
+    use crate::progress::Silent;
+    use crate::settings::Settings;
+    use glam::{DVec2, DVec3};
 
-impl Writer {
-    fn u32(&mut self, x: u32) {
-        self.0.extend_from_slice(&x.to_le_bytes());
+    /// A plan of cubes standing on a floor (covered parts), its groups given texture
+    /// coordinates and one patch marked double-sided, so every field of the mesh is written.
+    fn state() -> State {
+        let scene = cubes_on_floor(0.5, 0.0).scene;
+        let mut s = shard::plan(&scene, &Settings::default(), 3, &Silent).unwrap();
+        let m = &mut s.mesh.mesh;
+        assert!(
+            m.groups.iter().any(|g| g.covered.is_some()),
+            "no covered part"
+        );
+        let uv = |p: &[DVec3]| Some(p.iter().map(|p| DVec2::new(p.x, p.z)).collect::<Vec<_>>());
+        for g in &mut m.groups {
+            let points: Vec<DVec3> = (m.receivers[g.receivers.clone()].iter())
+                .map(|r| r.position)
+                .collect();
+            g.uv1 = uv(&points);
+            if let Some(c) = &mut g.covered {
+                c.uv0 = uv(&c.positions);
+            }
+        }
+        m.patches[0].double_sided = true;
+        s
     }
-    fn u64(&mut self, x: u64) {
-        self.0.extend_from_slice(&x.to_le_bytes());
-    }
-    fn f32(&mut self, x: f32) {
-        self.0.extend_from_slice(&x.to_le_bytes());
-    }
-    fn f64(&mut self, x: f64) {
-        self.0.extend_from_slice(&x.to_le_bytes());
-    }
-    fn vec3(&mut self, v: DVec3) {
-        v.to_array().iter().for_each(|x| self.f64(*x));
-    }
-    fn vec3s(&mut self, v: &[DVec3]) {
-        self.u64(v.len() as u64);
-        v.iter().for_each(|x| self.vec3(*x));
-    }
-    fn u32s(&mut self, v: &[u32]) {
-        self.u64(v.len() as u64);
-        v.iter().for_each(|x| self.u32(*x));
-    }
-}
 
-struct Reader<'a> {
-    bytes: &'a [u8],
-    at: usize,
-}
+    #[test]
+    fn a_state_reads_back_to_the_same_bytes() {
+        let s = state();
+        let bytes = state_bytes(&s);
+        let back = read_state(&bytes).unwrap();
+        assert_eq!(back.mesh.mesh.receivers.len(), s.mesh.mesh.receivers.len());
+        assert_eq!(back.mesh.adaptive, s.mesh.adaptive);
+        assert_eq!(back.mesh.contacts, s.mesh.contacts);
+        assert_eq!((back.scene, back.fingerprint), (s.scene, s.fingerprint));
+        assert!(back.mesh.mesh.patches[0].double_sided);
+        assert!(
+            state_bytes(&back) == bytes,
+            "written again, the bytes differ"
+        );
+    }
 
-impl Reader<'_> {
-    fn take(&mut self, n: usize) -> Result<&[u8], String> {
-        let end = self.at.checked_add(n).filter(|&e| e <= self.bytes.len());
-        let end = end.ok_or_else(|| format!("truncated at byte {}", self.at))?;
-        let out = &self.bytes[self.at..end];
-        self.at = end;
-        Ok(out)
-    }
-    fn header(&mut self, magic: &[u8; 8], what: &str) -> Result<(), String> {
-        if self.take(8).ok() != Some(&magic[..]) {
-            return Err(format!("not {what}"));
+    #[test]
+    fn a_damaged_state_is_refused() {
+        let bytes = state_bytes(&state());
+        // Cut short anywhere.
+        for end in [0, 10, bytes.len() / 3, bytes.len() - 1] {
+            assert!(read_state(&bytes[..end]).is_err(), "cut at {end}");
         }
-        match self.u32()? {
-            VERSION => Ok(()),
-            v => Err(format!("version {v}, this bake reads version {VERSION}")),
-        }
+        // A patch's first vertex index beyond the receivers: found, not used.
+        let s = state();
+        let (nr, at) = (s.mesh.mesh.receivers.len(), patch_offset(&s));
+        let mut bad = bytes.clone();
+        assert_eq!(bad[at..at + 4], s.mesh.mesh.patches[0].v[0].to_le_bytes());
+        bad[at..at + 4].copy_from_slice(&(nr as u32 + 7).to_le_bytes());
+        let e = read_state(&bad).err().unwrap();
+        assert!(e.contains("do not fit together"), "{e}");
+        // A flipped bit in the first receiver's point (its position and normal come first):
+        // the mesh's fingerprint no longer matches the one written.
+        let first = at - 8 - 76 * nr;
+        let mut bad = bytes.clone();
+        bad[first + 48] ^= 1;
+        let e = read_state(&bad).err().unwrap();
+        assert!(e.contains("do not fit together"), "{e}");
     }
-    fn end(&self) -> Result<(), String> {
-        match self.at == self.bytes.len() {
-            true => Ok(()),
-            false => Err(format!("{} bytes left over", self.bytes.len() - self.at)),
-        }
-    }
-    fn u8(&mut self) -> Result<u8, String> {
-        Ok(self.take(1)?[0])
-    }
-    fn u32(&mut self) -> Result<u32, String> {
-        Ok(u32::from_le_bytes(self.take(4)?.try_into().unwrap()))
-    }
-    fn u64(&mut self) -> Result<u64, String> {
-        Ok(u64::from_le_bytes(self.take(8)?.try_into().unwrap()))
-    }
-    fn f32(&mut self) -> Result<f32, String> {
-        Ok(f32::from_le_bytes(self.take(4)?.try_into().unwrap()))
-    }
-    fn f64(&mut self) -> Result<f64, String> {
-        Ok(f64::from_le_bytes(self.take(8)?.try_into().unwrap()))
-    }
-    /// A count of items of at least `size` bytes each, checked against what is left.
-    fn len(&mut self, size: usize) -> Result<usize, String> {
-        let n = self.u64()?;
-        let left = (self.bytes.len() - self.at) as u64;
-        match n.checked_mul(size as u64).is_some_and(|b| b <= left) {
-            true => Ok(n as usize),
-            false => Err(format!(
-                "a count of {n} at byte {} runs past the end",
-                self.at - 8
-            )),
-        }
-    }
-    fn vec3(&mut self) -> Result<DVec3, String> {
-        Ok(DVec3::new(self.f64()?, self.f64()?, self.f64()?))
-    }
-    fn vec3s(&mut self) -> Result<Vec<DVec3>, String> {
-        let n = self.len(24)?;
-        (0..n).map(|_| self.vec3()).collect()
-    }
-    fn u32s(&mut self) -> Result<Vec<u32>, String> {
-        let n = self.len(4)?;
-        (0..n).map(|_| self.u32()).collect()
+
+    /// Where the first patch's first vertex index is in the state's bytes.
+    fn patch_offset(s: &State) -> usize {
+        let mut w = Writer(Vec::new());
+        w.0.extend_from_slice(STATE_MAGIC);
+        w.u32(VERSION);
+        w.u64(s.settings.len() as u64);
+        w.0.extend_from_slice(s.settings.as_bytes());
+        w.u64(s.scene);
+        w.u64(s.fingerprint);
+        w.f64(s.mesh.mesh.patch_size);
+        w.json(&s.mesh.adaptive);
+        w.json(&s.mesh.contacts);
+        w.0.len() + 8 + 76 * s.mesh.mesh.receivers.len() + 8
     }
 }
