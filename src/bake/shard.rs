@@ -185,14 +185,11 @@ fn check_settings(settings: &Settings, state: &State) -> Result<()> {
 
 fn check_scene(scene: &Scene, state: &State) -> Result<()> {
     let here = scene_fingerprint(scene);
-    match here == state.scene
-        && state
-            .mesh
-            .mesh
-            .groups
-            .iter()
-            .all(|g| g.surface < scene.surfaces.len())
-    {
+    // Every group names a surface of this scene and that surface's material.
+    let fits = |g: &crate::patches::Group| {
+        (scene.surfaces.get(g.surface)).is_some_and(|s| s.material == g.material)
+    };
+    match here == state.scene && state.mesh.mesh.groups.iter().all(fits) {
         true => Ok(()),
         false => Err(Error::Settings(format!(
             "{} is not the scene the plan meshed (its surfaces' fingerprint {here:016x}, the \
