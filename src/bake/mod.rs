@@ -167,23 +167,14 @@ pub fn mesh<'a>(
     settings: &Settings,
     progress: &dyn Progress,
 ) -> Result<Meshing<'a>> {
-    let h = patch_size_checked(scene, settings, progress)?;
-    let mut run = Run::default();
-    progress.stage("meshing", 0);
-    let occluder = run.time(Stage::Mesh, || occluder(scene, settings));
-    let meshed = run.time(Stage::Mesh, || {
-        meshing::stage(scene, settings, h, &occluder, settings.params().tau_direct)
-    });
-    if meshed.lights.is_dark() {
+    let tau_direct = settings.params().tau_direct;
+    let m = meshing_by(scene, settings, progress, |occluder, h| {
+        meshing::stage(scene, settings, h, occluder, tau_direct)
+    })?;
+    if m.meshed.lights.is_dark() {
         progress.warn("the scene has no light source (no emitting material, light or luminaire): everything bakes to 0 lx");
     }
-    run.rays(RayStage::Meshing, &occluder);
-    Ok(Meshing {
-        meshed,
-        occluder,
-        run,
-        h,
-    })
+    Ok(m)
 }
 
 /// [`mesh`]'s result from a mesh it made before for `scene` and `settings` (the caller's to
@@ -195,15 +186,25 @@ pub fn restore<'a>(
     rays: u64,
     progress: &dyn Progress,
 ) -> Result<Meshing<'a>> {
+    let tau_direct = settings.params().tau_direct;
+    meshing_by(scene, settings, progress, |occluder, _| {
+        occluder.credit_rays(rays);
+        meshing::restore(scene, settings, saved, tau_direct)
+    })
+}
+
+/// Stage 1 with the patch mesh from `make` (given the occluder and the patch size, m).
+fn meshing_by<'a>(
+    scene: &'a Scene,
+    settings: &Settings,
+    progress: &dyn Progress,
+    make: impl FnOnce(&Occluder, f64) -> meshing::Meshed<'a>,
+) -> Result<Meshing<'a>> {
     let h = patch_size_checked(scene, settings, progress)?;
     let mut run = Run::default();
     progress.stage("meshing", 0);
     let occluder = run.time(Stage::Mesh, || occluder(scene, settings));
-    let tau_direct = settings.params().tau_direct;
-    let meshed = run.time(Stage::Mesh, || {
-        meshing::restore(scene, settings, saved, tau_direct)
-    });
-    occluder.credit_rays(rays);
+    let meshed = run.time(Stage::Mesh, || make(&occluder, h));
     run.rays(RayStage::Meshing, &occluder);
     Ok(Meshing {
         meshed,
