@@ -106,11 +106,11 @@ pub struct Saved {
 }
 
 impl Meshed<'_> {
-    /// A copy of what [`restore`] needs.
-    pub fn saved(&self) -> Saved {
+    /// What [`restore`] needs (the light on the mesh is dropped).
+    pub fn into_saved(self) -> Saved {
         Saved {
-            mesh: self.mesh.clone(),
-            adaptive: self.adaptive.clone(),
+            mesh: self.mesh,
+            adaptive: self.adaptive,
             contacts: self.contacts,
         }
     }

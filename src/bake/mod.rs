@@ -148,11 +148,6 @@ impl Meshing<'_> {
     pub fn mesh(&self) -> &crate::patches::PatchMesh {
         &self.meshed.mesh
     }
-
-    /// What [`restore`] needs to make this again without meshing.
-    pub fn saved(&self) -> SavedMesh {
-        self.meshed.saved()
-    }
 }
 
 /// Direct light: exact at every vertex (lx, RGB), and as flux into every patch.

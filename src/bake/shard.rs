@@ -63,20 +63,23 @@ pub fn plan(
 ) -> Result<State> {
     let mut m = mesh(scene, settings, progress)?;
     let direct = light(scene, &mut m, progress);
-    let mesh = m.mesh();
+    let rays = &m.run.rays;
+    let rays = [
+        rays.meshing,
+        rays.direct_at_receivers,
+        rays.direct_into_patches,
+    ];
+    // The mesh moves into the state: no copy of it.
+    let mesh = m.meshed.into_saved();
     Ok(State {
         settings: settings_json(settings),
         scene: scene_fingerprint(scene),
-        fingerprint: fingerprint(mesh),
-        tasks: split(mesh, tasks.max(1)),
-        mesh: m.saved(),
+        fingerprint: fingerprint(&mesh.mesh),
+        tasks: split(&mesh.mesh, tasks.max(1)),
+        mesh,
         vertex_direct: direct.vertex,
         flux: direct.flux,
-        rays: [
-            m.run.rays.meshing,
-            m.run.rays.direct_at_receivers,
-            m.run.rays.direct_into_patches,
-        ],
+        rays,
     })
 }
 
