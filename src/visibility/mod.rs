@@ -86,6 +86,14 @@ pub struct Hit {
     pub normal: DVec3,
 }
 
+thread_local! {
+    /// The tracer (its address) and the triangle (its index in BVH order) that blocked this
+    /// thread's last blocked ray ([`Tracer::miss`]). A stale entry (another tracer at the same
+    /// address) only costs one triangle test: a triangle that meets the ray blocks it.
+    static LAST_BLOCKER: std::cell::Cell<(usize, u32)> =
+        const { std::cell::Cell::new((0, u32::MAX)) };
+}
+
 /// A BVH over a set of triangles in the occluder's mapped coordinates.
 #[derive(Default)]
 struct Tracer {
@@ -122,11 +130,34 @@ impl Tracer {
         }
     }
 
+    /// No triangle blocks `ray`. The triangle that blocked this thread's last blocked ray is
+    /// tried first (a desk top hides a chair's seat from most luminaires, a seat its legs from
+    /// most of the ceiling): it blocks only where the traversal would find a blocker too, so the
+    /// answer is the same, sooner.
     fn miss(&self, ray: Ray) -> bool {
-        match &self.bvh {
-            Some(bvh) => bvh.ray_traverse_miss(ray, |r, id| intersect(&self.triangles[id], r)),
-            None => true,
+        let Some(bvh) = &self.bvh else {
+            return true;
+        };
+        let me = self as *const Tracer as usize;
+        let (owner, last) = LAST_BLOCKER.get();
+        if owner == me
+            && let Some(t) = self.triangles.get(last as usize)
+            && intersect(t, &ray) < ray.tmax
+        {
+            return false;
         }
+        let mut blocker = u32::MAX;
+        let miss = bvh.ray_traverse_miss(ray, |r, id| {
+            let t = intersect(&self.triangles[id], r);
+            if t < r.tmax {
+                blocker = id as u32;
+            }
+            t
+        });
+        if !miss {
+            LAST_BLOCKER.set((me, blocker));
+        }
+        miss
     }
 }
 
@@ -580,6 +611,49 @@ mod tests {
         assert!(occ.clear(DVec3::new(4.0, 0.0, 0.0), DVec3::Y, light, DVec3::ZERO));
         assert!(!occ.escapes(DVec3::ZERO, DVec3::Y, DVec3::Y));
         assert!(occ.escapes(DVec3::new(4.0, 0.0, 0.0), DVec3::Y, DVec3::Y));
+    }
+
+    #[test]
+    fn the_last_blocker_tried_first_changes_no_answer() {
+        // 400 small triangles scattered in a 10 m cube (a deterministic LCG), and segments from
+        // 50 points to 40 targets each: every answer with the last blocker tried first must be
+        // the traversal's alone (the cache emptied before asking again).
+        let mut seed = 0x2545_f491_4f6c_dd1du64;
+        let mut unit = move || {
+            seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1);
+            (seed >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut point = || DVec3::new(unit(), unit(), unit()) * 10.0;
+        let tris: Vec<[DVec3; 3]> = (0..400)
+            .map(|_| {
+                let c = point();
+                let d = DVec3::new(1.0, 0.3, -0.5);
+                [c, c + d, c + DVec3::new(-0.2, 0.9, 0.6)]
+            })
+            .collect();
+        let occ = Occluder::from_triangles(&tris, false);
+        let (mut blocked, mut total) = (0, 0);
+        for _ in 0..50 {
+            let from = point();
+            for _ in 0..40 {
+                let to = point();
+                let answer = occ.clear(from, DVec3::ZERO, to, DVec3::ZERO);
+                LAST_BLOCKER.set((0, u32::MAX));
+                assert_eq!(answer, occ.clear(from, DVec3::ZERO, to, DVec3::ZERO));
+                // The same blocker cached, a segment stopping halfway: only the traversal decides.
+                let half = from + (to - from) * 0.5;
+                let short = occ.clear(from, DVec3::ZERO, half, DVec3::ZERO);
+                LAST_BLOCKER.set((0, u32::MAX));
+                assert_eq!(short, occ.clear(from, DVec3::ZERO, half, DVec3::ZERO));
+                blocked += usize::from(!answer);
+                total += 1;
+            }
+        }
+        // Both answers are common, so the cache was both tried and refused.
+        assert!(
+            blocked > total / 5 && blocked < total * 4 / 5,
+            "{blocked} of {total}"
+        );
     }
 
     #[test]
