@@ -4,8 +4,9 @@
 //! decreasing u and traced until the untraced rest R = Σu satisfies R ≤ f × the light traced so
 //! far, the rest estimated as R × (traced light / traced u). Prints the luminaires reaching a
 //! vertex and those this rule traces (means per vertex), and the rule's error against the full
-//! sum (lit vertices). No cluster bound can be tighter than these per-luminaire u, so the
-//! traced count is the least any cut within f must trace.
+//! sum (lit vertices). No cluster's bound is tighter than its members' u, so a cut that bounds
+//! its untraced light this way and estimates it so traces at least this many (one estimating by
+//! the midpoint of [0, R] may leave R up to 2f: run with 2f to see that).
 //!
 //!     cargo run --release --example light_tail -- SCENE.gltf [f]
 
