@@ -632,19 +632,22 @@ mod tests {
             })
             .collect();
         let occ = Occluder::from_triangles(&tris, false);
+        // The answer with whatever the cache holds, checked against the traversal's alone (which
+        // leaves its own blocker cached for the next question).
+        let checked = |from: DVec3, to: DVec3| {
+            let answer = occ.clear(from, DVec3::ZERO, to, DVec3::ZERO);
+            LAST_BLOCKER.set((0, u32::MAX));
+            assert_eq!(answer, occ.clear(from, DVec3::ZERO, to, DVec3::ZERO));
+            answer
+        };
         let (mut blocked, mut total) = (0, 0);
         for _ in 0..50 {
             let from = point();
             for _ in 0..40 {
                 let to = point();
-                let answer = occ.clear(from, DVec3::ZERO, to, DVec3::ZERO);
-                LAST_BLOCKER.set((0, u32::MAX));
-                assert_eq!(answer, occ.clear(from, DVec3::ZERO, to, DVec3::ZERO));
+                let answer = checked(from, to);
                 // The same blocker cached, a segment stopping halfway: only the traversal decides.
-                let half = from + (to - from) * 0.5;
-                let short = occ.clear(from, DVec3::ZERO, half, DVec3::ZERO);
-                LAST_BLOCKER.set((0, u32::MAX));
-                assert_eq!(short, occ.clear(from, DVec3::ZERO, half, DVec3::ZERO));
+                checked(from, from + (to - from) * 0.5);
                 blocked += usize::from(!answer);
                 total += 1;
             }
