@@ -18,6 +18,7 @@
 use super::bounds::{AngleBounds, ProfileBounds};
 use super::flux::{self, Radiator, Spread};
 use super::groups::Known;
+use super::penumbra;
 use crate::geom::lambert;
 use crate::photometry::{Opening, OpeningShape, Photometry};
 use crate::scene::{Luminaire, Scene};
@@ -32,6 +33,12 @@ pub const NEAR_FIELD_RATIO: f64 = 0.1;
 
 /// At most this many halvings per receiver (2¹⁰ = 1024 sub-sources).
 const MAX_SPLITS: u32 = 10;
+
+/// In a luminaire's soft shadow (some sub-sources seen, some hidden) the opening is split this
+/// many times finer than [`NEAR_FIELD_RATIO`] where the shadow edge crosses it (`penumbra`):
+/// one ray per sub-source makes the penumbra a staircase of as many steps as there are
+/// sub-sources.
+pub const PENUMBRA_REFINE: f64 = 8.0;
 
 /// For the flux into a patch (the input of the inter-reflection, not a value users read) the split
 /// may be coarser: any split conserves the flux, it only shifts it between nearby patches.
@@ -185,7 +192,11 @@ impl<'a> Source<'a> {
     /// Illuminance (lx, photometric) at `p` on planes with the unit `normals` (a probe's faces),
     /// added to `out`: the sub-sources, their intensities and each one's shadow ray are shared
     /// (the ray leaves `p` off the first plane that faces the sub-source). `known`: what a
-    /// group's query already proved of its visibility ([`super::groups`]).
+    /// group's query already proved of its visibility ([`super::groups`]). When some sub-sources
+    /// are seen and others hidden, or a corner of a split opening disagrees with them all, `p`
+    /// lies in the luminaire's soft shadow: the opening is integrated again, down to
+    /// [`PENUMBRA_REFINE`] times finer where the shadow edge crosses it, so the penumbra is not a
+    /// staircase of a few steps.
     pub fn illuminance_faces(
         &self,
         occ: &Occluder,
@@ -197,7 +208,93 @@ impl<'a> Source<'a> {
         if known == Known::Hidden || !self.reaches(p) {
             return;
         }
-        self.each_sub(p, (NEAR_FIELD_RATIO, MAX_SPLITS), &mut |q, share| {
+        // Planes in groups of up to eight, summed on the stack (a probe has six).
+        for (normals, out) in normals.chunks(8).zip(out.chunks_mut(8)) {
+            let mut e = [0.0; 8];
+            let (seen, hidden) = self.sum_subs(occ, p, normals, &mut e, known, NEAR_FIELD_RATIO);
+            let soft = (seen && hidden)
+                || (known == Known::Trace
+                    && (seen || hidden)
+                    && self.corners_disagree(occ, p, normals, seen));
+            if soft {
+                e = [0.0; 8];
+                self.soft_shadow(occ, p, normals, &mut e);
+            }
+            for (o, e) in out.iter_mut().zip(e) {
+                *o += e;
+            }
+        }
+    }
+
+    /// Whether, for an opening large enough to be split as seen from `p`, a ray to one of two
+    /// opposite corners (that lights one of the planes) says other than the sub-sources, all of
+    /// which were `seen` or all hidden: a shadow edge parallel to a row of sub-sources (the top
+    /// of a partition under a long fitting) crosses the opening without separating them.
+    fn corners_disagree(&self, occ: &Occluder, p: DVec3, normals: &[DVec3], seen: bool) -> bool {
+        let longer = 2.0 * self.half[0].max(self.half[1]);
+        if longer <= NEAR_FIELD_RATIO * (self.position - p).length() {
+            return false;
+        }
+        // Two opposite corners: an edge that misses every sub-source but cuts off a whole side of
+        // the opening (two adjacent corners) is caught; one cutting a single corner off moves
+        // little light.
+        let [a, _, c, _] = self.opening_corners();
+        [a, c].iter().any(|&q| {
+            let d = q - p;
+            match normals.iter().position(|n| n.dot(d) > 0.0) {
+                Some(first) => occ.clear(p, normals[first], q, DVec3::ZERO) != seen,
+                None => false,
+            }
+        })
+    }
+
+    /// [`Source::illuminance_faces`] for a receiver in the luminaire's soft shadow: the opening
+    /// integrated over what `p` sees of it (`penumbra`), added to `out`.
+    fn soft_shadow(&self, occ: &Occluder, p: DVec3, normals: &[DVec3], out: &mut [f64]) {
+        let ratios = penumbra::Ratios {
+            coarse: NEAR_FIELD_RATIO,
+            fine: NEAR_FIELD_RATIO / PENUMBRA_REFINE,
+        };
+        let world =
+            |c: [f64; 2]| self.position + self.world_from_photometric * DVec3::new(c[0], c[1], 0.0);
+        let mut sees = |q: DVec3| {
+            let d = q - p;
+            match normals.iter().position(|n| n.dot(d) > 0.0) {
+                Some(first) => occ.clear(p, normals[first], q, DVec3::ZERO),
+                None => false,
+            }
+        };
+        let mut emit = |q: DVec3, share: f64, fraction: f64| {
+            let d = q - p;
+            let dist2 = d.length_squared();
+            if fraction <= 0.0 || dist2 <= 0.0 {
+                return;
+            }
+            let dist = dist2.sqrt();
+            let i = self.intensity(-d / dist) * share * fraction;
+            for (e, n) in out.iter_mut().zip(normals) {
+                let cos = n.dot(d);
+                if cos > 0.0 {
+                    *e += i * (cos / dist) / dist2;
+                }
+            }
+        };
+        penumbra::integrate(self.half, p, &ratios, &world, &mut sees, &mut emit);
+    }
+
+    /// [`Source::illuminance_faces`] with the opening split at `ratio`, added to `out`; returns
+    /// whether some sub-source was seen and whether some was hidden (of those that light a plane).
+    fn sum_subs(
+        &self,
+        occ: &Occluder,
+        p: DVec3,
+        normals: &[DVec3],
+        out: &mut [f64],
+        known: Known,
+        ratio: f64,
+    ) -> (bool, bool) {
+        let (mut seen, mut hidden) = (false, false);
+        self.each_sub(p, (ratio, MAX_SPLITS), &mut |q, share| {
             let d = q - p;
             let dist2 = d.length_squared();
             let Some(first) = normals.iter().position(|n| n.dot(d) > 0.0) else {
@@ -208,10 +305,14 @@ impl<'a> Source<'a> {
             }
             let dist = dist2.sqrt();
             let i = self.intensity(-d / dist) * share;
-            if i <= 0.0 || (known == Known::Trace && !occ.clear(p, normals[first], q, DVec3::ZERO))
-            {
+            if i <= 0.0 {
                 return;
             }
+            if known == Known::Trace && !occ.clear(p, normals[first], q, DVec3::ZERO) {
+                hidden = true;
+                return;
+            }
+            seen = true;
             for (e, n) in out.iter_mut().zip(normals) {
                 let cos = n.dot(d);
                 if cos > 0.0 {
@@ -219,6 +320,7 @@ impl<'a> Source<'a> {
                 }
             }
         });
+        (seen, hidden)
     }
 
     /// Whether `other` emits the same distribution the same way (profile, frame, colour): then a

@@ -8,6 +8,7 @@ pub mod enclosed;
 pub mod flux;
 pub mod groups;
 pub mod luminaire;
+pub mod penumbra;
 pub mod profiled;
 pub mod punctual;
 pub mod sources;

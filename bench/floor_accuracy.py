@@ -1,0 +1,151 @@
+#!/usr/bin/env python3
+"""The 10^4-triangle open-plan floor's working plane against RADIANCE (issue 29's accuracy check).
+
+    python3 bench/floor_accuracy.py [--bake PATH] [--work DIR] [--out FILE.json]
+                                    [--stride K] [--ad N] [--threads N]
+
+Writes `bake generate openplan --size small`, and a copy whose emitting LED panels reflect
+nothing (RADIANCE's `light` cannot also reflect; radiance.py refuses such emitters otherwise; their
+reflected light is under 1 % of their own luminance). Bakes that copy with luxbake at draft,
+default and high quality (and high with `--uniform-patches`, the issue's "converged reference")
+with a working plane at 0.75 m, converts it to RADIANCE (radiance.py) and runs `rtrace -I` at
+every K-th working-plane point facing up (+Y, glTF's up axis) with pure Monte Carlo (-aa 0
+-ab 8 -ad N -lw 1e-4 -ds 0.01), then once more at -ab 0 (direct light alone). Each point's
+RADIANCE value is one Monte Carlo sample: its noise (estimated from two repeats at 137 points
+when it was written, bench/results/floor-accuracy/README.md) is reported beside the errors.
+
+Prints and writes per luxbake run: the working plane's mean against RADIANCE's, the relative
+RMS of the per-point differences, their p95 and max, and the same for the direct light alone.
+Python standard library only; RADIANCE comes from PyPI pyradiance (bench/.venv, as run.py).
+"""
+
+import argparse
+import json
+import math
+import os
+import struct
+import subprocess
+import sys
+
+BENCH = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(BENCH)
+sys.path.insert(0, BENCH)
+
+import measure  # noqa: E402
+import radiance  # noqa: E402
+from run import ensure_venv  # noqa: E402
+
+RUNS = {
+    "draft": ["--quality", "draft"],
+    "default": [],
+    "high": ["--quality", "high"],
+    "high-uniform": ["--quality", "high", "--uniform-patches"],
+}
+
+
+def glb_json(path):
+    with open(path, "rb") as f:
+        b = f.read()
+    n = struct.unpack("<I", b[12:16])[0]
+    return json.loads(b[20:20 + n])
+
+
+def working_plane(path):
+    """{probe name: (position, E(+y), direct E(+y))} of a bake's working-plane probes."""
+    out = {}
+    for node in glb_json(path)["nodes"]:
+        e = node.get("extras", {}).get("luxbake", {})
+        if e.get("probe", {}).get("origin", {}).get("kind") == "workingPlane":
+            out[node["name"]] = (e["probe"]["position"], e["faces"]["+y"],
+                                 e["facesDirect"]["+y"])
+    return out
+
+
+def stats(ours, ref):
+    """Mean of both, relative error of the mean, RMS / p95 / max of per-point relative errors
+    (points where the reference is above 1 lx)."""
+    rel = sorted(abs(a - b) / b for a, b in zip(ours, ref) if b > 1.0)
+    mean_a, mean_b = sum(ours) / len(ours), sum(ref) / len(ref)
+    return {"mean": mean_a, "refMean": mean_b, "meanRel": (mean_a - mean_b) / mean_b,
+            "rms": math.sqrt(sum(r * r for r in rel) / len(rel)),
+            "p95": rel[int(0.95 * (len(rel) - 1))], "max": rel[-1], "points": len(rel)}
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--bake", default=os.path.join(ROOT, "target", "release", "bake"))
+    ap.add_argument("--work", default=os.path.join(BENCH, "work", "floor-accuracy"))
+    ap.add_argument("--out", default=None, help="results JSON (default WORK/results.json)")
+    ap.add_argument("--stride", type=int, default=1, help="every K-th working-plane point")
+    ap.add_argument("--ad", type=int, default=1024)
+    ap.add_argument("--threads", type=int, default=os.cpu_count())
+    a = ap.parse_args()
+    os.makedirs(a.work, exist_ok=True)
+    pkg = ensure_venv(os.path.join(BENCH, ".venv"))
+    rad_bin, rad_lib = os.path.join(pkg, "bin"), os.path.join(pkg, "lib")
+
+    floor = os.path.join(a.work, "small.gltf")
+    subprocess.run([a.bake, "generate", "openplan", "--size", "small", "-o", floor], check=True)
+    with open(floor, encoding="utf-8") as f:
+        doc = json.load(f)
+    for m in doc["materials"]:
+        ext = m.get("extensions", {}).get("LUXBAKE_material", {})
+        if "emission" in ext:
+            ext["reflectance"] = [0.0, 0.0, 0.0]
+    scene = os.path.join(a.work, "small-black-panels.gltf")
+    with open(scene, "w", encoding="utf-8") as f:
+        json.dump(doc, f)
+
+    results = {"scene": "bake generate openplan --size small, emitters' reflectance 0",
+               "radiance": {"options": f"-aa 0 -ab 8 -ad {a.ad} -lw 1e-4 -ds 0.01 -dt 0 "
+                                       "-dc 1 -dj 0", "stride": a.stride}, "runs": {}}
+    planes = {}
+    for tag, extra in RUNS.items():
+        out = os.path.join(a.work, f"{tag}.glb")
+        m = measure.run([a.bake, scene, "-o", out, "--working-plane", "0.75", "-q",
+                         "--threads", str(a.threads)] + extra)
+        if m["returncode"] != 0:
+            raise SystemExit(f"bake {tag} failed")
+        planes[tag] = working_plane(out)
+        results["runs"][tag] = {"args": " ".join(extra), "wall": m["wall"], "cpu": m["cpu"]}
+        print(f"{tag}: {m['wall']:.1f} s wall", flush=True)
+
+    names = sorted(planes["default"])[::a.stride]
+    rd = os.path.join(a.work, "radiance")
+    os.makedirs(rd, exist_ok=True)
+    radiance.convert(scene, rd, rad_bin)
+    env = dict(os.environ, RAYPATH=os.pathsep.join([".", rad_lib]))
+    oct_path = os.path.join(rd, "scene.oct")
+    m = measure.run([os.path.join(rad_bin, "oconv"), "scene.rad"], cwd=rd, env=env,
+                    stdout_path=oct_path, stderr_path=os.path.join(rd, "oconv.err"))
+    if m["returncode"] != 0:
+        raise SystemExit("oconv failed")
+    points = [tuple(planes["default"][k][0]) + (0.0, 1.0, 0.0) for k in names]
+    common = ["-ds", "0.01", "-dt", "0", "-dc", "1", "-dj", "0", "-aa", "0"]
+    ref = {}
+    for tag, opts in [("total", ["-ab", "8", "-ad", str(a.ad), "-lw", "1e-4"]),
+                      ("direct", ["-ab", "0"])]:
+        wd = os.path.join(rd, tag)
+        os.makedirs(wd, exist_ok=True)
+        vals, m, _ = radiance.run_rtrace(rad_bin, rad_lib, oct_path, points, common + opts, wd,
+                                         threads=a.threads)
+        ref[tag] = vals
+        results["radiance"][tag + "Wall"] = m["wall"]
+        print(f"RADIANCE {tag}: {m['wall']:.1f} s wall", flush=True)
+
+    for tag, plane in planes.items():
+        r = results["runs"][tag]
+        r["total"] = stats([plane[k][1] for k in names], ref["total"])
+        r["direct"] = stats([plane[k][2] for k in names], ref["direct"])
+        t, d = r["total"], r["direct"]
+        print(f"{tag:13s} mean {t['mean']:.2f} vs {t['refMean']:.2f} lx ({t['meanRel']:+.2%}), "
+              f"per-point RMS {t['rms']:.2%}, p95 {t['p95']:.2%}, max {t['max']:.1%}; "
+              f"direct: mean {d['meanRel']:+.2%}, RMS {d['rms']:.2%}")
+    path = a.out or os.path.join(a.work, "results.json")
+    with open(path, "w", encoding="utf-8") as f:
+        json.dump(results, f, indent=1)
+    print("wrote", path)
+
+
+if __name__ == "__main__":
+    main()
