@@ -39,10 +39,10 @@ fn main() {
         let (mut u, mut e) = (Vec::new(), Vec::new());
         for s in &sources {
             let mut open = [0.0];
-            s.illuminance_faces(&occ, p, &[normal], &mut open, Known::Seen);
+            s.illuminance_faces(&occ, p, &[normal], &mut open, (Known::Seen, true));
             if open[0] > 0.0 {
                 let mut shadowed = [0.0];
-                s.illuminance_faces(&occ, p, &[normal], &mut shadowed, Known::Trace);
+                s.illuminance_faces(&occ, p, &[normal], &mut shadowed, (Known::Trace, true));
                 u.push(open[0]);
                 e.push(shadowed[0]);
             }

@@ -146,7 +146,7 @@ fn worst_against_full(scene: &Scene) -> (f64, f64, f64, [usize; 4]) {
                 cut.run(&sources, &groups, p, normals, settle, &mut at);
                 let mut full = vec![0.0; normals.len()];
                 for s in &sources {
-                    s.illuminance_faces(&occ, p, normals, &mut full, Known::Trace);
+                    s.illuminance_faces(&occ, p, normals, &mut full, (Known::Trace, true));
                 }
                 for (pl, (got, want)) in at.luma.iter().zip(&full).enumerate() {
                     let err = (got - want).abs();

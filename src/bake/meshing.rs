@@ -203,6 +203,7 @@ fn mesh(
         let settle = |lo: DVec3, hi: DVec3, _n: DVec3| occluder.settle(&starts, lo, hi);
         let normals = [n];
         let mut at = AtPoint::new(&sources, occluder, p, &normals);
+        at.soft_shadows = false;
         cut.run(&sources, &groups, p, &normals, settle, &mut at);
         at.luma[0]
     };

@@ -211,7 +211,7 @@ impl<'a> Source<'a> {
         // Planes in groups of up to eight, summed on the stack (a probe has six).
         for (normals, out) in normals.chunks(8).zip(out.chunks_mut(8)) {
             let mut e = [0.0; 8];
-            let (seen, hidden) = self.sum_subs(occ, p, normals, &mut e, known, NEAR_FIELD_RATIO);
+            let (seen, hidden) = self.sum_subs(occ, p, normals, &mut e, known);
             let soft = (seen && hidden)
                 || (known == Known::Trace
                     && (seen || hidden)
@@ -248,6 +248,22 @@ impl<'a> Source<'a> {
         })
     }
 
+    /// [`Source::illuminance_faces`] without the soft-shadow integration: one ray per near-field
+    /// sub-source, the penumbra in steps (an estimate: meshing's judgement of where light changes).
+    pub fn illuminance_faces_stepped(
+        &self,
+        occ: &Occluder,
+        p: DVec3,
+        normals: &[DVec3],
+        out: &mut [f64],
+        known: Known,
+    ) {
+        if known == Known::Hidden || !self.reaches(p) {
+            return;
+        }
+        self.sum_subs(occ, p, normals, out, known);
+    }
+
     /// [`Source::illuminance_faces`] for a receiver in the luminaire's soft shadow: the opening
     /// integrated over what `p` sees of it (`penumbra`), added to `out`.
     fn soft_shadow(&self, occ: &Occluder, p: DVec3, normals: &[DVec3], out: &mut [f64]) {
@@ -282,7 +298,7 @@ impl<'a> Source<'a> {
         penumbra::integrate(self.half, p, &ratios, &world, &mut sees, &mut emit);
     }
 
-    /// [`Source::illuminance_faces`] with the opening split at `ratio`, added to `out`; returns
+    /// [`Source::illuminance_faces`] with one ray per near-field sub-source, added to `out`; returns
     /// whether some sub-source was seen and whether some was hidden (of those that light a plane).
     fn sum_subs(
         &self,
@@ -291,10 +307,9 @@ impl<'a> Source<'a> {
         normals: &[DVec3],
         out: &mut [f64],
         known: Known,
-        ratio: f64,
     ) -> (bool, bool) {
         let (mut seen, mut hidden) = (false, false);
-        self.each_sub(p, (ratio, MAX_SPLITS), &mut |q, share| {
+        self.each_sub(p, (NEAR_FIELD_RATIO, MAX_SPLITS), &mut |q, share| {
             let d = q - p;
             let dist2 = d.length_squared();
             let Some(first) = normals.iter().position(|n| n.dot(d) > 0.0) else {

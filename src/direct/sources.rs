@@ -116,17 +116,19 @@ impl<'a> DirectSource<'a> {
 
     /// Illuminance (lx, photometric) at `p` on planes with the unit `normals`, added to `out`
     /// (luminaires share their sub-sources' intensities and shadow rays between the planes).
-    /// `known`: what a group's query proved of a luminaire's visibility ([`super::groups`]).
+    /// `known`: what a group's query proved of a luminaire's visibility ([`super::groups`]);
+    /// `soft`: integrate luminaires' soft shadows (else one ray per sub-source: an estimate).
     pub fn illuminance_faces(
         &self,
         occ: &Occluder,
         p: DVec3,
         normals: &[DVec3],
         out: &mut [f64],
-        known: Known,
+        (known, soft): (Known, bool),
     ) {
         match self {
-            DirectSource::Luminaire(s) => s.illuminance_faces(occ, p, normals, out, known),
+            DirectSource::Luminaire(s) if soft => s.illuminance_faces(occ, p, normals, out, known),
+            DirectSource::Luminaire(s) => s.illuminance_faces_stepped(occ, p, normals, out, known),
             _ => {
                 for (e, n) in out.iter_mut().zip(normals) {
                     *e += self.illuminance(occ, p, *n);

@@ -24,6 +24,9 @@ pub struct AtPoint<'a, 's> {
     pub luma: Vec<f64>,
     /// lx, RGB, per plane.
     pub rgb: Vec<DVec3>,
+    /// Luminaires' soft shadows integrated (true from [`AtPoint::new`]); off, one ray per
+    /// near-field sub-source: what meshing's estimate of the light needs, at a quarter of the rays.
+    pub soft_shadows: bool,
 }
 
 impl<'a, 's> AtPoint<'a, 's> {
@@ -40,6 +43,7 @@ impl<'a, 's> AtPoint<'a, 's> {
             normals,
             luma: vec![0.0; normals.len()],
             rgb: vec![DVec3::ZERO; normals.len()],
+            soft_shadows: true,
         }
     }
 
@@ -60,7 +64,8 @@ impl Target for AtPoint<'_, '_> {
         self.normals.len()
     }
     fn exact(&mut self, k: usize, known: Known, out: &mut [f64]) {
-        self.sources[k].illuminance_faces(self.occ, self.p, self.normals, out, known);
+        let how = (known, self.soft_shadows);
+        self.sources[k].illuminance_faces(self.occ, self.p, self.normals, out, how);
         self.add(k, out);
     }
     fn geometry(&self, s: &Source, out: &mut [f64]) {
