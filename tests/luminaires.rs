@@ -83,6 +83,35 @@ fn cie_171_test_5_2_cosine_point_source() {
     assert!(rel(emitted, PI * 1000.0) < 5e-3, "{emitted}");
 }
 
+/// Illuminance on an upward (+Y) plane at `p` from the 1.5 × 0.2 m opening at the origin (long
+/// side along Z) of `source`, brute force: `n` = (along, across) elements, each emitting the
+/// distribution scaled by its share of the area, where `seen(element)`.
+fn brute_opening(
+    source: &Source,
+    p: DVec3,
+    n: (usize, usize),
+    seen: impl Fn(DVec3) -> bool,
+) -> f64 {
+    let (nl, nw) = n;
+    let mut e = 0.0;
+    for i in 0..nl {
+        for j in 0..nw {
+            let q = DVec3::new(
+                (j as f64 + 0.5) / nw as f64 * 0.2 - 0.1,
+                0.0,
+                (i as f64 + 0.5) / nl as f64 * 1.5 - 0.75,
+            );
+            let d = q - p;
+            let cos = DVec3::Y.dot(d);
+            if cos > 0.0 && seen(q) {
+                let dist = d.length();
+                e += source.intensity(-d / dist) / (nl * nw) as f64 * cos / (dist * dist * dist);
+            }
+        }
+    }
+    e
+}
+
 /// The near field of a 1.5 × 0.2 m luminaire: the split of its opening against a fine
 /// brute-force integration over the opening (each element emits the distribution scaled by its
 /// share of the area), at 0.3, 1 and 3 m.
@@ -109,27 +138,6 @@ fn near_field_of_a_linear_luminaire_matches_brute_force() {
     let scene = b.build();
     let occ = Occluder::build(&scene, OccluderOptions::default());
     let source = Source::new(&scene, &scene.luminaires[0]);
-    let brute = |p: DVec3, n: DVec3| -> f64 {
-        let (nl, nw) = (1500, 200);
-        let mut e = 0.0;
-        for i in 0..nl {
-            for j in 0..nw {
-                let q = DVec3::new(
-                    (j as f64 + 0.5) / nw as f64 * 0.2 - 0.1,
-                    0.0,
-                    (i as f64 + 0.5) / nl as f64 * 1.5 - 0.75,
-                );
-                let d = q - p;
-                let cos = n.dot(d);
-                if cos > 0.0 {
-                    let dist = d.length();
-                    e +=
-                        source.intensity(-d / dist) / (nl * nw) as f64 * cos / (dist * dist * dist);
-                }
-            }
-        }
-        e
-    };
     let mut worst = 0.0f64;
     for h in [0.3, 1.0, 3.0] {
         // Below the centre, below one end, and off to the side, facing up.
@@ -141,7 +149,7 @@ fn near_field_of_a_linear_luminaire_matches_brute_force() {
             let got = source.illuminance(&occ, p, DVec3::Y);
             let far =
                 source.intensity(p.normalize()) * DVec3::Y.dot(-p.normalize()) / p.length_squared();
-            let want = brute(p, DVec3::Y);
+            let want = brute_opening(&source, p, (1500, 200), |_| true);
             eprintln!(
                 "near field h {h} p {p}: split {got:.4} brute {want:.4} point {far:.4} err {:.2e}",
                 rel(got, want)
@@ -534,27 +542,12 @@ fn soft_shadow(along: bool) -> (f64, f64, usize) {
     let scene = b.build();
     let occ = Occluder::build(&scene, OccluderOptions::default());
     let source = Source::new(&scene, &scene.luminaires[0]);
-    let brute = |p: DVec3, shadowed: bool| -> f64 {
-        let (nl, nw) = (3000, 200);
-        let mut e = 0.0;
-        for i in 0..nl {
-            for j in 0..nw {
-                let q = DVec3::new(
-                    (j as f64 + 0.5) / nw as f64 * 0.2 - 0.1,
-                    0.0,
-                    (i as f64 + 0.5) / nl as f64 * 1.5 - 0.75,
-                );
-                let d = q - p;
-                // Where the segment from p to q crosses the sheet's plane.
-                let s = p + d * ((-0.5 - p.y) / d.y);
-                if shadowed && side(s) < edge {
-                    continue;
-                }
-                let dist = d.length();
-                e += source.intensity(-d / dist) / (nl * nw) as f64 * d.y / (dist * dist * dist);
-            }
-        }
-        e
+    // Seen when the segment from p to q crosses the sheet's plane beyond its edge.
+    let brute = |p: DVec3, shadowed: bool| {
+        brute_opening(&source, p, (3000, 200), |q: DVec3| {
+            let d = q - p;
+            !shadowed || side(p + d * ((-0.5 - p.y) / d.y)) >= edge
+        })
     };
     let (mut worst_open, mut worst_own, mut lit) = (0.0f64, 0.0f64, 0);
     let (from, step) = match along {

@@ -185,38 +185,41 @@ impl<'a> Source<'a> {
     /// Illuminance (lx, photometric) at point `p` with unit normal `n`.
     pub fn illuminance(&self, occ: &Occluder, p: DVec3, n: DVec3) -> f64 {
         let mut e = [0.0];
-        self.illuminance_faces(occ, p, &[n], &mut e, Known::Trace);
+        self.illuminance_faces(occ, p, &[n], &mut e, (Known::Trace, true));
         e[0]
     }
 
     /// Illuminance (lx, photometric) at `p` on planes with the unit `normals` (a probe's faces),
     /// added to `out`: the sub-sources, their intensities and each one's shadow ray are shared
     /// (the ray leaves `p` off the first plane that faces the sub-source). `known`: what a
-    /// group's query already proved of its visibility ([`super::groups`]). When some sub-sources
-    /// are seen and others hidden, or a corner of a split opening disagrees with them all, `p`
-    /// lies in the luminaire's soft shadow: the opening is integrated again, down to
-    /// [`PENUMBRA_REFINE`] times finer where the shadow edge crosses it, so the penumbra is not a
-    /// staircase of a few steps.
+    /// group's query already proved of its visibility ([`super::groups`]). With `soft`, when
+    /// some sub-sources are seen and others hidden, or a corner of a split opening disagrees
+    /// with them all, `p` lies in the luminaire's soft shadow: the opening is integrated again,
+    /// down to [`PENUMBRA_REFINE`] times finer where the shadow edge crosses it, so the penumbra
+    /// is not a staircase of a few steps. Without, one ray per sub-source (an estimate: meshing's
+    /// judgement of where light changes).
     pub fn illuminance_faces(
         &self,
         occ: &Occluder,
         p: DVec3,
         normals: &[DVec3],
         out: &mut [f64],
-        known: Known,
+        (known, soft): (Known, bool),
     ) {
         if known == Known::Hidden || !self.reaches(p) {
+            return;
+        }
+        if !soft || known != Known::Trace {
+            self.sum_subs(occ, p, normals, out, known);
             return;
         }
         // Planes in groups of up to eight, summed on the stack (a probe has six).
         for (normals, out) in normals.chunks(8).zip(out.chunks_mut(8)) {
             let mut e = [0.0; 8];
             let (seen, hidden) = self.sum_subs(occ, p, normals, &mut e, known);
-            let soft = (seen && hidden)
-                || (known == Known::Trace
-                    && (seen || hidden)
-                    && self.corners_disagree(occ, p, normals, seen));
-            if soft {
+            if (seen && hidden)
+                || ((seen || hidden) && self.corners_disagree(occ, p, normals, seen))
+            {
                 e = [0.0; 8];
                 self.soft_shadow(occ, p, normals, &mut e);
             }
@@ -239,29 +242,9 @@ impl<'a> Source<'a> {
         // the opening (two adjacent corners) is caught; one cutting a single corner off moves
         // little light.
         let [a, _, c, _] = self.opening_corners();
-        [a, c].iter().any(|&q| {
-            let d = q - p;
-            match normals.iter().position(|n| n.dot(d) > 0.0) {
-                Some(first) => occ.clear(p, normals[first], q, DVec3::ZERO) != seen,
-                None => false,
-            }
-        })
-    }
-
-    /// [`Source::illuminance_faces`] without the soft-shadow integration: one ray per near-field
-    /// sub-source, the penumbra in steps (an estimate: meshing's judgement of where light changes).
-    pub fn illuminance_faces_stepped(
-        &self,
-        occ: &Occluder,
-        p: DVec3,
-        normals: &[DVec3],
-        out: &mut [f64],
-        known: Known,
-    ) {
-        if known == Known::Hidden || !self.reaches(p) {
-            return;
-        }
-        self.sum_subs(occ, p, normals, out, known);
+        [a, c]
+            .iter()
+            .any(|&q| sight(occ, p, normals, q).is_some_and(|clear| clear != seen))
     }
 
     /// [`Source::illuminance_faces`] for a receiver in the luminaire's soft shadow: the opening
@@ -273,33 +256,20 @@ impl<'a> Source<'a> {
         };
         let world =
             |c: [f64; 2]| self.position + self.world_from_photometric * DVec3::new(c[0], c[1], 0.0);
-        let mut sees = |q: DVec3| {
-            let d = q - p;
-            match normals.iter().position(|n| n.dot(d) > 0.0) {
-                Some(first) => occ.clear(p, normals[first], q, DVec3::ZERO),
-                None => false,
-            }
-        };
+        let mut sees = |q: DVec3| sight(occ, p, normals, q).unwrap_or(false);
         let mut emit = |q: DVec3, share: f64, fraction: f64| {
             let d = q - p;
             let dist2 = d.length_squared();
-            if fraction <= 0.0 || dist2 <= 0.0 {
-                return;
-            }
-            let dist = dist2.sqrt();
-            let i = self.intensity(-d / dist) * share * fraction;
-            for (e, n) in out.iter_mut().zip(normals) {
-                let cos = n.dot(d);
-                if cos > 0.0 {
-                    *e += i * (cos / dist) / dist2;
-                }
+            if fraction > 0.0 && dist2 > 0.0 {
+                let i = self.intensity(-d / dist2.sqrt()) * share * fraction;
+                add_planes(normals, d, i, out);
             }
         };
         penumbra::integrate(self.half, p, &ratios, &world, &mut sees, &mut emit);
     }
 
-    /// [`Source::illuminance_faces`] with one ray per near-field sub-source, added to `out`; returns
-    /// whether some sub-source was seen and whether some was hidden (of those that light a plane).
+    /// One ray per near-field sub-source, the light added to `out`; returns whether some
+    /// sub-source was seen and whether some was hidden (of those that light a plane).
     fn sum_subs(
         &self,
         occ: &Occluder,
@@ -318,8 +288,7 @@ impl<'a> Source<'a> {
             if dist2 <= 0.0 {
                 return;
             }
-            let dist = dist2.sqrt();
-            let i = self.intensity(-d / dist) * share;
+            let i = self.intensity(-d / dist2.sqrt()) * share;
             if i <= 0.0 {
                 return;
             }
@@ -328,12 +297,7 @@ impl<'a> Source<'a> {
                 return;
             }
             seen = true;
-            for (e, n) in out.iter_mut().zip(normals) {
-                let cos = n.dot(d);
-                if cos > 0.0 {
-                    *e += i * (cos / dist) / dist2;
-                }
-            }
+            add_planes(normals, d, i, out);
         });
         (seen, hidden)
     }
@@ -486,6 +450,25 @@ impl Radiator for SubSource<'_, '_> {
         self.seen
             .unwrap_or_else(|| occ.clear(p, n, self.position, DVec3::ZERO))
     }
+}
+
+/// The light of intensity `i` (cd) from `d` away (m) on each plane facing it, added to `out`.
+fn add_planes(normals: &[DVec3], d: DVec3, i: f64, out: &mut [f64]) {
+    let dist2 = d.length_squared();
+    let dist = dist2.sqrt();
+    for (e, n) in out.iter_mut().zip(normals) {
+        let cos = n.dot(d);
+        if cos > 0.0 {
+            *e += i * (cos / dist) / dist2;
+        }
+    }
+}
+
+/// Whether the segment from `p` to `q` is clear, the ray leaving `p` off the first of `normals`
+/// that faces `q`; `None` when none does.
+fn sight(occ: &Occluder, p: DVec3, normals: &[DVec3], q: DVec3) -> Option<bool> {
+    let first = normals.iter().position(|n| n.dot(q - p) > 0.0)?;
+    Some(occ.clear(p, normals[first], q, DVec3::ZERO))
 }
 
 /// Half sizes along photometric X and Y; a round opening becomes the square of equal area.

@@ -104,9 +104,7 @@ impl Run<'_> {
         self.piece(cl, hh, share / 2.0, depth + 1, low);
         self.piece(ch, hh, share / 2.0, depth + 1, high);
     }
-}
 
-impl Run<'_> {
     /// The share of the piece (centre `c`, half sizes `h`, corners `seen`) that is seen, when a
     /// straight shadow edge crosses it: the edge's crossing of each of the two sides whose ends
     /// disagree is found by bisection ([`EDGE_STEPS`] rays a side) and the seen part is the
@@ -123,11 +121,16 @@ impl Run<'_> {
             return seen.iter().filter(|s| **s).count() as f64 / 4.0;
         }
         // Walk round the piece: its seen corners, and where the edge crosses its sides.
-        let mut polygon: Vec<[f64; 2]> = Vec::with_capacity(5);
+        // At most three seen corners and two crossings.
+        let (mut polygon, mut len) = ([[0.0; 2]; 5], 0);
+        let mut push = |v: [f64; 2]| {
+            polygon[len] = v;
+            len += 1;
+        };
         for k in 0..4 {
             let next = (k + 1) % 4;
             if seen[k] {
-                polygon.push(corner[k]);
+                push(corner[k]);
             }
             if seen[k] != seen[next] {
                 let (mut from, mut to) = (0.0, 1.0);
@@ -145,12 +148,12 @@ impl Run<'_> {
                         to = mid;
                     }
                 }
-                polygon.push(at((from + to) / 2.0));
+                push(at((from + to) / 2.0));
             }
         }
-        let twice_area: f64 = (0..polygon.len())
+        let twice_area: f64 = (0..len)
             .map(|i| {
-                let (a, b) = (polygon[i], polygon[(i + 1) % polygon.len()]);
+                let (a, b) = (polygon[i], polygon[(i + 1) % len]);
                 a[0] * b[1] - b[0] * a[1]
             })
             .sum();

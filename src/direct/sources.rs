@@ -127,8 +127,7 @@ impl<'a> DirectSource<'a> {
         (known, soft): (Known, bool),
     ) {
         match self {
-            DirectSource::Luminaire(s) if soft => s.illuminance_faces(occ, p, normals, out, known),
-            DirectSource::Luminaire(s) => s.illuminance_faces_stepped(occ, p, normals, out, known),
+            DirectSource::Luminaire(s) => s.illuminance_faces(occ, p, normals, out, (known, soft)),
             _ => {
                 for (e, n) in out.iter_mut().zip(normals) {
                     *e += self.illuminance(occ, p, *n);
