@@ -71,6 +71,36 @@ def stats(ours, ref):
             "p95": rel[int(0.95 * (len(rel) - 1))], "max": rel[-1], "points": len(rel)}
 
 
+def black_panel_floor(bake, work):
+    """`bake generate openplan --size small` with its emitting panels' reflectance set to 0,
+    written to WORK/small-black-panels.gltf; returns that path."""
+    floor = os.path.join(work, "small.gltf")
+    subprocess.run([bake, "generate", "openplan", "--size", "small", "-o", floor], check=True)
+    with open(floor, encoding="utf-8") as f:
+        doc = json.load(f)
+    for m in doc["materials"]:
+        ext = m.get("extensions", {}).get("LUXBAKE_material", {})
+        if "emission" in ext:
+            ext["reflectance"] = [0.0, 0.0, 0.0]
+    scene = os.path.join(work, "small-black-panels.gltf")
+    with open(scene, "w", encoding="utf-8") as f:
+        json.dump(doc, f)
+    return scene
+
+
+def radiance_octree(scene, rd, rad_bin, rad_lib):
+    """The glTF converted to RADIANCE in folder rd and compiled; returns the octree's path."""
+    os.makedirs(rd, exist_ok=True)
+    radiance.convert(scene, rd, rad_bin)
+    env = dict(os.environ, RAYPATH=os.pathsep.join([".", rad_lib]))
+    oct_path = os.path.join(rd, "scene.oct")
+    m = measure.run([os.path.join(rad_bin, "oconv"), "scene.rad"], cwd=rd, env=env,
+                    stdout_path=oct_path, stderr_path=os.path.join(rd, "oconv.err"))
+    if m["returncode"] != 0:
+        raise SystemExit("oconv failed")
+    return oct_path
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--bake", default=os.path.join(ROOT, "target", "release", "bake"))
@@ -84,17 +114,7 @@ def main():
     pkg = ensure_venv(os.path.join(BENCH, ".venv"))
     rad_bin, rad_lib = os.path.join(pkg, "bin"), os.path.join(pkg, "lib")
 
-    floor = os.path.join(a.work, "small.gltf")
-    subprocess.run([a.bake, "generate", "openplan", "--size", "small", "-o", floor], check=True)
-    with open(floor, encoding="utf-8") as f:
-        doc = json.load(f)
-    for m in doc["materials"]:
-        ext = m.get("extensions", {}).get("LUXBAKE_material", {})
-        if "emission" in ext:
-            ext["reflectance"] = [0.0, 0.0, 0.0]
-    scene = os.path.join(a.work, "small-black-panels.gltf")
-    with open(scene, "w", encoding="utf-8") as f:
-        json.dump(doc, f)
+    scene = black_panel_floor(a.bake, a.work)
 
     results = {"scene": "bake generate openplan --size small, emitters' reflectance 0",
                "radiance": {"options": f"-aa 0 -ab 8 -ad {a.ad} -lw 1e-4 -ds 0.01 -dt 0 "
@@ -111,15 +131,7 @@ def main():
         print(f"{tag}: {m['wall']:.1f} s wall", flush=True)
 
     names = sorted(planes["default"])[::a.stride]
-    rd = os.path.join(a.work, "radiance")
-    os.makedirs(rd, exist_ok=True)
-    radiance.convert(scene, rd, rad_bin)
-    env = dict(os.environ, RAYPATH=os.pathsep.join([".", rad_lib]))
-    oct_path = os.path.join(rd, "scene.oct")
-    m = measure.run([os.path.join(rad_bin, "oconv"), "scene.rad"], cwd=rd, env=env,
-                    stdout_path=oct_path, stderr_path=os.path.join(rd, "oconv.err"))
-    if m["returncode"] != 0:
-        raise SystemExit("oconv failed")
+    oct_path = radiance_octree(scene, os.path.join(a.work, "radiance"), rad_bin, rad_lib)
     points = [tuple(planes["default"][k][0]) + (0.0, 1.0, 0.0) for k in names]
     common = ["-ds", "0.01", "-dt", "0", "-dc", "1", "-dj", "0", "-aa", "0"]
     ref = {}

@@ -36,10 +36,15 @@ import subprocess
 EFFICACY = 179.0  # lm/W, RADIANCE's WHTEFFICACY
 
 
-def illuminance(rgb):
+RADIANCE_WEIGHTS = (0.265, 0.670, 0.065)
+# luxbake's luminance weights (Rec. 709 Y): RGB results of the same transport, weighed as luxbake
+# weighs its own, compare colour-neutrally (surface_accuracy.py).
+REC709_WEIGHTS = (0.2126, 0.7152, 0.0722)
+
+
+def illuminance(rgb, weights=RADIANCE_WEIGHTS):
     """RADIANCE irradiance (W/m^2, RGB) -> illuminance (lx)."""
-    r, g, b = rgb
-    return EFFICACY * (0.265 * r + 0.670 * g + 0.065 * b)
+    return EFFICACY * sum(w * c for w, c in zip(weights, rgb))
 
 
 # ---------------------------------------------------------------- glTF reading
@@ -347,7 +352,8 @@ def convert(gltf_path, out_dir, bin_dir, ldt_to_ies=None):
             "profiles": sorted({p for _, p in ies_made.values()})}
 
 
-def run_rtrace(bin_dir, lib_dir, octree, points, options, workdir, threads=2, timeout=None):
+def run_rtrace(bin_dir, lib_dir, octree, points, options, workdir, threads=2, timeout=None,
+               weights=RADIANCE_WEIGHTS):
     """Irradiance at points [(x, y, z, dx, dy, dz)] -> (illuminances in lx, measurement, command).
 
     One rtrace process (-n threads) for all points, run in the octree's folder (where the
@@ -375,7 +381,7 @@ def run_rtrace(bin_dir, lib_dir, octree, points, options, workdir, threads=2, ti
         for line in f:
             parts = line.split()
             if len(parts) >= 3:
-                values.append(illuminance([float(v) for v in parts[:3]]))
+                values.append(illuminance([float(v) for v in parts[:3]], weights))
     if len(values) != len(points):
         raise SystemExit(f"rtrace returned {len(values)} values for {len(points)} points")
     return values, m, cmd
