@@ -101,6 +101,12 @@ def radiance_octree(scene, rd, rad_bin, rad_lib):
     return oct_path
 
 
+def write_results(path, results):
+    with open(path, "w", encoding="utf-8") as f:
+        json.dump(results, f, indent=1)
+    print("wrote", path)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--bake", default=os.path.join(ROOT, "target", "release", "bake"))
@@ -153,10 +159,7 @@ def main():
         print(f"{tag:13s} mean {t['mean']:.2f} vs {t['refMean']:.2f} lx ({t['meanRel']:+.2%}), "
               f"per-point RMS {t['rms']:.2%}, p95 {t['p95']:.2%}, max {t['max']:.1%}; "
               f"direct: mean {d['meanRel']:+.2%}, RMS {d['rms']:.2%}")
-    path = a.out or os.path.join(a.work, "results.json")
-    with open(path, "w", encoding="utf-8") as f:
-        json.dump(results, f, indent=1)
-    print("wrote", path)
+    write_results(a.out or os.path.join(a.work, "results.json"), results)
 
 
 if __name__ == "__main__":

@@ -127,10 +127,7 @@ def main():
               f"{r['directRadiance']:.1f} lx; inter-reflected {r['indirectOurs']:.2f} vs "
               f"{r['indirectRadiance']:.2f} lx ({r['indirectMeanRel']:+.2%}), per-point RMS "
               f"{r['indirectRms']:.2%}")
-    path = a.out or os.path.join(a.work, "results.json")
-    with open(path, "w", encoding="utf-8") as f:
-        json.dump(results, f, indent=1)
-    print("wrote", path)
+    floor_accuracy.write_results(a.out or os.path.join(a.work, "results.json"), results)
 
 
 if __name__ == "__main__":
