@@ -101,6 +101,24 @@ def radiance_octree(scene, rd, rad_bin, rad_lib):
     return oct_path
 
 
+def rtrace_total_and_direct(rad_bin, rad_lib, oct_path, rays, ad, threads,
+                            weights=radiance.RADIANCE_WEIGHTS):
+    """RADIANCE `rtrace -I` at rays [(x, y, z, dx, dy, dz)], pure Monte Carlo (-aa 0 -ab 8
+    -ad AD -lw 1e-4) and direct light alone (-ab 0), each in a folder beside the octree.
+    Returns ({"total": lx, "direct": lx}, {"total": wall s, "direct": wall s})."""
+    common = ["-ds", "0.01", "-dt", "0", "-dc", "1", "-dj", "0", "-aa", "0"]
+    ref, walls = {}, {}
+    for tag, opts in [("total", ["-ab", "8", "-ad", str(ad), "-lw", "1e-4"]),
+                      ("direct", ["-ab", "0"])]:
+        wd = os.path.join(os.path.dirname(oct_path), tag)
+        os.makedirs(wd, exist_ok=True)
+        ref[tag], m, _ = radiance.run_rtrace(rad_bin, rad_lib, oct_path, rays, common + opts, wd,
+                                             threads=threads, weights=weights)
+        walls[tag] = m["wall"]
+        print(f"RADIANCE {tag}: {m['wall']:.1f} s wall", flush=True)
+    return ref, walls
+
+
 def write_results(path, results):
     with open(path, "w", encoding="utf-8") as f:
         json.dump(results, f, indent=1)
@@ -139,17 +157,9 @@ def main():
     names = sorted(planes["default"])[::a.stride]
     oct_path = radiance_octree(scene, os.path.join(a.work, "radiance"), rad_bin, rad_lib)
     points = [tuple(planes["default"][k][0]) + (0.0, 1.0, 0.0) for k in names]
-    common = ["-ds", "0.01", "-dt", "0", "-dc", "1", "-dj", "0", "-aa", "0"]
-    ref = {}
-    for tag, opts in [("total", ["-ab", "8", "-ad", str(a.ad), "-lw", "1e-4"]),
-                      ("direct", ["-ab", "0"])]:
-        wd = os.path.join(rd, tag)
-        os.makedirs(wd, exist_ok=True)
-        vals, m, _ = radiance.run_rtrace(rad_bin, rad_lib, oct_path, points, common + opts, wd,
-                                         threads=a.threads)
-        ref[tag] = vals
-        results["radiance"][tag + "Wall"] = m["wall"]
-        print(f"RADIANCE {tag}: {m['wall']:.1f} s wall", flush=True)
+    ref, walls = rtrace_total_and_direct(rad_bin, rad_lib, oct_path, points, a.ad, a.threads)
+    for tag, wall in walls.items():
+        results["radiance"][tag + "Wall"] = wall
 
     for tag, plane in planes.items():
         r = results["runs"][tag]

@@ -45,8 +45,9 @@ WALL_HEIGHTS = (0.3, 0.9, 1.5, 2.1, 2.7)
 def probe_points(width, depth, height, s):
     """[(surface, x, y, z)] on the four surfaces' grids."""
     out = []
-    xs = [s / 2 + s * i for i in range(int((width - s / 2) / s) + 1) if s / 2 + s * i < width]
-    zs = [s / 2 + s * i for i in range(int((depth - s / 2) / s) + 1) if s / 2 + s * i < depth]
+    def axis(length):  # cell centres along one side
+        return [s / 2 + s * i for i in range(math.ceil((length - s / 2) / s))]
+    xs, zs = axis(width), axis(depth)
     for x in xs:
         for z in zs:
             out.append(("ceiling", x, height - OFF, z))
@@ -103,16 +104,8 @@ def main():
     oct_path = floor_accuracy.radiance_octree(scene, os.path.join(a.work, "radiance"),
                                               rad_bin, rad_lib)
     rays = [(x, y, z) + SURFACES[s][1] for s, x, y, z in points]
-    common = ["-ds", "0.01", "-dt", "0", "-dc", "1", "-dj", "0", "-aa", "0"]
-    ref = {}
-    for tag, opts in [("direct", ["-ab", "0"]),
-                      ("total", ["-ab", "8", "-ad", str(a.ad), "-lw", "1e-4"])]:
-        wd = os.path.join(a.work, "radiance", tag)
-        os.makedirs(wd, exist_ok=True)
-        ref[tag], m, _ = radiance.run_rtrace(rad_bin, rad_lib, oct_path, rays, common + opts, wd,
-                                             threads=a.threads,
-                                             weights=radiance.REC709_WEIGHTS)
-        print(f"RADIANCE {tag}: {m['wall']:.1f} s wall", flush=True)
+    ref, _ = floor_accuracy.rtrace_total_and_direct(rad_bin, rad_lib, oct_path, rays, a.ad,
+                                                    a.threads, radiance.REC709_WEIGHTS)
 
     results = {"scene": "bake generate openplan --size small, emitters' reflectance 0",
                "bakeArgs": a.bake_args, "spacing": a.spacing, "offset": OFF,

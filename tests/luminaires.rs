@@ -45,6 +45,27 @@ fn cosine_source() -> String {
     })
 }
 
+/// A 1.5 × 0.2 m rectangular opening with [`cosine_source`]'s profile at the origin, pointing
+/// down (−Y), its length along Z.
+fn place_linear(b: &mut SceneBuilder) {
+    let opening = Opening {
+        length: 1.5,
+        width: 0.2,
+        height: 0.0,
+        shape: OpeningShape::Rectangular,
+    };
+    b.luminaire(
+        "linear",
+        cosine_source().as_bytes(),
+        Format::Ies,
+        DVec3::ZERO,
+        -DVec3::Y,
+        DVec3::Z,
+        1.0,
+        Some(opening),
+    );
+}
+
 /// CIE 171:2006 test 5.2: cosine source 3 m above the centre of a 4 × 4 m plane; E = I₀h²/d⁴.
 #[test]
 fn cie_171_test_5_2_cosine_point_source() {
@@ -118,23 +139,7 @@ fn brute_opening(
 #[test]
 fn near_field_of_a_linear_luminaire_matches_brute_force() {
     let mut b = SceneBuilder::new();
-    let ies = cosine_source();
-    let opening = Opening {
-        length: 1.5,
-        width: 0.2,
-        height: 0.0,
-        shape: OpeningShape::Rectangular,
-    };
-    b.luminaire(
-        "linear",
-        ies.as_bytes(),
-        Format::Ies,
-        DVec3::ZERO,
-        -DVec3::Y,
-        DVec3::Z,
-        1.0,
-        Some(opening),
-    );
+    place_linear(&mut b);
     let scene = b.build();
     let occ = Occluder::build(&scene, OccluderOptions::default());
     let source = Source::new(&scene, &scene.luminaires[0]);
@@ -523,22 +528,7 @@ fn soft_shadow(along: bool) -> (f64, f64, usize) {
         true => [(-20.0, -20.0), (-20.0, 20.0), (edge, 20.0), (edge, -20.0)],
     };
     b.quad("sheet", corners.map(|(x, z)| DVec3::new(x, -0.5, z)), sheet);
-    let opening = Opening {
-        length: 1.5,
-        width: 0.2,
-        height: 0.0,
-        shape: OpeningShape::Rectangular,
-    };
-    b.luminaire(
-        "linear",
-        cosine_source().as_bytes(),
-        Format::Ies,
-        DVec3::ZERO,
-        -DVec3::Y,
-        DVec3::Z,
-        1.0,
-        Some(opening),
-    );
+    place_linear(&mut b);
     let scene = b.build();
     let occ = Occluder::build(&scene, OccluderOptions::default());
     let source = Source::new(&scene, &scene.luminaires[0]);
