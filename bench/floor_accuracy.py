@@ -119,6 +119,36 @@ def rtrace_total_and_direct(rad_bin, rad_lib, oct_path, rays, ad, threads,
     return ref, walls
 
 
+def file_sha256(path):
+    """SHA-256 of a glTF and the buffers it names beside it (hex)."""
+    import hashlib
+    h = hashlib.sha256()
+    with open(path, "rb") as f:
+        doc = f.read()
+    h.update(doc)
+    for b in json.loads(doc).get("buffers", []):
+        if "uri" in b and not b["uri"].startswith("data:"):
+            with open(os.path.join(os.path.dirname(path), b["uri"]), "rb") as f:
+                h.update(f.read())
+    return h.hexdigest()
+
+
+def cached_reference(path, key):
+    """RADIANCE's {"total", "direct"} at key["names"] from the file at path when it was
+    computed for this scene (its bytes) and -ad at those points (or more), else None."""
+    try:
+        with open(path, encoding="utf-8") as f:
+            c = json.load(f)
+    except (OSError, ValueError):
+        return None
+    at = {n: i for i, n in enumerate(c.get("names", []))}
+    if c.get("sceneSha256") != key["sceneSha256"] or c.get("ad") != key["ad"] or any(
+            n not in at for n in key["names"]):
+        print("reference", path, "is for another scene, -ad or set of points: recomputing")
+        return None
+    return {t: [c[t][at[n]] for n in key["names"]] for t in ("total", "direct")}
+
+
 def write_results(path, results):
     with open(path, "w", encoding="utf-8") as f:
         json.dump(results, f, indent=1)
@@ -133,6 +163,9 @@ def main():
     ap.add_argument("--stride", type=int, default=1, help="every K-th working-plane point")
     ap.add_argument("--ad", type=int, default=1024)
     ap.add_argument("--threads", type=int, default=os.cpu_count())
+    ap.add_argument("--reference", default=os.path.join(BENCH, "data", "openplan_small_plane_radiance.json"),
+                    help="RADIANCE's values at the plane's points, read when it matches the scene, "
+                         "--ad and the points (else computed and written here)")
     a = ap.parse_args()
     os.makedirs(a.work, exist_ok=True)
     pkg = ensure_venv(os.path.join(BENCH, ".venv"))
@@ -155,11 +188,21 @@ def main():
         print(f"{tag}: {m['wall']:.1f} s wall", flush=True)
 
     names = sorted(planes["default"])[::a.stride]
-    oct_path = radiance_octree(scene, os.path.join(a.work, "radiance"), rad_bin, rad_lib)
     points = [tuple(planes["default"][k][0]) + (0.0, 1.0, 0.0) for k in names]
-    ref, walls = rtrace_total_and_direct(rad_bin, rad_lib, oct_path, points, a.ad, a.threads)
-    for tag, wall in walls.items():
-        results["radiance"][tag + "Wall"] = wall
+    key = {"sceneSha256": file_sha256(scene), "ad": a.ad, "names": names}
+    ref = cached_reference(a.reference, key)
+    if ref is None:
+        oct_path = radiance_octree(scene, os.path.join(a.work, "radiance"), rad_bin, rad_lib)
+        ref, walls = rtrace_total_and_direct(rad_bin, rad_lib, oct_path, points, a.ad, a.threads)
+        for tag, wall in walls.items():
+            results["radiance"][tag + "Wall"] = wall
+        if a.stride == 1:
+            write_results(a.reference, dict(key, points=points, options=results["radiance"]["options"],
+                                             total=ref["total"], direct=ref["direct"],
+                                             walls=walls))
+    else:
+        results["radiance"]["cached"] = os.path.relpath(a.reference, ROOT)
+        print("RADIANCE's values read from", a.reference)
 
     for tag, plane in planes.items():
         r = results["runs"][tag]

@@ -5,7 +5,8 @@
 //! (to tell a face resting on a body from two faces back to back). Output: [`Contacts`]: per
 //! surface, the [`Cover`]s of its triangles' sides. A side of triangle T is covered where
 //! another triangle U, parallel to it within [`PARALLEL`], lies in front of that side no
-//! further than the gap (and than a twentieth of the extent of U's surface), over the part of T
+//! further than the gap (h/4; beyond half of it, only up to a twentieth of the smaller extent of
+//! T's and U's planar faces, [`faces`]), over the part of T
 //! that U's outline (projected along U's normal) overlaps. Coplanar U facing the same way (a rug drawn on a floor) covers T when U's surface
 //! is the smaller; coplanar U facing the other way covers T only when the space just in front
 //! of T there is inside a solid (the floor under a cube's bottom: yes; the two faces of a slab
@@ -19,6 +20,7 @@
 //! the covered part from light transport — is [`cut`]'s and `patches`' business.
 
 pub mod cut;
+mod faces;
 mod grid;
 
 use crate::scene::Scene;
@@ -109,12 +111,14 @@ struct Tri {
     index: u32,
     p: [DVec3; 3],
     normal: DVec3,
+    /// Extent of its planar face (m): see [`faces`].
+    extent: f64,
 }
 
 /// Find every cover in `scene` with gaps up to `gap` (m).
 pub fn find(scene: &Scene, gap: f64, occ: &Occluder) -> Contacts {
     let tolerance = 1e-6 * occ.diagonal.max(1e-300);
-    let tris: Vec<Tri> = scene
+    let mut tris: Vec<Tri> = scene
         .surfaces
         .iter()
         .enumerate()
@@ -131,6 +135,7 @@ pub fn find(scene: &Scene, gap: f64, occ: &Occluder) -> Contacts {
                         index: k as u32,
                         p,
                         normal,
+                        extent: 0.0,
                     })
                 })
         })
@@ -148,20 +153,13 @@ pub fn find(scene: &Scene, gap: f64, occ: &Occluder) -> Contacts {
                 .sum()
         })
         .collect();
-    // A gap counts as contact only when small beside what covers it (a twentieth of the covering
-    // surface's extent): a panel 3 cm under a ceiling, not a shelf 30 cm above a desk.
-    let surface_extent: Vec<f64> = scene
-        .surfaces
-        .iter()
-        .map(|s| {
-            let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
-            for p in &s.positions {
-                lo = lo.min(*p);
-                hi = hi.max(*p);
-            }
-            if lo.x > hi.x { 0.0 } else { (hi - lo).length() }
-        })
-        .collect();
+    // A gap wider than h/8 counts as contact only when small beside both faces (a twentieth of
+    // the smaller one's extent): a panel 3 cm under a ceiling, not a shelf 30 cm above a desk,
+    // nor a monitor's back 12 cm behind its screen in a mesh drawing a row of monitors.
+    let extents = faces::extents(&tris);
+    for (t, e) in tris.iter_mut().zip(extents) {
+        t.extent = e;
+    }
     let grid = grid::Grid::new(&tris.iter().map(|t| t.p).collect::<Vec<_>>(), tolerance);
     // What can cover a triangle or cut it along a seam lies within the gap of its plane, and
     // within the gap × the tilt that still counts as parallel of its outline: its box grown by
@@ -179,7 +177,6 @@ pub fn find(scene: &Scene, gap: f64, occ: &Occluder) -> Contacts {
     let context = Context {
         scene,
         surface_area: &surface_area,
-        surface_extent: &surface_extent,
         gap,
         tolerance,
         occ,
@@ -318,7 +315,6 @@ fn classify_seamed(c: &mut cut::CutSurface, double: bool, occ: &Occluder) {
 struct Context<'a> {
     scene: &'a Scene,
     surface_area: &'a [f64],
-    surface_extent: &'a [f64],
     gap: f64,
     tolerance: f64,
     occ: &'a Occluder,
@@ -339,7 +335,11 @@ impl Context<'_> {
             }
             let n = if back { -t.normal } else { t.normal };
             let heights = u.p.map(|q| n.dot(q - t.p[0]));
-            let gap = self.gap.min(self.surface_extent[u.surface as usize] / 20.0);
+            // Up to half the gap (h/8: a slot a quarter of the finest patch) always; wider
+            // only when small beside both faces.
+            let gap = self
+                .gap
+                .min((t.extent.min(u.extent) / 20.0).max(self.gap / 2.0));
             if heights.iter().any(|h| *h < -eps || *h > gap) {
                 continue;
             }
