@@ -2,7 +2,7 @@
 """The 10^4-triangle open-plan floor's working plane against RADIANCE (issue 29's accuracy check).
 
     python3 bench/floor_accuracy.py [--bake PATH] [--work DIR] [--out FILE.json]
-                                    [--stride K] [--ad N] [--threads N]
+                                    [--stride K] [--ad N] [--threads N] [--reference FILE]
 
 Writes `bake generate openplan --size small`, and a copy whose emitting LED panels reflect
 nothing (RADIANCE's `light` cannot also reflect; radiance.py refuses such emitters otherwise; their
@@ -10,8 +10,10 @@ reflected light is under 1 % of their own luminance). Bakes that copy with luxba
 default and high quality (and high with `--uniform-patches`, the issue's "converged reference")
 with a working plane at 0.75 m, converts it to RADIANCE (radiance.py) and runs `rtrace -I` at
 every K-th working-plane point facing up (+Y, glTF's up axis) with pure Monte Carlo (-aa 0
--ab 8 -ad N -lw 1e-4 -ds 0.01), then once more at -ab 0 (direct light alone). Each point's
-RADIANCE value is one Monte Carlo sample: its noise (estimated from two repeats at 137 points
+-ab 8 -ad N -lw 1e-4 -ds 0.01 -dj 1), then at -ab 0 (direct light alone, the mean of 32 runs).
+RADIANCE's values at every point are kept in bench/data/openplan_small_plane_radiance.json
+and read from there while the scene's bytes, -ad and the options are unchanged (--reference).
+Each point's RADIANCE value is one Monte Carlo sample: its noise (estimated from two repeats at 137 points
 when it was written, bench/results/floor-accuracy/README.md) is reported beside the errors.
 
 Prints and writes per luxbake run: the working plane's mean against RADIANCE's, the relative
@@ -34,6 +36,9 @@ sys.path.insert(0, BENCH)
 import measure  # noqa: E402
 import radiance  # noqa: E402
 from run import ensure_venv  # noqa: E402
+
+# Jittered direct light (-dj 1) is averaged over this many runs (each a few seconds).
+DIRECT_REPEATS = 32
 
 RUNS = {
     "draft": ["--quality", "draft"],
@@ -102,18 +107,24 @@ def radiance_octree(scene, rd, rad_bin, rad_lib):
 
 
 def rtrace_total_and_direct(rad_bin, rad_lib, oct_path, rays, ad, threads,
-                            weights=radiance.RADIANCE_WEIGHTS):
+                            weights=radiance.RADIANCE_WEIGHTS, direct_repeats=DIRECT_REPEATS):
     """RADIANCE `rtrace -I` at rays [(x, y, z, dx, dy, dz)], pure Monte Carlo (-aa 0 -ab 8
-    -ad AD -lw 1e-4) and direct light alone (-ab 0), each in a folder beside the octree.
+    -ad AD -lw 1e-4) and direct light alone (-ab 0, the mean of DIRECT_REPEATS runs), each in a
+    folder beside the octree. Sources are sampled with jitter (-dj 1): at -dj 0 RADIANCE reads
+    each source partition at its centre, and in a soft shadow that is a staircase (a point 3.5 cm
+    beside a screen, seeing the end of a 1.5 m fitting over it: 27.1 lx at -dj 0 for any -ds,
+    13.8 lx jittered, 13.9 lx integrated on a 4 mm grid).
     Returns ({"total": lx, "direct": lx}, {"total": wall s, "direct": wall s})."""
-    common = ["-ds", "0.01", "-dt", "0", "-dc", "1", "-dj", "0", "-aa", "0"]
+    common = ["-ds", "0.01", "-dt", "0", "-dc", "1", "-dj", "1", "-aa", "0"]
     ref, walls = {}, {}
-    for tag, opts in [("total", ["-ab", "8", "-ad", str(ad), "-lw", "1e-4"]),
-                      ("direct", ["-ab", "0"])]:
+    for tag, opts, repeats in [("total", ["-ab", "8", "-ad", str(ad), "-lw", "1e-4"], 1),
+                               ("direct", ["-ab", "0"], direct_repeats)]:
         wd = os.path.join(os.path.dirname(oct_path), tag)
         os.makedirs(wd, exist_ok=True)
-        ref[tag], m, _ = radiance.run_rtrace(rad_bin, rad_lib, oct_path, rays, common + opts, wd,
-                                             threads=threads, weights=weights)
+        values, m, _ = radiance.run_rtrace(rad_bin, rad_lib, oct_path, rays * repeats,
+                                           common + opts, wd, threads=threads, weights=weights)
+        n = len(rays)
+        ref[tag] = [sum(values[i + k * n] for k in range(repeats)) / repeats for i in range(n)]
         walls[tag] = m["wall"]
         print(f"RADIANCE {tag}: {m['wall']:.1f} s wall", flush=True)
     return ref, walls
@@ -135,14 +146,14 @@ def file_sha256(path):
 
 def cached_reference(path, key):
     """RADIANCE's {"total", "direct"} at key["names"] from the file at path when it was
-    computed for this scene (its bytes) and -ad at those points (or more), else None."""
+    computed for this scene (its bytes), -ad and options at those points (or more), else None."""
     try:
         with open(path, encoding="utf-8") as f:
             c = json.load(f)
     except (OSError, ValueError):
         return None
     at = {n: i for i, n in enumerate(c.get("names", []))}
-    if c.get("sceneSha256") != key["sceneSha256"] or c.get("ad") != key["ad"] or any(
+    if any(c.get(k) != key[k] for k in ("sceneSha256", "ad", "options")) or any(
             n not in at for n in key["names"]):
         print("reference", path, "is for another scene, -ad or set of points: recomputing")
         return None
@@ -175,7 +186,8 @@ def main():
 
     results = {"scene": "bake generate openplan --size small, emitters' reflectance 0",
                "radiance": {"options": f"-aa 0 -ab 8 -ad {a.ad} -lw 1e-4 -ds 0.01 -dt 0 "
-                                       "-dc 1 -dj 0", "stride": a.stride}, "runs": {}}
+                                       "-dc 1 -dj 1", "directRepeats": DIRECT_REPEATS,
+                            "stride": a.stride}, "runs": {}}
     planes = {}
     for tag, extra in RUNS.items():
         out = os.path.join(a.work, f"{tag}.glb")
@@ -189,7 +201,8 @@ def main():
 
     names = sorted(planes["default"])[::a.stride]
     points = [tuple(planes["default"][k][0]) + (0.0, 1.0, 0.0) for k in names]
-    key = {"sceneSha256": file_sha256(scene), "ad": a.ad, "names": names}
+    key = {"sceneSha256": file_sha256(scene), "ad": a.ad,
+           "options": results["radiance"]["options"], "names": names}
     ref = cached_reference(a.reference, key)
     if ref is None:
         oct_path = radiance_octree(scene, os.path.join(a.work, "radiance"), rad_bin, rad_lib)
@@ -197,9 +210,8 @@ def main():
         for tag, wall in walls.items():
             results["radiance"][tag + "Wall"] = wall
         if a.stride == 1:
-            write_results(a.reference, dict(key, points=points, options=results["radiance"]["options"],
-                                             total=ref["total"], direct=ref["direct"],
-                                             walls=walls))
+            write_results(a.reference, dict(key, points=points, total=ref["total"],
+                                             direct=ref["direct"], walls=walls))
     else:
         results["radiance"]["cached"] = os.path.relpath(a.reference, ROOT)
         print("RADIANCE's values read from", a.reference)

@@ -259,23 +259,26 @@ pub fn find(scene: &Scene, gap: f64, occ: &Occluder) -> Contacts {
 
 /// Whether the space just in front of `p` (on a surface with unit normal `n`) is inside a solid,
 /// and if so how far the solid reaches along `n` (m). Five rays — along `n` and four at 45° to
-/// it — each ask whether the first surface met shows its back; three backs make it inside. One
-/// ray is not enough: where two faces coincide (a leg's top against a desk top's underside) the
-/// first hit may be either.
+/// it — each ask whether the first surface met shows its back; three backs make it inside, and
+/// so do two opposite tilted rays both meeting backs: the slot inside a thick wall drawn as two
+/// faces without end caps, which abuts another wall (a partition's end against a façade), is
+/// closed by the other walls' fronts. One ray is not enough: where two faces coincide (a leg's
+/// top against a desk top's underside) the first hit may be either.
 fn inside_solid(occ: &Occluder, p: DVec3, n: DVec3) -> Option<f64> {
     let start = p + n * (4.0 * occ.epsilon);
     let u = n.any_orthonormal_vector();
     let v = n.cross(u);
     let dirs = [n, n + u, n - u, n + v, n - v].map(|d| d.normalize());
-    let mut backs = 0;
+    let mut back = [false; 5];
     let mut depth = f64::INFINITY;
-    for d in dirs {
+    for (k, d) in dirs.into_iter().enumerate() {
         if let Some(hit) = occ.closest(start, d).filter(|h| h.normal.dot(d) > 0.0) {
-            backs += 1;
+            back[k] = true;
             depth = depth.min(hit.distance * d.dot(n) + 4.0 * occ.epsilon);
         }
     }
-    (backs >= 3).then_some(depth)
+    let backs = back.iter().filter(|b| **b).count();
+    (backs >= 3 || (back[1] && back[2]) || (back[3] && back[4])).then_some(depth)
 }
 
 /// Whether nothing but backs of surfaces is seen from just in front of `p` (unit normal `n`):
@@ -599,6 +602,34 @@ mod tests {
             (covered - all).abs() < 1e-9 && (all - 0.36).abs() < 1e-9,
             "{all} {covered}"
         );
+    }
+
+    #[test]
+    fn a_hollow_partition_between_two_walls_covers_the_strips_inside_it() {
+        // A 0.1 m partition across the room, drawn as its two big faces only (no end caps, no
+        // top or bottom: the walls, floor and ceiling close it). The space between the faces is
+        // inside it: where it meets the floor, the ceiling and both end walls, a strip is cut and
+        // covered; the seam test's three-backs rule alone sees two backs there.
+        let (_, contacts) = floor_room(|b, grey| {
+            let faces =
+                crate::fixtures::box_faces(DVec3::new(0.0, 0.0, 2.0), DVec3::new(4.0, 3.0, 2.1));
+            for (k, f) in faces.iter().enumerate().skip(4) {
+                b.quad(&format!("partition_{k}"), [f[0], f[3], f[2], f[1]], grey);
+            }
+        });
+        // Surfaces: the floor, then the room's ceiling, walls at x = 0 and x = 4, z = 0, z = 4.
+        for (s, want) in [(0, 0.4), (1, 0.4), (2, 0.3), (3, 0.3)] {
+            let cut = contacts.cut(s).expect("cut along the partition");
+            let (_, covered) = areas(cut);
+            assert!(
+                (covered - want).abs() < 1e-9,
+                "surface {s}: covered {covered} m², want {want}"
+            );
+            assert_eq!(t_junctions(cut), 0);
+        }
+        for s in [4, 5] {
+            assert!(contacts.cut(s).is_none(), "surface {s} is not touched");
+        }
     }
 
     #[test]
