@@ -63,6 +63,7 @@ fn gathered(i: &Inputs, subset: Option<&[u32]>) -> (Rows, Option<Part>) {
         tree: &tree,
         occluder: i.occluder,
         tau: i.tau,
+        split_leaves: false,
         dark: dark.as_deref(),
     };
     let black = dark.as_ref().is_some_and(|d| d[0]);

@@ -84,6 +84,7 @@ impl<'a> DirectLight<'a> {
             tree: &self.emitter_tree,
             occluder: occ,
             tau: self.tau,
+            split_leaves: true,
             dark: None,
         };
         let mut links = Vec::new();

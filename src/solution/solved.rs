@@ -136,6 +136,7 @@ impl<'a> Solution<'a> {
             tree: &self.reflected.tree,
             occluder: &self.occluder,
             tau: self.reflected.tau,
+            split_leaves: false,
             dark: self.reflected.dark.as_deref(),
         };
         let field = self.node_reflected.get_or_init(|| {

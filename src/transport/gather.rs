@@ -90,6 +90,10 @@ pub struct Gatherer<'a> {
     pub occluder: &'a Occluder,
     /// Far-field acceptance: bounding radius / distance below which a node is one source.
     pub tau: f64,
+    /// Leaf patches' visible form factor by adaptive splitting ([`super::lit`]) instead of a
+    /// fixed sample pattern: for direct light from emitting surfaces, whose shadows are as sharp
+    /// as a luminaire's (a panel seen past a chair's back), not for the smooth reflected field.
+    pub split_leaves: bool,
     /// Per tree node, when some are: all its patches are black — they reflect nothing and emit
     /// nothing into the patch field, so their exitance is zero whatever the solve finds. Such a
     /// node gets no link, but what it covers is still measured as precisely as any other's,
@@ -157,28 +161,33 @@ impl Gatherer<'_> {
                 if !lambert::rises_above(p, n, &corners) {
                     continue; // its form factor is zero
                 }
-                // Visibility before the form factor: most leaves far from the receiver turn out
-                // hidden, and a hidden patch needs no form factor.
-                let vis = if seen.covers(front) {
-                    1.0
-                } else {
-                    let level = sample_level(node.radius, dist, self.tau);
-                    self.patch_visibility(p, n, i, patch_index, level, &mut shared)
-                };
-                if vis <= 0.0 {
+                let weight =
+                    if self.split_leaves && !seen.covers(front) && !self.occluder.convex_empty {
+                        super::lit::visible_form_factor(self.occluder, p, n, corners, patch.normal)
+                    } else {
+                        // Visibility before the form factor: most leaves far from the receiver turn
+                        // out hidden, and a hidden patch needs no form factor.
+                        let vis = if seen.covers(front) {
+                            1.0
+                        } else {
+                            let level = sample_level(node.radius, dist, self.tau);
+                            self.patch_visibility(p, n, i, patch_index, level, &mut shared)
+                        };
+                        if vis <= 0.0 {
+                            continue;
+                        }
+                        lambert::form_factor_rising(p, n, &corners) * vis
+                    };
+                if weight <= 0.0 {
                     continue;
                 }
-                let f = lambert::form_factor_rising(p, n, &corners);
-                if f <= 0.0 {
-                    continue;
-                }
-                coverage.total += f * vis;
+                coverage.total += weight;
                 if !front {
-                    coverage.back += f * vis;
+                    coverage.back += weight;
                 } else if self.is_dark(i) {
-                    coverage.dark += f * vis;
+                    coverage.dark += weight;
                 } else {
-                    out.push(Link::new(i, f * vis, DVec3::ZERO));
+                    out.push(Link::new(i, weight, DVec3::ZERO));
                 }
                 continue;
             }
@@ -628,6 +637,7 @@ mod tests {
             tree,
             occluder,
             tau: 0.3,
+            split_leaves: false,
             dark: None,
         }
     }

@@ -1,12 +1,13 @@
 //! Light transport between patches and receivers: the patch hierarchy ([`tree`]), fields
-//! summarised on it ([`field`]), gathering at a point ([`gather`], giving [`link`]s), the
-//! precomputed receiver rows used by the solver ([`links`]) and the patch-to-patch operator
-//! ([`operator`]).
+//! summarised on it ([`field`]), gathering at a point ([`gather`], giving [`link`]s; the seen
+//! part of an emitting patch, [`lit`]), the precomputed receiver rows used by the solver
+//! ([`links`]) and the patch-to-patch operator ([`operator`]).
 
 pub mod field;
 pub mod gather;
 pub mod link;
 pub mod links;
+pub mod lit;
 pub mod operator;
 pub mod sharing;
 pub mod silhouette;

@@ -410,6 +410,7 @@ mod tests {
             tree: &tree,
             occluder: &occluder,
             tau: 0.3,
+            split_leaves: false,
             dark: None,
         };
         let links = match sharing {

@@ -668,6 +668,7 @@ mod tests {
             tree: &b.tree,
             occluder: &b.occluder,
             tau: 0.3,
+            split_leaves: false,
             dark: None,
         }
     }
