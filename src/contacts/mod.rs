@@ -605,6 +605,38 @@ mod tests {
     }
 
     #[test]
+    fn a_gap_above_an_eighth_patch_is_a_contact_only_beside_small_faces() {
+        // One mesh of three 0.3 m plates facing down over the floor (h = 0.2 m: contact gaps up
+        // to h/4 = 0.05 m, and beyond h/8 only within a twentieth of the smaller flat face): at
+        // 0.02 m (below h/8: covers), at 0.04 m (0.3 m plate: 0.021 m, no contact, though the
+        // mesh spans 3 m), and a 1.2 m plate at 0.04 m (its face's twentieth is 0.085 m: covers).
+        let (_, contacts) = floor_room(|b, grey| {
+            let plate = |x: f64, y: f64, s: f64| {
+                let c = |dx: f64, dz: f64| DVec3::new(x + dx, y, 0.5 + dz);
+                [c(0.0, 0.0), c(s, 0.0), c(s, s), c(0.0, s)]
+            };
+            let quads = [
+                plate(0.3, 0.02, 0.3),
+                plate(3.3, 0.04, 0.3),
+                plate(1.2, 0.04, 1.2),
+            ];
+            let positions: Vec<DVec3> = quads.iter().flatten().copied().collect();
+            let triangles = (0..3u32)
+                .flat_map(|k| [[4 * k, 4 * k + 1, 4 * k + 2], [4 * k, 4 * k + 2, 4 * k + 3]])
+                .collect();
+            let n = positions.len();
+            b.surface("plates", positions, vec![-DVec3::Y; n], triangles, grey);
+        });
+        let floor = contacts.cut(0).expect("the floor is cut");
+        let (_, covered) = areas(floor);
+        let want = 0.3 * 0.3 + 1.2 * 1.2;
+        assert!(
+            (covered - want).abs() < 1e-9,
+            "covered {covered} m², want {want}"
+        );
+    }
+
+    #[test]
     fn a_hollow_partition_between_two_walls_covers_the_strips_inside_it() {
         // A 0.1 m partition across the room, drawn as its two big faces only (no end caps, no
         // top or bottom: the walls, floor and ceiling close it). The space between the faces is
