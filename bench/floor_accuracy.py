@@ -13,8 +13,9 @@ every K-th working-plane point facing up (+Y, glTF's up axis) with pure Monte Ca
 -ab 8 -ad N -lw 1e-4 -ds 0.01 -dj 1), then at -ab 0 (direct light alone, the mean of 32 runs).
 RADIANCE's values at every point are kept in bench/data/openplan_small_plane_radiance.json
 and read from there while the scene's bytes, -ad and the options are unchanged (--reference).
-Each point's RADIANCE value is one Monte Carlo sample: its noise (estimated from two repeats at 137 points
-when it was written, bench/results/floor-accuracy/README.md) is reported beside the errors.
+Each point's RADIANCE value is one Monte Carlo sample: its noise (estimated from two repeats at
+137 points when it was written, bench/results/floor-accuracy/README.md) is reported beside the
+errors.
 
 Prints and writes per luxbake run: the working plane's mean against RADIANCE's, the relative
 RMS of the per-point differences, their p95 and max, and the same for the direct light alone.
@@ -174,9 +175,10 @@ def main():
     ap.add_argument("--stride", type=int, default=1, help="every K-th working-plane point")
     ap.add_argument("--ad", type=int, default=1024)
     ap.add_argument("--threads", type=int, default=os.cpu_count())
-    ap.add_argument("--reference", default=os.path.join(BENCH, "data", "openplan_small_plane_radiance.json"),
-                    help="RADIANCE's values at the plane's points, read when it matches the scene, "
-                         "--ad and the points (else computed and written here)")
+    ap.add_argument("--reference",
+                    default=os.path.join(BENCH, "data", "openplan_small_plane_radiance.json"),
+                    help="RADIANCE's values at the plane's points, read when made for this scene, "
+                         "--ad, options and points (else computed, and written here at stride 1)")
     a = ap.parse_args()
     os.makedirs(a.work, exist_ok=True)
     pkg = ensure_venv(os.path.join(BENCH, ".venv"))

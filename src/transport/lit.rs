@@ -37,26 +37,26 @@ fn piece(occ: &Occluder, p: DVec3, n: DVec3, t: [DVec3; 3], m: DVec3, depth: u32
     let size = (0..3)
         .map(|k| t[k].distance(t[(k + 1) % 3]))
         .fold(0.0, f64::max);
-    let dist = ((t[0] + t[1] + t[2]) / 3.0).distance(p);
-    let split = |occ: &Occluder| -> f64 {
+    let c = (t[0] + t[1] + t[2]) / 3.0;
+    let dist = c.distance(p);
+    let split = || -> f64 {
         halves(t)
             .iter()
             .map(|s| piece(occ, p, n, *s, m, depth + 1))
             .sum()
     };
     if depth < MAX_DEPTH && size > COARSE * dist {
-        return split(occ);
+        return split();
     }
     // Its corners (a hair inside) and centroid: a straight shadow edge crossing the piece
     // leaves corners on both sides of it.
-    let c = (t[0] + t[1] + t[2]) / 3.0;
     let pts = [c, t[0], t[1], t[2]].map(|q| c + (q - c) * INSET);
     let seen = pts.iter().filter(|q| occ.clear(p, n, **q, m)).count();
     if seen == 0 {
         return 0.0;
     }
     if seen < pts.len() && depth < MAX_DEPTH && size > COARSE / REFINE * dist {
-        return split(occ);
+        return split();
     }
     lambert::form_factor_rising(p, n, &t) * seen as f64 / pts.len() as f64
 }
