@@ -10,6 +10,7 @@ use super::meshing::Meshed;
 use crate::patches::PatchMesh;
 use crate::scene::Scene;
 use crate::settings::Settings;
+use crate::transport::covered::CoveredField;
 use crate::transport::sharing::{self, Part, Sharing};
 use crate::transport::{gather::Gatherer, links::ReceiverLinks, tree::PatchTree};
 use crate::visibility::Occluder;
@@ -58,6 +59,8 @@ pub fn part(i: &Inputs, subset: &[u32]) -> Part {
 fn gathered(i: &Inputs, subset: Option<&[u32]>) -> (Rows, Option<Part>) {
     let (tree, rho, dark) = setup(i.scene, i.settings, i.meshed);
     let mesh: &PatchMesh = &i.meshed.mesh;
+    let covered = CoveredField::of(mesh);
+    let covered = covered.as_ref().map(|c| c.gatherer(i.occluder, i.tau));
     let gatherer = Gatherer {
         mesh,
         tree: &tree,
@@ -65,6 +68,7 @@ fn gathered(i: &Inputs, subset: Option<&[u32]>) -> (Rows, Option<Part>) {
         tau: i.tau,
         split_leaves: false,
         dark: dark.as_deref(),
+        covered: covered.as_ref(),
     };
     let black = dark.as_ref().is_some_and(|d| d[0]);
     let first_bounce = match black {

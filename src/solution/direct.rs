@@ -86,6 +86,7 @@ impl<'a> DirectLight<'a> {
             tau: self.tau,
             split_leaves: true,
             dark: None,
+            covered: None,
         };
         let mut links = Vec::new();
         for (e, n) in e.iter_mut().zip(normals) {

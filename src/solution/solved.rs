@@ -11,6 +11,7 @@ use super::direct::DirectLight;
 use super::receivers::{PlaneLight, Receiver};
 use crate::patches::PatchMesh;
 use crate::scene::{Scene, luma};
+use crate::transport::covered::CoveredField;
 use crate::transport::{
     field::NodeField,
     gather::{Gatherer, SharedRays},
@@ -42,6 +43,8 @@ pub struct Solution<'a> {
     /// The reflected exitance summarised on the tree, built on first use: a bake without probes
     /// never reads it (its normal distributions, one per inner node, are large on large scenes).
     node_reflected: OnceLock<NodeField>,
+    /// The covered parts' own mesh (`transport::covered`), built on the first gather.
+    covered: OnceLock<Option<CoveredField>>,
     /// All emitted exitance per patch, profiled emitters included (for luminance).
     emitted: Vec<DVec3>,
     /// What each vertex of the mesh received.
@@ -74,6 +77,7 @@ impl<'a> Solution<'a> {
             lights: p.lights,
             reflected: p.reflected,
             node_reflected: OnceLock::new(),
+            covered: OnceLock::new(),
             emitted: p.emitted,
             vertices: p.vertices,
             first_reflected_flux: p.first_reflected_flux,
@@ -131,6 +135,10 @@ impl<'a> Solution<'a> {
     }
 
     fn gather(&self, point: DVec3, n: DVec3, shared: Option<&mut SharedRays>) -> DVec3 {
+        let covered = self.covered.get_or_init(|| CoveredField::of(&self.mesh));
+        let covered = covered
+            .as_ref()
+            .map(|c| c.gatherer(&self.occluder, self.reflected.tau));
         let gatherer = Gatherer {
             mesh: &self.mesh,
             tree: &self.reflected.tree,
@@ -138,6 +146,7 @@ impl<'a> Solution<'a> {
             tau: self.reflected.tau,
             split_leaves: false,
             dark: self.reflected.dark.as_deref(),
+            covered: covered.as_ref(),
         };
         let field = self.node_reflected.get_or_init(|| {
             NodeField::new(&self.reflected.tree, &self.mesh, &self.reflected.exitance)

@@ -100,6 +100,10 @@ pub struct Gatherer<'a> {
     /// because an enclosed receiver's row is normalised by its total coverage: a coarser sample
     /// of what black nodes cover would scale the light of every other link in the row.
     pub dark: Option<&'a [bool]>,
+    /// What covered parts cover ([`super::covered`]), measured where the patches leave the
+    /// hemisphere short of closed; inside a slot it counts as back faces (absorbed), at a
+    /// crack's mouth as more of what the receiver sees ([`super::covered::absorbed_share`]).
+    pub covered: Option<&'a Gatherer<'a>>,
 }
 
 /// Shadow-ray answers shared by gathers at one point with different normals (the six faces of a
@@ -114,6 +118,10 @@ const REP_KEY: u8 = 16;
 const CLUSTER_KEY: u8 = 32;
 /// Offset (after the representatives 0..3) of the ray to [`Gatherer::patch_above`]'s point.
 const ABOVE_KEY: u8 = 3;
+
+/// Coverage from which a receiver counts as closed whatever else it sees
+/// (`transport::links`): below it, what covered parts cover is measured.
+pub const CLOSED: f64 = 0.999;
 
 /// Nodes [`Gatherer::patch_above`] visits at most.
 const ABOVE_SEARCH: usize = 32;
@@ -131,6 +139,26 @@ impl Gatherer<'_> {
 
     /// [`Gatherer::links`], reading and recording shadow-ray answers in `shared` when given.
     pub fn links_shared(
+        &self,
+        p: DVec3,
+        n: DVec3,
+        out: &mut Vec<Link>,
+        shared: Option<&mut SharedRays>,
+    ) -> Coverage {
+        let mut coverage = self.patch_links(p, n, out, shared);
+        if let Some(covered) = self.covered
+            && coverage.total < CLOSED
+        {
+            let c = covered.links(p, n, &mut Vec::new()).total;
+            let absorbed = c * super::covered::absorbed_share(c);
+            coverage.total += absorbed;
+            coverage.back += absorbed;
+        }
+        coverage
+    }
+
+    /// [`Gatherer::links_shared`] over this gatherer's own tree only.
+    fn patch_links(
         &self,
         p: DVec3,
         n: DVec3,
@@ -639,6 +667,7 @@ mod tests {
             tau: 0.3,
             split_leaves: false,
             dark: None,
+            covered: None,
         }
     }
 

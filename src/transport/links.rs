@@ -12,10 +12,12 @@
 //! closed when its coverage is ≥ 0.999, or when none of 64 stratified cosine-weighted escape rays
 //! leaves the scene (a lower coverage then comes from sampled visibility, e.g. where objects
 //! touch). A receiver that sees (almost) nothing (coverage ≤ 0.05: pressed against another face)
-//! is left alone. Open receivers keep their rows as computed.
+//! is left alone. Open receivers keep their rows as computed. What covered parts cover (the
+//! slot between two contacts) is measured first and counted as back faces
+//! (`transport::covered`): absorbed, not spread over the rest.
 
 use super::field::{ClusterSlots, NodeField};
-use super::gather::{Gatherer, SharedRays};
+use super::gather::{CLOSED, Gatherer, SharedRays};
 use super::link::{Leaf, Link};
 use crate::geom::samples;
 use crate::patches::Vertex;
@@ -392,7 +394,7 @@ pub fn gather_row_shared(
 ) -> Row {
     let mut links = Vec::new();
     let c = gatherer.links_shared(p, n, &mut links, shared);
-    let closed = c.total >= 0.999 || (c.total > 0.05 && enclosed(gatherer, p, n));
+    let closed = c.total >= CLOSED || (c.total > 0.05 && enclosed(gatherer, p, n));
     let (mut back, mut dark) = (c.back, c.dark);
     if closed && c.total > 0.0 {
         let scale = 1.0 / c.total;

@@ -3,6 +3,7 @@
 //! part of an emitting patch, [`lit`]), the precomputed receiver rows used by the solver
 //! ([`links`]) and the patch-to-patch operator ([`operator`]).
 
+pub mod covered;
 pub mod field;
 pub mod gather;
 pub mod link;

@@ -412,6 +412,7 @@ mod tests {
             tau: 0.3,
             split_leaves: false,
             dark: None,
+            covered: None,
         };
         let links = match sharing {
             None => ReceiverLinks::build(&gatherer, &mesh.receivers),

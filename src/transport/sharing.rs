@@ -670,6 +670,7 @@ mod tests {
             tau: 0.3,
             split_leaves: false,
             dark: None,
+            covered: None,
         }
     }
 
