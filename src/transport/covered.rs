@@ -10,8 +10,8 @@
 //! its hemisphere as nothing at all. Normalising its row to coverage 1 then spreads that part over
 //! what it does see, as if the slot's walls were as bright as the ceiling (twice the light at
 //! coverage 0.5). Measured, that part counts as absorbed where the receiver is inside a slot
-//! ([`absorbed_share`]), like a back face: rows, the operator's balancing targets and the
-//! energy report then agree that light sent into a slot stays there.
+//! ([`super::gather::absorbed_share`]), like a back face: rows, the operator's balancing
+//! targets and the energy report then agree that light sent into a slot stays there.
 //! Invariant: the mesh depends only on the patch mesh (the same for a bake, its tasks and its
 //! merge), and a double-sided surface's covered triangles are never seen from behind (what faces
 //! that way is the other side's, a patch or covered in turn).
@@ -20,21 +20,6 @@ use super::gather::Gatherer;
 use super::tree::PatchTree;
 use crate::patches::{Group, Patch, PatchMesh, Side, Vertex};
 use crate::visibility::Occluder;
-
-/// The share of what covered parts cover of a receiver's hemisphere (`covered`, cosine-weighted)
-/// that counts as absorbed: none below [`MOUTH`], all from [`INSIDE`], linear between. A
-/// receiver inside a slot sees its depths over most of its hemisphere, and they are dark; one
-/// beside a crack's mouth (2 mm from a cube standing 1 mm over the floor sees its underside over
-/// 5 %) sees the few millimetres next to the mouth, lit like the room, and its value stands for
-/// a whole patch beside the crack: counting that as absorbed loses 0.6 % of a ρ = 0.9 room's
-/// light (Sumpner, `tests/contacts.rs`).
-pub fn absorbed_share(covered: f64) -> f64 {
-    ((covered - MOUTH) / (INSIDE - MOUTH)).clamp(0.0, 1.0)
-}
-
-/// Covered share below which none is absorbed, and from which all is.
-const MOUTH: f64 = 0.1;
-const INSIDE: f64 = 0.5;
 
 /// Far-field acceptance of the covered parts' gather, relative to the receivers'.
 const TAU_FACTOR: f64 = 2.0;
