@@ -55,7 +55,7 @@ impl CoveredField {
                 let [a, b, d] = t.map(|v| c.positions[v as usize]);
                 let cross = (b - a).cross(d - a);
                 let area = cross.length() / 2.0;
-                if !(area > 0.0) {
+                if area.is_nan() || area <= 0.0 {
                     continue;
                 }
                 out.patches.push(Patch {
