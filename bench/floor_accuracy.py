@@ -10,7 +10,8 @@ reflected light is under 1 % of their own luminance). Bakes that copy with luxba
 default and high quality (and high with `--uniform-patches`, the issue's "converged reference")
 with a working plane at 0.75 m, converts it to RADIANCE (radiance.py) and runs `rtrace -I` at
 every K-th working-plane point facing up (+Y, glTF's up axis) with pure Monte Carlo (-aa 0
--ab 8 -ad N -lw 1e-4 -ds 0.01 -dj 1), then at -ab 0 (direct light alone, the mean of 32 runs).
+-ab 16 -ad N -lw 1e-7 -ds 0.01 -dj 1: -ab 8 -lw 1e-4 stopped 0.5 % of the inter-reflected light
+short), then at -ab 0 (direct light alone, the mean of 32 runs).
 RADIANCE's values at every point are kept in bench/data/openplan_small_plane_radiance.json
 and read from there while the scene's bytes, -ad and the options are unchanged (--reference).
 Each point's RADIANCE value is one Monte Carlo sample: its noise (estimated from two repeats at
@@ -109,8 +110,8 @@ def radiance_octree(scene, rd, rad_bin, rad_lib):
 
 def rtrace_total_and_direct(rad_bin, rad_lib, oct_path, rays, ad, threads,
                             weights=radiance.RADIANCE_WEIGHTS, direct_repeats=DIRECT_REPEATS):
-    """RADIANCE `rtrace -I` at rays [(x, y, z, dx, dy, dz)], pure Monte Carlo (-aa 0 -ab 8
-    -ad AD -lw 1e-4) and direct light alone (-ab 0, the mean of DIRECT_REPEATS runs), each in a
+    """RADIANCE `rtrace -I` at rays [(x, y, z, dx, dy, dz)], pure Monte Carlo (-aa 0 -ab 16
+    -ad AD -lw 1e-7) and direct light alone (-ab 0, the mean of DIRECT_REPEATS runs), each in a
     folder beside the octree. Sources are sampled with jitter (-dj 1): at -dj 0 RADIANCE reads
     each source partition at its centre, and in a soft shadow that is a staircase (a point 3.5 cm
     beside a screen, seeing the end of a 1.5 m fitting over it: 27.1 lx at -dj 0 for any -ds,
@@ -118,7 +119,7 @@ def rtrace_total_and_direct(rad_bin, rad_lib, oct_path, rays, ad, threads,
     Returns ({"total": lx, "direct": lx}, {"total": wall s, "direct": wall s})."""
     common = ["-ds", "0.01", "-dt", "0", "-dc", "1", "-dj", "1", "-aa", "0"]
     ref, walls = {}, {}
-    for tag, opts, repeats in [("total", ["-ab", "8", "-ad", str(ad), "-lw", "1e-4"], 1),
+    for tag, opts, repeats in [("total", ["-ab", "16", "-ad", str(ad), "-lw", "1e-7"], 1),
                                ("direct", ["-ab", "0"], direct_repeats)]:
         wd = os.path.join(os.path.dirname(oct_path), tag)
         os.makedirs(wd, exist_ok=True)
@@ -187,7 +188,7 @@ def main():
     scene = black_panel_floor(a.bake, a.work)
 
     results = {"scene": "bake generate openplan --size small, emitters' reflectance 0",
-               "radiance": {"options": f"-aa 0 -ab 8 -ad {a.ad} -lw 1e-4 -ds 0.01 -dt 0 "
+               "radiance": {"options": f"-aa 0 -ab 16 -ad {a.ad} -lw 1e-7 -ds 0.01 -dt 0 "
                                        "-dc 1 -dj 1", "directRepeats": DIRECT_REPEATS,
                             "stride": a.stride}, "runs": {}}
     planes = {}
