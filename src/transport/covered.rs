@@ -166,14 +166,14 @@ mod tests {
             lambert::form_factor(p, n, &wall(lo)) + lambert::form_factor(p, n, &wall(hi));
         assert!(slot_walls > 0.8, "{slot_walls}");
         let covered = field.gatherer(&occluder, 0.3);
+        // The patches' gatherer: the covered one's settings over the patches' mesh and tree.
         let mut gatherer = Gatherer {
             mesh: &mesh,
             tree: &tree,
-            occluder: &occluder,
             tau: 0.3,
-            split_leaves: false,
             dark: None,
             covered: Some(&covered),
+            ..covered
         };
         let row = gather_row(&gatherer, p, n);
         let linked: f64 = row.links.iter().map(|l| l.coeff as f64).sum();

@@ -84,6 +84,7 @@ pub struct Coverage {
     pub dark: f64,
 }
 
+#[derive(Clone, Copy)]
 pub struct Gatherer<'a> {
     pub mesh: &'a PatchMesh,
     pub tree: &'a PatchTree,
