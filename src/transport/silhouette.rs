@@ -169,8 +169,8 @@ mod tests {
     fn a_tube_seen_along_its_axis_hides_nothing() {
         // An open vertical tube (r 0.25 m, 2 m, 32 sides, radial normals): every facet is edge-on
         // from above and below, where its front area is rounding (~1e-17 m²) and its silhouette
-        // empty. Was V(±y) = 0, so a viewer 40° above the horizon saw 59 % of it (the generator's
-        // columns and the chairs' tubes lost 17 % of their light to far receivers).
+        // empty. Was V(±y) = 0, so a viewer 40° above the horizon saw 59 % of it (a cylinder in
+        // a room sent its far receivers 17 % too little through its cluster links).
         let mesh = mesh_of(|b, m| {
             let (mut pos, mut nrm, mut tri) = (Vec::new(), Vec::new(), Vec::new());
             for i in 0..32u32 {
