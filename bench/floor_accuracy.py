@@ -180,7 +180,14 @@ def main():
                     default=os.path.join(BENCH, "data", "openplan_small_plane_radiance.json"),
                     help="RADIANCE's values at the plane's points, read when made for this scene, "
                          "--ad, options and points (else computed, and written here at stride 1)")
+    ap.add_argument("--run", action="append", metavar="TAG=ARGS",
+                    help="bake these runs instead of the standard four (ARGS: the bake's extra "
+                         "arguments, space-separated); repeatable")
     a = ap.parse_args()
+    runs = RUNS
+    if a.run:
+        runs = {t: v.split() for t, v in (r.split("=", 1) for r in a.run)}
+        runs.setdefault("default", [])  # the plane's points are read from the default run
     os.makedirs(a.work, exist_ok=True)
     pkg = ensure_venv(os.path.join(BENCH, ".venv"))
     rad_bin, rad_lib = os.path.join(pkg, "bin"), os.path.join(pkg, "lib")
@@ -192,7 +199,7 @@ def main():
                                        "-dc 1 -dj 1", "directRepeats": DIRECT_REPEATS,
                             "stride": a.stride}, "runs": {}}
     planes = {}
-    for tag, extra in RUNS.items():
+    for tag, extra in runs.items():
         out = os.path.join(a.work, f"{tag}.glb")
         m = measure.run([a.bake, scene, "-o", out, "--working-plane", "0.75", "-q",
                          "--threads", str(a.threads)] + extra)
