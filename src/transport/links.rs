@@ -156,6 +156,22 @@ impl ReceiverLinks {
         }
     }
 
+    /// Move batch `b` of `other` here as one batch, its rows numbered after these: the chunks
+    /// themselves, not copies (`other` keeps that batch with no rows).
+    pub fn take_batch(&mut self, other: &mut ReceiverLinks, b: usize) {
+        let start = other.batches[b].1 as usize;
+        let end = other
+            .batches
+            .get(b + 1)
+            .map_or(other.chunks.len(), |next| next.1 as usize);
+        self.batches
+            .push((self.rows() as u32, self.chunks.len() as u32));
+        for chunk in &mut other.chunks[start..end] {
+            self.chunks
+                .push(std::mem::replace(chunk, RowChunk::empty()));
+        }
+    }
+
     /// Set how receivers read the rows (`None`: receiver r reads row r, one stat per row) and
     /// their stats: a blended receiver's coverage, back and dark are its terms' weighted means;
     /// it is closed when all its terms are. `nodes`: the tree's node count.
@@ -319,6 +335,16 @@ fn fill(out: &mut [DVec3], value: impl Fn(usize) -> DVec3 + Sync) {
 }
 
 impl RowChunk {
+    /// No rows.
+    fn empty() -> Self {
+        RowChunk {
+            leaf_at: vec![0],
+            leaves: Vec::new(),
+            far_at: vec![0],
+            far: Vec::new(),
+        }
+    }
+
     /// Rows copied from elsewhere, packed as [`RowChunk::of`] packs them.
     fn copied(rows: &[RowRef]) -> Self {
         let mut c = RowChunk {

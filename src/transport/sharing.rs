@@ -234,7 +234,7 @@ pub fn assemble(mut parts: Vec<Part>, n: usize, nodes: usize) -> ReceiverLinks {
             let numbering = vec![(0..p.stats.len() as u32).collect::<Vec<u32>>()];
             (links, std::mem::take(&mut p.stats), numbering)
         }
-        false => renumber(&parts),
+        false => renumber(&mut parts),
     };
     let mut gathered_at = vec![0; links.rows()];
     let mut reads: Vec<(u32, u32)> = vec![(u32::MAX, 0); n];
@@ -276,9 +276,12 @@ pub fn assemble(mut parts: Vec<Part>, n: usize, nodes: usize) -> ReceiverLinks {
     links
 }
 
-/// The rows of several parts copied into one set, level by level in receiver order; their
-/// stats in that order; per part, each of its rows' new number.
-fn renumber(parts: &[Part]) -> (ReceiverLinks, Vec<RowStats>, Vec<Vec<u32>>) {
+/// The rows of several parts gathered into one set, level by level in receiver order; their
+/// stats in that order; per part, each of its rows' new number. Where a level's rows in
+/// receiver order are the parts' own, part after part (parts of ascending receiver ranges, as a
+/// distributed bake's tasks are), each part's batch is moved, not copied: a merge then holds
+/// the rows once, not twice.
+fn renumber(parts: &mut [Part]) -> (ReceiverLinks, Vec<RowStats>, Vec<Vec<u32>>) {
     let dark = parts.iter().any(|p| p.links.has_dark());
     let mut links = ReceiverLinks::empty(dark);
     let mut stats = Vec::new();
@@ -294,11 +297,19 @@ fn renumber(parts: &[Part]) -> (ReceiverLinks, Vec<RowStats>, Vec<Vec<u32>>) {
                 first[p] += picks.len();
             }
         }
+        let in_parts_order: Vec<(usize, usize)> = rows.iter().map(|&(_, p, g)| (p, g)).collect();
         rows.sort_unstable();
         let at = links.rows() as u32;
         for (k, &(_, p, g)) in rows.iter().enumerate() {
             numbering[p][g] = at + k as u32;
             stats.push(parts[p].stats[g]);
+        }
+        let moved = rows.iter().map(|&(_, p, g)| (p, g)).eq(in_parts_order);
+        if moved {
+            for part in parts.iter_mut().filter(|p| level < p.picks.len()) {
+                links.take_batch(&mut part.links, level);
+            }
+            continue;
         }
         let refs: Vec<_> = rows
             .iter()
@@ -751,10 +762,25 @@ mod tests {
         assert!(worse * 100 < e_full.len(), "{worse} receivers off by > 3 %");
     }
 
-    /// A closed room: rows normalised to coverage 1 blend into rows of coverage 1 (energy
-    /// conservation per bounce holds at every receiver).
+    /// Parts of whole groups, assembled, give the links of one build, row for row.
     #[test]
     fn parts_of_whole_groups_assemble_into_the_links_of_one_build() {
+        // Three parts of interleaved groups (so no part is a contiguous range of receivers),
+        // assembled in an order that is not the groups': the rows are copied.
+        assert_parts_assemble_into_one_build(|group, _| group % 3, [2, 0, 1], false);
+        // Three parts of consecutive groups, in order (a distributed bake's tasks): every
+        // level's rows are moved.
+        assert_parts_assemble_into_one_build(|group, groups| 3 * group / groups, [0, 1, 2], true);
+    }
+
+    /// Build the parts `part_of(group, groups)` says, in `order`; renumbered, their rows are
+    /// the rows of one build, moved (each part's own chunks, leaving it none) when `moved`,
+    /// else copied; assembled, the links of one build.
+    fn assert_parts_assemble_into_one_build(
+        part_of: impl Fn(u32, u32) -> u32,
+        order: [u32; 3],
+        moved: bool,
+    ) {
         let b = built(&room());
         let gatherer = gatherer(&b);
         let (_, whole, field) = both(&b, 0.01);
@@ -764,27 +790,46 @@ mod tests {
             direct: &direct,
             first_bounce: &field,
         };
-        // Three parts of interleaved groups (so no part is a contiguous range of receivers),
-        // assembled in an order that is not the groups'.
         let groups = b.mesh.groups.len() as u32;
         assert!(groups >= 6, "{groups} groups");
         let n = b.mesh.receivers.len();
-        let mut parts: Vec<Part> = [2u32, 0, 1]
+        let mut parts: Vec<Part> = order
             .iter()
             .map(|&k| {
                 let subset: Vec<u32> = (0..n as u32)
-                    .filter(|&r| b.mesh.receivers[r as usize].group % 3 == k)
+                    .filter(|&r| part_of(b.mesh.receivers[r as usize].group, groups) == k)
                     .collect();
                 part(&gatherer, &b.mesh.receivers, &subset, &sharing)
             })
             .collect();
         assert!(parts.iter().all(|p| !p.receivers.is_empty()));
-        let parted = assemble(std::mem::take(&mut parts), n, b.tree.nodes.len());
+        let rows: Vec<usize> = parts.iter().map(|p| p.links.rows()).collect();
+        let (copy, _, numbering) = renumber(&mut parts);
+        assert!(rows.iter().all(|&r| r > 0));
+        assert!(numbering.iter().zip(&rows).all(|(m, &r)| m.len() == r));
+        let left: Vec<usize> = parts.iter().map(|p| p.links.rows()).collect();
+        assert_eq!(
+            left.iter().all(|&r| r == 0),
+            moved,
+            "rows left in the parts: {left:?}"
+        );
+        // Rebuild the parts (renumber took their rows) and assemble them whole.
+        let parts: Vec<Part> = order
+            .iter()
+            .map(|&k| {
+                let subset: Vec<u32> = (0..n as u32)
+                    .filter(|&r| part_of(b.mesh.receivers[r as usize].group, groups) == k)
+                    .collect();
+                part(&gatherer, &b.mesh.receivers, &subset, &sharing)
+            })
+            .collect();
+        let parted = assemble(parts, n, b.tree.nodes.len());
         assert_eq!(parted.rows(), whole.rows());
         for g in 0..whole.rows() {
-            let (a, c) = (whole.row(g), parted.row(g));
+            let (a, c, d) = (whole.row(g), parted.row(g), copy.row(g));
             assert_eq!(a.leaves, c.leaves, "row {g}");
             assert_eq!(a.far, c.far, "row {g}");
+            assert_eq!((a.leaves, a.far), (d.leaves, d.far), "row {g}");
             assert_eq!(whole.gathered_at(g), parted.gathered_at(g));
         }
         for r in 0..n {
@@ -796,6 +841,8 @@ mod tests {
         assert!(e1.iter().zip(&e2).all(|(x, y)| x.to_bits() == y.to_bits()));
     }
 
+    /// A closed room: rows normalised to coverage 1 blend into rows of coverage 1 (energy
+    /// conservation per bounce holds at every receiver).
     #[test]
     fn blends_of_closed_rows_keep_coverage_one() {
         let b = built(&room());
