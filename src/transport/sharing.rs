@@ -793,37 +793,30 @@ mod tests {
         let groups = b.mesh.groups.len() as u32;
         assert!(groups >= 6, "{groups} groups");
         let n = b.mesh.receivers.len();
-        let mut parts: Vec<Part> = order
-            .iter()
-            .map(|&k| {
-                let subset: Vec<u32> = (0..n as u32)
-                    .filter(|&r| part_of(b.mesh.receivers[r as usize].group, groups) == k)
-                    .collect();
-                part(&gatherer, &b.mesh.receivers, &subset, &sharing)
-            })
-            .collect();
-        assert!(parts.iter().all(|p| !p.receivers.is_empty()));
-        let rows: Vec<usize> = parts.iter().map(|p| p.links.rows()).collect();
-        let (copy, _, numbering) = renumber(&mut parts);
+        let parts = || -> Vec<Part> {
+            (order.iter())
+                .map(|&k| {
+                    let subset: Vec<u32> = (0..n as u32)
+                        .filter(|&r| part_of(b.mesh.receivers[r as usize].group, groups) == k)
+                        .collect();
+                    part(&gatherer, &b.mesh.receivers, &subset, &sharing)
+                })
+                .collect()
+        };
+        let mut first = parts();
+        assert!(first.iter().all(|p| !p.receivers.is_empty()));
+        let rows: Vec<usize> = first.iter().map(|p| p.links.rows()).collect();
+        let (copy, _, numbering) = renumber(&mut first);
         assert!(rows.iter().all(|&r| r > 0));
         assert!(numbering.iter().zip(&rows).all(|(m, &r)| m.len() == r));
-        let left: Vec<usize> = parts.iter().map(|p| p.links.rows()).collect();
+        let left: Vec<usize> = first.iter().map(|p| p.links.rows()).collect();
         assert_eq!(
             left.iter().all(|&r| r == 0),
             moved,
             "rows left in the parts: {left:?}"
         );
-        // Rebuild the parts (renumber took their rows) and assemble them whole.
-        let parts: Vec<Part> = order
-            .iter()
-            .map(|&k| {
-                let subset: Vec<u32> = (0..n as u32)
-                    .filter(|&r| part_of(b.mesh.receivers[r as usize].group, groups) == k)
-                    .collect();
-                part(&gatherer, &b.mesh.receivers, &subset, &sharing)
-            })
-            .collect();
-        let parted = assemble(parts, n, b.tree.nodes.len());
+        // Parts made again (renumber took the rows of the first), assembled whole.
+        let parted = assemble(parts(), n, b.tree.nodes.len());
         assert_eq!(parted.rows(), whole.rows());
         for g in 0..whole.rows() {
             let (a, c, d) = (whole.row(g), parted.row(g), copy.row(g));
