@@ -297,14 +297,16 @@ fn renumber(parts: &mut [Part]) -> (ReceiverLinks, Vec<RowStats>, Vec<Vec<u32>>)
                 first[p] += picks.len();
             }
         }
-        let in_parts_order: Vec<(usize, usize)> = rows.iter().map(|&(_, p, g)| (p, g)).collect();
-        rows.sort_unstable();
+        // Already in receiver order as the parts hold them: their batches can move.
+        let moved = rows.is_sorted();
+        if !moved {
+            rows.sort_unstable();
+        }
         let at = links.rows() as u32;
         for (k, &(_, p, g)) in rows.iter().enumerate() {
             numbering[p][g] = at + k as u32;
             stats.push(parts[p].stats[g]);
         }
-        let moved = rows.iter().map(|&(_, p, g)| (p, g)).eq(in_parts_order);
         if moved {
             for part in parts.iter_mut().filter(|p| level < p.picks.len()) {
                 links.take_batch(&mut part.links, level);
