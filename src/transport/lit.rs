@@ -18,6 +18,25 @@ use crate::visibility::Occluder;
 use glam::DVec3;
 use std::cell::RefCell;
 use std::collections::HashMap;
+use std::hash::{BuildHasherDefault, Hasher};
+
+/// Sample points' keys are small distinct integers: a multiplicative hash spreads them.
+#[derive(Default)]
+struct KeyHasher(u64);
+
+impl Hasher for KeyHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, _: &[u8]) {
+        unreachable!("only u32 keys are hashed")
+    }
+    fn write_u32(&mut self, k: u32) {
+        self.0 = (k as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15);
+    }
+}
+
+type Traced = HashMap<u32, bool, BuildHasherDefault<KeyHasher>>;
 
 /// A piece is split while longer than this × its distance from the point.
 const COARSE: f64 = 0.1;
@@ -46,11 +65,11 @@ struct Patch<'a> {
     t: [DVec3; 3],
     m: DVec3,
     centroid: DVec3,
-    traced: &'a mut HashMap<u32, bool>,
+    traced: &'a mut Traced,
 }
 
 thread_local! {
-    static TRACED: RefCell<HashMap<u32, bool>> = RefCell::new(HashMap::new());
+    static TRACED: RefCell<Traced> = RefCell::new(Traced::default());
 }
 
 /// Form factor of the part of triangle `t` (unit normal `m`) seen from `p` (unit normal `n`).
