@@ -1,15 +1,14 @@
 //! A uniform grid over triangles' bounding boxes: which triangles' boxes meet a query box.
 
+use crate::geom::hash::IntMap;
 use glam::DVec3;
-use std::collections::HashMap;
-use std::hash::{BuildHasherDefault, Hasher};
 
 /// Triangles spanning more cells than this are kept in a list every query tests.
 const MAX_CELLS: usize = 4096;
 
 pub struct Grid {
     cell: f64,
-    cells: HashMap<[i64; 3], Vec<u32>, BuildHasherDefault<CellHasher>>,
+    cells: IntMap<[i64; 3], Vec<u32>>,
     big: Vec<u32>,
     /// Each triangle's bounding box, grown by the index's padding.
     boxes: Vec<(DVec3, DVec3)>,
@@ -40,7 +39,7 @@ impl Grid {
             .collect();
         let mut grid = Grid {
             cell,
-            cells: HashMap::default(),
+            cells: IntMap::default(),
             big: Vec::new(),
             boxes,
             first: Vec::with_capacity(tris.len()),
@@ -105,31 +104,6 @@ impl Grid {
             }
         }
         out.sort_unstable();
-    }
-}
-
-/// A multiplicative hash for cell keys (the standard library's SipHash costs more than the
-/// lookups it serves; keys are not attacker-chosen in a way that matters here).
-#[derive(Default)]
-struct CellHasher(u64);
-
-impl Hasher for CellHasher {
-    fn finish(&self) -> u64 {
-        self.0
-    }
-    fn write(&mut self, bytes: &[u8]) {
-        for b in bytes {
-            self.write_u64(*b as u64);
-        }
-    }
-    fn write_u64(&mut self, x: u64) {
-        self.0 = (self.0.rotate_left(5) ^ x).wrapping_mul(0x51_7c_c1_b7_27_22_0a_95);
-    }
-    fn write_i64(&mut self, x: i64) {
-        self.write_u64(x as u64);
-    }
-    fn write_usize(&mut self, x: usize) {
-        self.write_u64(x as u64);
     }
 }
 

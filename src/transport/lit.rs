@@ -13,30 +13,14 @@
 //! emitting surfaces' direct light, whose shadows are as sharp as a luminaire's; the reflected
 //! field keeps the cheaper fixed patterns.
 
+use crate::geom::hash::IntMap;
 use crate::geom::lambert;
 use crate::visibility::Occluder;
 use glam::DVec3;
 use std::cell::RefCell;
-use std::collections::HashMap;
-use std::hash::{BuildHasherDefault, Hasher};
 
-/// Sample points' keys are small distinct integers: a multiplicative hash spreads them.
-#[derive(Default)]
-struct KeyHasher(u64);
-
-impl Hasher for KeyHasher {
-    fn finish(&self) -> u64 {
-        self.0
-    }
-    fn write(&mut self, _: &[u8]) {
-        unreachable!("only u32 keys are hashed")
-    }
-    fn write_u32(&mut self, k: u32) {
-        self.0 = (k as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15);
-    }
-}
-
-type Traced = HashMap<u32, bool, BuildHasherDefault<KeyHasher>>;
+/// Whether each sample point traced so far (by its key) is seen.
+type Traced = IntMap<u32, bool>;
 
 /// A piece is split while longer than this × its distance from the point.
 const COARSE: f64 = 0.1;
