@@ -808,7 +808,7 @@ mod tests {
         let mut first = parts();
         assert!(first.iter().all(|p| !p.receivers.is_empty()));
         let rows: Vec<usize> = first.iter().map(|p| p.links.rows()).collect();
-        let (copy, _, numbering) = renumber(&mut first);
+        let (renumbered, _, numbering) = renumber(&mut first);
         assert!(rows.iter().all(|&r| r > 0));
         assert!(numbering.iter().zip(&rows).all(|(m, &r)| m.len() == r));
         let left: Vec<usize> = first.iter().map(|p| p.links.rows()).collect();
@@ -821,7 +821,7 @@ mod tests {
         let parted = assemble(parts(), n, b.tree.nodes.len());
         assert_eq!(parted.rows(), whole.rows());
         for g in 0..whole.rows() {
-            let (a, c, d) = (whole.row(g), parted.row(g), copy.row(g));
+            let (a, c, d) = (whole.row(g), parted.row(g), renumbered.row(g));
             assert_eq!(a.leaves, c.leaves, "row {g}");
             assert_eq!(a.far, c.far, "row {g}");
             assert_eq!((a.leaves, a.far), (d.leaves, d.far), "row {g}");
