@@ -38,7 +38,7 @@ const MAX_SPLITS: u32 = 10;
 /// many times finer than [`NEAR_FIELD_RATIO`] where the shadow edge crosses it (`penumbra`):
 /// one ray per sub-source makes the penumbra a staircase of as many steps as there are
 /// sub-sources.
-pub const PENUMBRA_REFINE: f64 = 8.0;
+pub const PENUMBRA_REFINE: f64 = 4.0;
 
 /// For the flux into a patch (the input of the inter-reflection, not a value users read) the split
 /// may be coarser: any split conserves the flux, it only shifts it between nearby patches.
