@@ -107,9 +107,10 @@ pub fn task_bytes(t: &TaskResult) -> Vec<u8> {
         }
         w.u64(row.far.len() as u64);
         for l in row.far {
-            w.u32(l.node);
-            w.f32(l.coeff);
-            l.grad.iter().for_each(|x| w.f32(*x));
+            let (node, coeff, shape) = l.stored();
+            w.u32(node);
+            w.f32(coeff);
+            shape.iter().for_each(|x| w.u16(*x));
         }
     }
     w.u64(p.stats.len() as u64);
@@ -152,14 +153,15 @@ pub fn read_task(bytes: &[u8]) -> Result<TaskResult, String> {
                     })
                 })
                 .collect::<Result<_, String>>()?;
-            let n = r.len(20)?;
+            let n = r.len(14)?;
             let far = (0..n)
                 .map(|_| {
-                    Ok(Link {
-                        node: r.u32()?,
-                        coeff: r.f32()?,
-                        grad: [r.f32()?, r.f32()?, r.f32()?],
-                    })
+                    let (node, coeff) = (r.u32()?, r.f32()?);
+                    Ok(Link::from_stored(
+                        node,
+                        coeff,
+                        [r.u16()?, r.u16()?, r.u16()?],
+                    ))
                 })
                 .collect::<Result<_, String>>()?;
             rows.push((leaves, far));

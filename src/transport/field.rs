@@ -75,8 +75,9 @@ impl ClusterSlots {
 }
 
 /// A per-patch RGB field summarised on every node: its area-mean, and on inner nodes (indexed
-/// by [`PatchTree::slot`]; a leaf's is zero) its first moment (`dipole[channel]` =
-/// Σₖ Aₖ·Bₖ·(cₖ − c_node)), which far-field links use to first order.
+/// by [`PatchTree::slot`]; a leaf's is zero) its first moment over its area to the power 3/2
+/// (`dipole[channel]` = Σₖ Aₖ·Bₖ·(cₖ − c_node) / A_node^(3/2): what a far-field link's stored
+/// gradient is relative to, [`Link::relative`]), which far-field links use to first order.
 pub struct NodeField {
     pub mean: Vec<DVec3>,
     pub dipole: Vec<[DVec3; 3]>,
@@ -113,10 +114,9 @@ impl NodeField {
             sum += self.mean[i] * l.coeff as f64;
             // Far-field links name inner nodes only (a leaf's moment is zero).
             let slot = self.slot[i] as usize;
-            if l.grad != [0.0; 3] && slot != LEAF_SLOT as usize {
-                let g = l.grad();
-                let d = &self.dipole[slot];
-                sum += DVec3::new(g.dot(d[0]), g.dot(d[1]), g.dot(d[2]));
+            if slot != LEAF_SLOT as usize && l.has_shape() {
+                let (g, d) = (l.relative(), &self.dipole[slot]);
+                sum += DVec3::new(g.dot(d[0]), g.dot(d[1]), g.dot(d[2])) * l.coeff as f64;
             }
         }
         sum
@@ -187,6 +187,14 @@ impl NodeField {
             for ch in 0..3 {
                 dipole[here][ch] =
                     ma[ch] + mb[ch] + da * (mean[a][ch] * wa) + db * (mean[b][ch] * wb);
+            }
+        }
+        // Each first moment over area^(3/2), once every parent has summed its children's.
+        for (i, node) in tree.nodes.iter().enumerate() {
+            if let Some(d) = dipole.get_mut(tree.slot[i] as usize) {
+                let a = node.area;
+                let scale = if a > 0.0 { (a * a.sqrt()).recip() } else { 0.0 };
+                *d = d.map(|v| v * scale);
             }
         }
         NodeField {

@@ -231,7 +231,7 @@ impl Gatherer<'_> {
                 } else if self.is_dark(i) {
                     coverage.dark += weight;
                 } else {
-                    out.push(Link::new(i, weight, DVec3::ZERO));
+                    out.push(Link::plain(i, weight));
                 }
                 continue;
             }
@@ -315,7 +315,7 @@ impl Gatherer<'_> {
         }
         if front && vis > 0.0 && f > 0.0 {
             let g = self.tree.moments(i as usize).density_gradient(p, n) * vis;
-            out.push(Link::new(i, f * vis, g));
+            out.push(Link::far(i, f * vis, g, node.area));
         }
     }
 
@@ -348,7 +348,7 @@ impl Gatherer<'_> {
             return;
         }
         if k > 0.0 {
-            out.push(Link::new(i, -k, w * k));
+            out.push(Link::cluster_link(i, k, w));
         }
     }
 

@@ -1,42 +1,90 @@
 //! What a gather row is made of: a receiver's links to nodes of a patch tree.
 
 use glam::DVec3;
+use half::f16;
 
 /// One source seen by a receiver.
 ///
-/// Leaf and far-field links (`coeff > 0`): E += coeff × node mean + grad · node first moment.
+/// Leaf and far-field links (`coeff > 0`): E += coeff × node mean + gradient · node first moment.
 /// Cluster links (`coeff < 0`, a node whose patches face the receiver from both sides):
-/// with K = −coeff = cos θ·vis·V/(π d²) (V: the share it does not hide from itself) and w =
-/// grad/K the unit direction from the node to the receiver, E += K × Σ weights(w)·S over the
-/// node's exitance-weighted normal distribution (`geom::sh::Dist`). Scaling a row scales both
-/// forms alike.
+/// with K = −coeff = cos θ·vis·V/(π d²) (V: the share it does not hide from itself) and w the
+/// unit direction from the node to the receiver, E += K × Σ weights(w)·S over the node's
+/// exitance-weighted normal distribution (`geom::sh::Dist`). Scaling `coeff` scales a row's
+/// links of both forms: what else they hold is relative to it.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Link {
     pub node: u32,
     /// Form factor × visible fraction (negated for cluster links).
     pub coeff: f32,
-    /// Far-field links: the form-factor density's gradient × visible fraction, applied to the
-    /// node's first moment of exitance (zero for leaf patches, where exitance is uniform).
-    /// Cluster links: K × the direction to the receiver.
-    pub grad: [f32; 3],
+    /// In half precision (bits): far-field links, the form-factor density's gradient (per m³)
+    /// × visible fraction, times A^(3/2) / coeff for the node's area A — a vector about the
+    /// node's size over its distance, whatever the scene's scale — zero for leaf patches
+    /// (uniform exitance); cluster links, the unit direction w. 16 bytes a link where three f32
+    /// took 20.
+    shape: [u16; 3],
 }
 
 impl Link {
-    /// A link with gradient (or direction × K) `grad`, stored in single precision.
-    pub fn new(node: u32, coeff: f64, grad: DVec3) -> Self {
+    /// A leaf or far-field link to a node of area `area` (m²): coefficient `coeff` > 0 and
+    /// gradient `grad` (zero for a leaf).
+    pub fn far(node: u32, coeff: f64, grad: DVec3, area: f64) -> Self {
+        let rel = match coeff > 0.0 && area > 0.0 {
+            true => grad * (area * area.sqrt() / coeff),
+            false => DVec3::ZERO,
+        };
         Link {
             node,
             coeff: coeff as f32,
-            grad: [grad.x as f32, grad.y as f32, grad.z as f32],
+            shape: half_bits(rel),
         }
     }
 
-    pub fn grad(&self) -> DVec3 {
-        DVec3::new(
-            self.grad[0] as f64,
-            self.grad[1] as f64,
-            self.grad[2] as f64,
-        )
+    /// A link to a leaf patch (uniform exitance: no gradient).
+    pub fn plain(node: u32, coeff: f64) -> Self {
+        Link {
+            node,
+            coeff: coeff as f32,
+            shape: [0; 3],
+        }
+    }
+
+    /// A cluster link: K > 0 and the unit direction `w` from the node to the receiver.
+    pub fn cluster_link(node: u32, k: f64, w: DVec3) -> Self {
+        Link {
+            node,
+            coeff: -k as f32,
+            shape: half_bits(w),
+        }
+    }
+
+    /// A link from its stored parts ([`Link::stored`]).
+    pub fn from_stored(node: u32, coeff: f32, shape: [u16; 3]) -> Self {
+        Link { node, coeff, shape }
+    }
+
+    /// The stored parts: node, coefficient, the half-precision bits.
+    pub fn stored(&self) -> (u32, f32, [u16; 3]) {
+        (self.node, self.coeff, self.shape)
+    }
+
+    /// A far-field link's gradient × visible fraction, for its node of area `area`; zero for
+    /// a leaf patch.
+    pub fn gradient(&self, area: f64) -> DVec3 {
+        match area > 0.0 {
+            true => self.relative() * (self.coeff as f64 / (area * area.sqrt())),
+            false => DVec3::ZERO,
+        }
+    }
+
+    /// The stored vector: for a far-field link the gradient × A^(3/2) / coeff (see `NodeField`'s
+    /// scaled first moments: the gradient term is coeff × this · moment / A^(3/2)).
+    pub fn relative(&self) -> DVec3 {
+        DVec3::from_array(self.shape.map(|b| f16::from_bits(b).to_f64()))
+    }
+
+    /// Whether the link carries a gradient (a far-field link) or direction (a cluster link).
+    pub fn has_shape(&self) -> bool {
+        self.shape.iter().any(|b| b & 0x7fff != 0)
     }
 
     pub fn is_cluster(&self) -> bool {
@@ -45,8 +93,21 @@ impl Link {
 
     /// For a cluster link: K and the unit direction from the node to the receiver.
     pub fn cluster(&self) -> (f64, DVec3) {
-        (-self.coeff as f64, self.grad().normalize_or_zero())
+        (-self.coeff as f64, self.relative().normalize_or_zero())
     }
+}
+
+/// A vector's components in half precision (bits), kept finite.
+fn half_bits(v: DVec3) -> [u16; 3] {
+    let max = f16::MAX.to_f64();
+    v.to_array().map(|x| {
+        f16::from_f64(if x.is_finite() {
+            x.clamp(-max, max)
+        } else {
+            0.0
+        })
+        .to_bits()
+    })
 }
 
 /// A link without a gradient — every link to one patch (a leaf of the tree, whose exitance is
@@ -56,4 +117,43 @@ impl Link {
 pub struct Leaf {
     pub node: u32,
     pub coeff: f32,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A far link's gradient comes back to half precision's 3 digits at every scene scale (a
+    /// node 1 mm to 100 m across, 10 node sizes away), and a cluster link's direction likewise.
+    #[test]
+    fn gradients_keep_three_digits_at_any_scale() {
+        for size in [1e-3, 1.0, 100.0] {
+            let (area, dist) = (size * size, 10.0 * size);
+            // The density's gradient is about the density (coeff / area) over the distance.
+            let coeff = 0.3 * area / (dist * dist);
+            let grad = DVec3::new(3.0, -1.0, 0.5) * coeff / (area * dist);
+            let l = Link::far(7, coeff, grad, area);
+            let back = l.gradient(area);
+            assert!(
+                (back - grad).length() <= 1e-3 * grad.length(),
+                "size {size}: {back} against {grad}"
+            );
+            assert!(l.has_shape() && !l.is_cluster());
+        }
+        // Kilometre-sized nodes far away, millimetre ones close: still inside half's range.
+        for (size, dist) in [(1e3, 1e7), (1e-3, 1.5e-3)] {
+            let (area, coeff) = (size * size, 1e-3);
+            let grad = DVec3::new(0.0, 2.0, -1.0) * coeff / (area * dist);
+            let back = Link::far(1, coeff, grad, area).gradient(area);
+            assert!(
+                (back - grad).length() <= 1e-3 * grad.length(),
+                "{size} at {dist}"
+            );
+        }
+        let leaf = Link::far(3, 0.2, DVec3::ZERO, 0.01);
+        assert!(!leaf.has_shape() && leaf.gradient(0.01) == DVec3::ZERO);
+        let w = DVec3::new(0.48, -0.6, 0.64);
+        let (k, back) = Link::cluster_link(9, 0.25, w).cluster();
+        assert!((k - 0.25).abs() < 1e-7 && (back - w).length() < 1e-3);
+    }
 }

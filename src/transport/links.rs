@@ -364,7 +364,7 @@ impl RowChunk {
 
     /// Rows packed: leaf links (no gradient) apart from the rest.
     fn of(rows: &[Row]) -> Self {
-        let is_leaf = |l: &&Link| l.coeff > 0.0 && l.grad == [0.0; 3];
+        let is_leaf = |l: &&Link| l.coeff > 0.0 && !l.has_shape();
         let all = rows.iter().flat_map(|r| &r.links);
         let n_leaves = all.clone().filter(is_leaf).count();
         let mut leaves = Vec::with_capacity(n_leaves);
@@ -426,7 +426,6 @@ pub fn gather_row_shared(
         let scale = 1.0 / c.total;
         for l in &mut links {
             l.coeff *= scale as f32;
-            l.grad = l.grad.map(|g| g * scale as f32);
         }
         back *= scale;
         dark *= scale;

@@ -166,7 +166,8 @@ impl<'a> PatchOperator<'a> {
                         acc[l.node as usize] += at[r] * l.coeff as f64;
                         let s = slot[l.node as usize] as usize;
                         if s != LEAF_SLOT as usize {
-                            grad[s] += l.grad() * at[r];
+                            let area = self.tree.nodes[l.node as usize].area;
+                            grad[s] += l.gradient(area) * at[r];
                         }
                     }
                 }
