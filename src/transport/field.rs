@@ -5,7 +5,7 @@
 //! Input: a tree, its patch mesh and a value per patch. Output: a [`NodeField`]. Sums run
 //! bottom-up in a fixed order, so equal inputs give equal bits.
 
-use super::link::{Leaf, Link};
+use super::link::{Leaf, Link, moment_scale};
 use super::tree::{LEAF_SLOT, PatchTree, leaf_sh};
 use crate::geom::sh;
 use crate::patches::PatchMesh;
@@ -192,8 +192,10 @@ impl NodeField {
         // Each first moment over area^(3/2), once every parent has summed its children's.
         for (i, node) in tree.nodes.iter().enumerate() {
             if let Some(d) = dipole.get_mut(tree.slot[i] as usize) {
-                let a = node.area;
-                let scale = if a > 0.0 { (a * a.sqrt()).recip() } else { 0.0 };
+                let scale = match node.area > 0.0 {
+                    true => moment_scale(node.area).recip(),
+                    false => 0.0,
+                };
                 *d = d.map(|v| v * scale);
             }
         }

@@ -29,7 +29,7 @@ impl Link {
     /// gradient `grad` (zero for a leaf).
     pub fn far(node: u32, coeff: f64, grad: DVec3, area: f64) -> Self {
         let rel = match coeff > 0.0 && area > 0.0 {
-            true => grad * (area * area.sqrt() / coeff),
+            true => grad * (moment_scale(area) / coeff),
             false => DVec3::ZERO,
         };
         Link {
@@ -67,17 +67,9 @@ impl Link {
         (self.node, self.coeff, self.shape)
     }
 
-    /// A far-field link's gradient × visible fraction, for its node of area `area`; zero for
-    /// a leaf patch.
-    pub fn gradient(&self, area: f64) -> DVec3 {
-        match area > 0.0 {
-            true => self.relative() * (self.coeff as f64 / (area * area.sqrt())),
-            false => DVec3::ZERO,
-        }
-    }
-
-    /// The stored vector: for a far-field link the gradient × A^(3/2) / coeff (see `NodeField`'s
-    /// scaled first moments: the gradient term is coeff × this · moment / A^(3/2)).
+    /// The stored vector: for a far-field link the gradient × A^(3/2) / coeff, so the gradient
+    /// term is coeff × this · first moment / [`moment_scale`] (`NodeField` keeps its moments
+    /// divided by it; the solver's transpose divides its sums per node).
     pub fn relative(&self) -> DVec3 {
         DVec3::from_array(self.shape.map(|b| f16::from_bits(b).to_f64()))
     }
@@ -97,6 +89,12 @@ impl Link {
     }
 }
 
+/// A^(3/2) of a node's area A (m²): what a far-field link's stored gradient is multiplied by,
+/// and the first moments it applies to divided by, to make both scale-free.
+pub fn moment_scale(area: f64) -> f64 {
+    area * area.sqrt()
+}
+
 /// A vector's components in half precision (bits), kept finite.
 fn half_bits(v: DVec3) -> [u16; 3] {
     let max = f16::MAX.to_f64();
@@ -111,7 +109,7 @@ fn half_bits(v: DVec3) -> [u16; 3] {
 }
 
 /// A link without a gradient — every link to one patch (a leaf of the tree, whose exitance is
-/// uniform) — in 8 bytes instead of a [`Link`]'s 20. Most links are leaves, so their size
+/// uniform) — in 8 bytes instead of a [`Link`]'s 16. Most links are leaves, so their size
 /// sets much of a bake's memory.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Leaf {
@@ -123,6 +121,11 @@ pub struct Leaf {
 mod tests {
     use super::*;
 
+    /// The gradient a far link applies, for its node of area `area`.
+    fn decoded(l: &Link, area: f64) -> DVec3 {
+        l.relative() * (l.coeff as f64 / moment_scale(area))
+    }
+
     /// A far link's gradient comes back to half precision's 3 digits at every scene scale (a
     /// node 1 mm to 100 m across, 10 node sizes away), and a cluster link's direction likewise.
     #[test]
@@ -133,7 +136,7 @@ mod tests {
             let coeff = 0.3 * area / (dist * dist);
             let grad = DVec3::new(3.0, -1.0, 0.5) * coeff / (area * dist);
             let l = Link::far(7, coeff, grad, area);
-            let back = l.gradient(area);
+            let back = decoded(&l, area);
             assert!(
                 (back - grad).length() <= 1e-3 * grad.length(),
                 "size {size}: {back} against {grad}"
@@ -144,14 +147,14 @@ mod tests {
         for (size, dist) in [(1e3, 1e7), (1e-3, 1.5e-3)] {
             let (area, coeff) = (size * size, 1e-3);
             let grad = DVec3::new(0.0, 2.0, -1.0) * coeff / (area * dist);
-            let back = Link::far(1, coeff, grad, area).gradient(area);
+            let back = decoded(&Link::far(1, coeff, grad, area), area);
             assert!(
                 (back - grad).length() <= 1e-3 * grad.length(),
                 "{size} at {dist}"
             );
         }
         let leaf = Link::far(3, 0.2, DVec3::ZERO, 0.01);
-        assert!(!leaf.has_shape() && leaf.gradient(0.01) == DVec3::ZERO);
+        assert!(!leaf.has_shape() && leaf.relative() == DVec3::ZERO);
         let w = DVec3::new(0.48, -0.6, 0.64);
         let (k, back) = Link::cluster_link(9, 0.25, w).cluster();
         assert!((k - 0.25).abs() < 1e-7 && (back - w).length() < 1e-3);

@@ -16,6 +16,7 @@
 //! scalings; only the solver's energy bookkeeping uses them.
 
 use super::field::NodeField;
+use super::link::moment_scale;
 use super::links::ReceiverLinks;
 use super::tree::{LEAF_SLOT, PatchTree};
 use crate::geom::sh::DIST;
@@ -166,8 +167,7 @@ impl<'a> PatchOperator<'a> {
                         acc[l.node as usize] += at[r] * l.coeff as f64;
                         let s = slot[l.node as usize] as usize;
                         if s != LEAF_SLOT as usize {
-                            let area = self.tree.nodes[l.node as usize].area;
-                            grad[s] += l.gradient(area) * at[r];
+                            grad[s] += l.relative() * (l.coeff as f64 * at[r]);
                         }
                     }
                 }
@@ -188,6 +188,15 @@ impl<'a> PatchOperator<'a> {
                     *x += y;
                 }
             });
+        }
+        // The links' gradients are stored relative to their node's size: scaled back per node.
+        for (node, &s) in self.tree.nodes.iter().zip(slot.iter()) {
+            if let Some(g) = node_grad.get_mut(s as usize) {
+                *g = match node.area > 0.0 {
+                    true => *g / moment_scale(node.area),
+                    false => DVec3::ZERO,
+                };
+            }
         }
         // Node → patches (top-down push), in place. A node's mean is Σ Aⱼ·Bⱼ / A and its dipole
         // Σ Aⱼ·Bⱼ·(cⱼ − c), so patch j collects Aⱼ·Σ_ancestors [acc/A − grad·c + grad·cⱼ]: each
