@@ -9,6 +9,7 @@ use crate::bake::PatchFlux;
 use crate::bake::shard::{State, TaskResult};
 use crate::transport::link::{Leaf, Link};
 use crate::transport::links::{ReceiverLinks, RowRef, RowStats};
+use crate::transport::packed::PackedRows;
 use crate::transport::sharing::Part;
 use codec::{Reader, VERSION, Writer};
 
@@ -101,12 +102,12 @@ pub fn task_bytes(t: &TaskResult) -> Vec<u8> {
     for g in 0..p.links.rows() {
         let row = p.links.row(g);
         w.u64(row.leaves.len() as u64);
-        for l in row.leaves {
+        for l in row.leaves.iter() {
             w.u32(l.node);
             w.f32(l.coeff);
         }
         w.u64(row.far.len() as u64);
-        for l in row.far {
+        for l in row.far.iter() {
             let (node, coeff, shape) = l.stored();
             w.u32(node);
             w.f32(coeff);
@@ -142,7 +143,7 @@ pub fn read_task(bytes: &[u8]) -> Result<TaskResult, String> {
     let picks: Vec<Vec<u32>> = (0..levels).map(|_| r.u32s()).collect::<Result<_, _>>()?;
     let mut links = ReceiverLinks::empty(dark);
     for level in &picks {
-        let mut rows: Vec<(Vec<Leaf>, Vec<Link>)> = Vec::with_capacity(level.len());
+        let mut rows = PackedRows::default();
         for _ in level {
             let n = r.len(8)?;
             let leaves = (0..n)
@@ -152,7 +153,7 @@ pub fn read_task(bytes: &[u8]) -> Result<TaskResult, String> {
                         coeff: r.f32()?,
                     })
                 })
-                .collect::<Result<_, String>>()?;
+                .collect::<Result<Vec<_>, String>>()?;
             let n = r.len(14)?;
             let far = (0..n)
                 .map(|_| {
@@ -163,11 +164,14 @@ pub fn read_task(bytes: &[u8]) -> Result<TaskResult, String> {
                         [r.u16()?, r.u16()?, r.u16()?],
                     ))
                 })
-                .collect::<Result<_, String>>()?;
-            rows.push((leaves, far));
+                .collect::<Result<Vec<_>, String>>()?;
+            rows.push(&leaves, &far);
         }
-        let refs: Vec<RowRef> = (rows.iter())
-            .map(|(leaves, far)| RowRef { leaves, far })
+        let refs: Vec<RowRef> = (0..rows.rows())
+            .map(|j| {
+                let (leaves, far) = rows.row(j);
+                RowRef { leaves, far }
+            })
             .collect();
         links.append_rows(&refs);
     }

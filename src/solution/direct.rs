@@ -92,7 +92,7 @@ impl<'a> DirectLight<'a> {
         for (e, n) in e.iter_mut().zip(normals) {
             links.clear();
             gatherer.links(p, *n, &mut links);
-            *e += self.emitters.gather(&links);
+            *e += self.emitters.gather(links.iter().copied());
         }
         e
     }

@@ -152,7 +152,7 @@ impl<'a> Solution<'a> {
             NodeField::new(&self.reflected.tree, &self.mesh, &self.reflected.exitance)
         });
         let row = links::gather_row_shared(&gatherer, point, n, shared);
-        field.gather(&row.links)
+        field.gather(row.links.iter().copied())
     }
 
     /// Cuttle's constant estimate of the indirect illuminance, FRF / (A·(1 − R)) (lx): the first

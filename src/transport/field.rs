@@ -5,7 +5,8 @@
 //! Input: a tree, its patch mesh and a value per patch. Output: a [`NodeField`]. Sums run
 //! bottom-up in a fixed order, so equal inputs give equal bits.
 
-use super::link::{Leaf, Link, moment_scale};
+use super::link::{Link, moment_scale};
+use super::packed::Leaves;
 use super::tree::{LEAF_SLOT, PatchTree, leaf_sh};
 use crate::geom::sh;
 use crate::patches::PatchMesh;
@@ -90,7 +91,7 @@ pub struct NodeField {
 
 impl NodeField {
     /// Σ over leaf links of coefficient × the patch's exitance.
-    pub fn gather_leaves(&self, leaves: &[Leaf]) -> DVec3 {
+    pub fn gather_leaves(&self, leaves: Leaves) -> DVec3 {
         leaves
             .iter()
             .map(|l| self.mean[l.node as usize] * l.coeff as f64)
@@ -100,7 +101,7 @@ impl NodeField {
     /// Σ over `links` of coefficient × mean + gradient · dipole (per channel).
     ///
     /// Panics on a cluster link to a node the field keeps no distribution for.
-    pub fn gather(&self, links: &[Link]) -> DVec3 {
+    pub fn gather(&self, links: impl IntoIterator<Item = Link>) -> DVec3 {
         let mut sum = DVec3::ZERO;
         for l in links {
             let i = l.node as usize;

@@ -19,8 +19,7 @@ pub struct Link {
     /// In half precision (bits): far-field links, the form-factor density's gradient (per m³)
     /// × visible fraction, times A^(3/2) / coeff for the node's area A — a vector about the
     /// node's size over its distance, whatever the scene's scale — zero for leaf patches
-    /// (uniform exitance); cluster links, the unit direction w. 16 bytes a link where three f32
-    /// took 20.
+    /// (uniform exitance); cluster links, the unit direction w.
     shape: [u16; 3],
 }
 
@@ -109,8 +108,8 @@ fn half_bits(v: DVec3) -> [u16; 3] {
 }
 
 /// A link without a gradient — every link to one patch (a leaf of the tree, whose exitance is
-/// uniform) — in 8 bytes instead of a [`Link`]'s 16. Most links are leaves, so their size
-/// sets much of a bake's memory.
+/// uniform): a node and a coefficient, stored without a shape ([`super::packed`]). Most links
+/// are leaves, so their size sets much of a bake's memory.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Leaf {
     pub node: u32,

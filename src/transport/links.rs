@@ -2,7 +2,8 @@
 //!
 //! Input: a [`Gatherer`] over the tree of all patches, and the points to gather at. Output:
 //! [`ReceiverLinks`] in compressed rows: row g gathers E_g = Σ coeff·B(node) over its leaf links
-//! (one patch each, 8 bytes) and far-field and cluster links ([`Link`]). Receiver r reads row r,
+//! (one patch each) and far-field and cluster links ([`Link`]), stored packed
+//! ([`super::packed`]: about 5 and 11 bytes a link). Receiver r reads row r,
 //! or with a [`Blend`] (`transport::sharing`) a weighted mean of rows, weights summing to 1.
 //!
 //! Closure: a receiver inside a closed space sees geometry in every direction, so its true
@@ -19,6 +20,7 @@
 use super::field::{ClusterSlots, NodeField};
 use super::gather::{CLOSED, Gatherer, SharedRays};
 use super::link::{Leaf, Link};
+use super::packed::{FarLinks, Leaves, PackedRows};
 use crate::geom::samples;
 use crate::patches::Vertex;
 use glam::DVec3;
@@ -29,7 +31,7 @@ pub struct ReceiverLinks {
     /// allocation: the rows are never copied into one array, whose doubling (and the slack of
     /// rows grown link by link) set the bake's peak memory on large scenes. Rows are appended
     /// in batches ([`ReceiverLinks::append`]); a batch's last chunk may be short.
-    chunks: Vec<RowChunk>,
+    chunks: Vec<PackedRows>,
     /// Per batch: its first row and its first chunk.
     batches: Vec<(u32, u32)>,
     /// How receivers read rows; `None`: receiver r reads row r.
@@ -73,20 +75,11 @@ pub struct RowStats {
     pub dark: f32,
 }
 
-/// The rows of [`CHUNK`] consecutive receivers: row j is `leaves[leaf_at[j]..leaf_at[j + 1]]`
-/// and `far[far_at[j]..far_at[j + 1]]`.
-struct RowChunk {
-    leaf_at: Vec<u32>,
-    leaves: Vec<Leaf>,
-    far_at: Vec<u32>,
-    far: Vec<Link>,
-}
-
 /// One receiver's row: its leaf links and the rest (far-field and cluster links).
 #[derive(Clone, Copy)]
 pub struct RowRef<'a> {
-    pub leaves: &'a [Leaf],
-    pub far: &'a [Link],
+    pub leaves: Leaves<'a>,
+    pub far: FarLinks<'a>,
 }
 
 /// Rows are built in parallel over fixed chunks, kept in order: deterministic.
@@ -118,7 +111,7 @@ impl ReceiverLinks {
     /// Gather rows at `points` (point, unit normal), appended as rows `rows()..`, in parallel
     /// over fixed chunks, kept in order: deterministic. Returns what each gather said.
     pub fn append(&mut self, gatherer: &Gatherer, points: &[(DVec3, DVec3)]) -> Vec<RowStats> {
-        let built: Vec<(RowChunk, Vec<RowStats>)> = points
+        let built: Vec<(PackedRows, Vec<RowStats>)> = points
             .par_chunks(CHUNK)
             .map(|chunk| {
                 let rows: Vec<Row> = chunk
@@ -134,7 +127,7 @@ impl ReceiverLinks {
                         dark: r.dark as f32,
                     })
                     .collect();
-                (RowChunk::of(&rows), stats)
+                (packed(&rows), stats)
             })
             .collect();
         self.batches
@@ -152,7 +145,7 @@ impl ReceiverLinks {
         self.batches
             .push((self.rows() as u32, self.chunks.len() as u32));
         for chunk in rows.chunks(CHUNK) {
-            self.chunks.push(RowChunk::copied(chunk));
+            self.chunks.push(copied(chunk));
         }
     }
 
@@ -167,8 +160,7 @@ impl ReceiverLinks {
         self.batches
             .push((self.rows() as u32, self.chunks.len() as u32));
         for chunk in &mut other.chunks[start..end] {
-            self.chunks
-                .push(std::mem::replace(chunk, RowChunk::empty()));
+            self.chunks.push(std::mem::take(chunk));
         }
     }
 
@@ -216,7 +208,7 @@ impl ReceiverLinks {
         let mut links = ReceiverLinks::empty(false);
         links.batches.push((0, 0));
         links.chunks = (0..n.div_ceil(CHUNK))
-            .map(|k| RowChunk::of(&vec![Row::default(); CHUNK.min(n - k * CHUNK)]))
+            .map(|k| packed(&vec![Row::default(); CHUNK.min(n - k * CHUNK)]))
             .collect();
         let stats = RowStats {
             coverage: 0.0,
@@ -241,7 +233,7 @@ impl ReceiverLinks {
 
     /// Number of gathered rows.
     pub fn rows(&self) -> usize {
-        self.chunks.iter().map(|c| c.leaf_at.len() - 1).sum()
+        self.chunks.iter().map(|c| c.rows()).sum()
     }
 
     /// Number of receivers.
@@ -259,11 +251,8 @@ impl ReceiverLinks {
         let k = g - first as usize;
         let chunk = &self.chunks[chunk as usize + k / CHUNK];
         let j = k % CHUNK;
-        let span = |at: &[u32]| at[j] as usize..at[j + 1] as usize;
-        RowRef {
-            leaves: &chunk.leaves[span(&chunk.leaf_at)],
-            far: &chunk.far[span(&chunk.far_at)],
-        }
+        let (leaves, far) = chunk.row(j);
+        RowRef { leaves, far }
     }
 
     /// The rows receiver `r` reads, with their weights.
@@ -293,23 +282,20 @@ impl ReceiverLinks {
     }
 
     /// Every far-field and cluster link of every row (the leaf links aside).
-    pub fn far_links(&self) -> impl Iterator<Item = &Link> {
-        self.chunks.iter().flat_map(|c| c.far.iter())
+    pub fn far_links(&self) -> impl Iterator<Item = Link> + '_ {
+        (self.chunks.iter()).flat_map(|c| (0..c.rows()).flat_map(|j| c.row(j).1.iter()))
     }
 
     /// Number of links, leaves included.
     pub fn link_count(&self) -> usize {
-        self.chunks
-            .iter()
-            .map(|c| c.leaves.len() + c.far.len())
-            .sum()
+        self.chunks.iter().map(|c| c.links()).sum()
     }
 
     /// E at every receiver from a node-summarised exitance field.
     pub fn apply(&self, field: &NodeField, out: &mut [DVec3]) {
         let gather = |g: usize| {
             let row = self.row(g);
-            field.gather_leaves(row.leaves) + field.gather(row.far)
+            field.gather_leaves(row.leaves) + field.gather(row.far.iter())
         };
         let Some(b) = &self.blend else {
             return fill(out, gather);
@@ -334,63 +320,43 @@ fn fill(out: &mut [DVec3], value: impl Fn(usize) -> DVec3 + Sync) {
     });
 }
 
-impl RowChunk {
-    /// No rows.
-    fn empty() -> Self {
-        RowChunk {
-            leaf_at: vec![0],
-            leaves: Vec::new(),
-            far_at: vec![0],
-            far: Vec::new(),
-        }
+/// Rows copied from elsewhere.
+fn copied(rows: &[RowRef]) -> PackedRows {
+    let mut c = PackedRows::with_capacity(
+        rows.len(),
+        rows.iter().map(|r| r.leaves.len()).sum(),
+        rows.iter().map(|r| r.far.len()).sum(),
+    );
+    for r in rows {
+        c.push_packed(r.leaves, r.far);
     }
+    c.shrink();
+    c
+}
 
-    /// Rows copied from elsewhere, packed as [`RowChunk::of`] packs them.
-    fn copied(rows: &[RowRef]) -> Self {
-        let mut c = RowChunk {
-            leaf_at: vec![0],
-            leaves: Vec::with_capacity(rows.iter().map(|r| r.leaves.len()).sum()),
-            far_at: vec![0],
-            far: Vec::with_capacity(rows.iter().map(|r| r.far.len()).sum()),
-        };
-        for r in rows {
-            c.leaves.extend_from_slice(r.leaves);
-            c.far.extend_from_slice(r.far);
-            c.leaf_at.push(c.leaves.len() as u32);
-            c.far_at.push(c.far.len() as u32);
-        }
-        c
-    }
-
-    /// Rows packed: leaf links (no gradient) apart from the rest.
-    fn of(rows: &[Row]) -> Self {
-        let is_leaf = |l: &&Link| l.coeff > 0.0 && !l.has_shape();
-        let all = rows.iter().flat_map(|r| &r.links);
-        let n_leaves = all.clone().filter(is_leaf).count();
-        let mut leaves = Vec::with_capacity(n_leaves);
-        let mut far = Vec::with_capacity(all.count() - n_leaves);
-        let (mut leaf_at, mut far_at) = (vec![0], vec![0]);
-        for row in rows {
-            for l in &row.links {
-                if is_leaf(&l) {
-                    leaves.push(Leaf {
-                        node: l.node,
-                        coeff: l.coeff,
-                    });
-                } else {
-                    far.push(*l);
-                }
+/// Rows packed: leaf links (no gradient) apart from the rest.
+fn packed(rows: &[Row]) -> PackedRows {
+    let is_leaf = |l: &&Link| l.coeff > 0.0 && !l.has_shape();
+    let all = rows.iter().flat_map(|r| &r.links);
+    let n_leaves = all.clone().filter(is_leaf).count();
+    let mut out = PackedRows::with_capacity(rows.len(), n_leaves, all.count() - n_leaves);
+    let (mut leaves, mut far) = (Vec::new(), Vec::new());
+    for row in rows {
+        leaves.clear();
+        far.clear();
+        for l in &row.links {
+            match is_leaf(&l) {
+                true => leaves.push(Leaf {
+                    node: l.node,
+                    coeff: l.coeff,
+                }),
+                false => far.push(*l),
             }
-            leaf_at.push(leaves.len() as u32);
-            far_at.push(far.len() as u32);
         }
-        RowChunk {
-            leaf_at,
-            leaves,
-            far_at,
-            far,
-        }
+        out.push(&leaves, &far);
     }
+    out.shrink();
+    out
 }
 
 /// One point's gather row, normalised when the point is enclosed.

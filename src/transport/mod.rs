@@ -10,6 +10,7 @@ pub mod link;
 pub mod links;
 pub mod lit;
 pub mod operator;
+pub mod packed;
 pub mod sharing;
 pub mod silhouette;
 pub mod tree;

@@ -417,7 +417,7 @@ fn estimates(
                 sum += c;
                 inverse += c / d.max(1e-6);
             };
-            for l in row.leaves {
+            for l in row.leaves.iter() {
                 let node = &tree.nodes[l.node as usize];
                 let patch = &gatherer.mesh.patches[tree.order[node.start as usize] as usize];
                 add(
@@ -425,7 +425,7 @@ fn estimates(
                     l.coeff,
                 );
             }
-            for l in row.far {
+            for l in row.far.iter() {
                 add(
                     tree.nodes[l.node as usize].centroid.distance(v.point),
                     l.coeff,
@@ -440,7 +440,7 @@ fn estimates(
                 normal: v.normal,
                 group: v.group,
                 reach: if lends { sum / inverse } else { 0.0 },
-                first: luma(field.gather_leaves(row.leaves) + field.gather(row.far)),
+                first: luma(field.gather_leaves(row.leaves) + field.gather(row.far.iter())),
             }
         })
         .collect()
