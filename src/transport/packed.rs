@@ -217,15 +217,6 @@ impl PackedRows {
             },
         )
     }
-
-    /// Bytes held (capacity), for measuring.
-    pub fn bytes(&self) -> usize {
-        self.at.capacity() * 16
-            + (self.leaf_coeffs.capacity() + self.far_coeffs.capacity()) * 4
-            + self.far_shapes.capacity() * 6
-            + self.leaf_nodes.capacity()
-            + self.far_nodes.capacity()
-    }
 }
 
 #[cfg(test)]
