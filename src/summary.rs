@@ -310,6 +310,19 @@ impl Default for Units {
     }
 }
 
+/// Resident memory of one stage of a run (the `--summary-json` file only: it varies run to run).
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+#[serde(rename_all = "camelCase")]
+pub struct StageMemory {
+    /// The stage as the progress reports name it (`import` before the first, `output` after
+    /// the last).
+    pub stage: String,
+    /// The largest resident size while the stage ran, KiB.
+    pub peak_kib: u64,
+    /// Resident at its end, KiB.
+    pub resident_kib: u64,
+}
+
 /// Wall-clock seconds of each stage of the bake.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 pub struct StageSeconds {
@@ -350,6 +363,9 @@ pub struct RunRecord<'a> {
     pub output: &'a std::path::Path,
     pub threads: usize,
     pub total_seconds: f64,
+    /// Per stage, in order; empty (and left out) where it cannot be measured.
+    #[serde(skip_serializing_if = "<[_]>::is_empty")]
+    pub memory_kib: &'a [StageMemory],
 }
 
 /// An `Option` field that must be present (possibly `null`): serde would otherwise read a

@@ -58,9 +58,37 @@ fn good_run_writes_the_output_and_the_summary() {
     assert!(lm("balanceErrorRelative") < 0.01, "{e}");
     assert_eq!(s["settings"]["quality"], "draft");
     assert_eq!(s["output"], output.to_str().unwrap());
+    // Linux: the stages' memory, in the order they ran, each peak at least what it held at its
+    // end; the output's extras never carry it (it differs run to run).
+    if cfg!(target_os = "linux") {
+        let stages = s["memoryKib"].as_array().expect("memoryKib on Linux");
+        let names: Vec<&str> = stages
+            .iter()
+            .map(|m| m["stage"].as_str().unwrap())
+            .collect();
+        assert_eq!(
+            names,
+            [
+                "import",
+                "meshing",
+                "direct light",
+                "form factors",
+                "solving",
+                "output"
+            ]
+        );
+        for m in stages {
+            let (peak, held) = (
+                m["peakKib"].as_u64().unwrap(),
+                m["residentKib"].as_u64().unwrap(),
+            );
+            assert!(held > 1000 && peak >= held, "{m}");
+        }
+    }
     // The scene's extras carry the same summary (without the run-specific keys).
     let written = support::gltf_read::read(&output);
     assert_eq!(written.json["scenes"][0]["extras"]["luxbake"]["energy"], *e);
+    assert!(written.json["scenes"][0]["extras"]["luxbake"]["memoryKib"].is_null());
 }
 
 #[test]

@@ -253,7 +253,10 @@ pub fn run(args: &BakeArgs) -> Result<()> {
     };
     let start = Instant::now();
     let settings = settings(&args.settings)?;
-    let progress = CliProgress::new(!args.quiet && std::io::stderr().is_terminal());
+    let mut progress = CliProgress::new(!args.quiet && std::io::stderr().is_terminal());
+    if args.summary_json.is_some() {
+        progress = progress.trace_memory("import");
+    }
     let obj_up = match args.obj_up {
         UpArg::Y => UpAxis::Y,
         UpArg::Z => UpAxis::Z,
@@ -308,6 +311,7 @@ pub fn run(args: &BakeArgs) -> Result<()> {
         Some(dir) => pool.install(|| super::shard::merge(dir, &scene, &settings, &progress))?,
         None => pool.install(|| luxbake::bake::bake(&scene, &settings, &progress))?,
     };
+    progress.mark("output");
     let options = ExportOptions {
         unlit: !settings.keep_lit_materials,
         probe_glyphs: settings
@@ -337,12 +341,14 @@ pub fn run(args: &BakeArgs) -> Result<()> {
             timings_seconds: Some(result.timings),
             ..result.summary.clone()
         };
+        let memory = progress.memory();
         let record = RunRecord {
             summary: &summary,
             input,
             output,
             threads: pool.current_num_threads(),
             total_seconds: total,
+            memory_kib: &memory,
         };
         batch.stage(path, &export::summary::bytes(&record))?;
     }

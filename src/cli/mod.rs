@@ -7,6 +7,7 @@ pub mod diff;
 pub mod fit;
 pub mod generate;
 pub mod luminaire;
+pub mod memory;
 pub mod plan;
 pub mod probes;
 pub mod progress;
