@@ -1,28 +1,95 @@
-//! Gathered rows packed for storage. A row's leaf links keep their coefficients as `f32`; its
-//! far-field and cluster links their coefficients and half-precision shapes ([`Link::stored`]);
-//! the node indices of both are stored as differences between consecutive ones in
-//! variable-length bytes (7 bits a byte, zig-zag signed). A gather visits the tree depth first,
-//! so a row's links come in ascending node order, near each other: most differences take one
-//! or two bytes instead of four. 8 bytes a leaf link become about 5, 16 a far link about 11.
+//! Gathered rows packed for storage. A row's coefficients are stored in 16 bits (sign, 5-bit
+//! exponent, 10-bit mantissa) relative to the row's scale (the least power of two not below its
+//! largest |coefficient|), its far-field
+//! and cluster links' shapes in half precision as made ([`Link::stored`]); the node indices are
+//! stored as differences between consecutive ones in variable-length bytes (7 bits a byte,
+//! zig-zag signed). A gather visits the tree depth first, so a row's links come in ascending
+//! node order, near each other: most differences take one or two bytes instead of four. 8 bytes
+//! a leaf link become about 3, 16 a far link about 9.
 //!
-//! Invariant: a row reads back exactly the links packed, in order; a row's bytes depend only on
-//! that row (each list starts from node 0), so rows are copied as bytes.
+//! Why 16 bits are enough: a coefficient comes back within 2⁻¹¹ of itself (4.9·10⁻⁴), rounded
+//! to nearest, or as 0 when below 2⁻³¹ of its row's scale, so a row's sum moves by about 10⁻⁵
+//! of its largest link; the solver balances the operator from the rows as
+//! stored, so what it conserves is what it applies.
+//!
+//! Invariants: a row reads back its links in order, nodes and shapes exactly, coefficients as
+//! [`quantised`]; packing a row read back gives the same bytes (rounding is idempotent: the
+//! scale of the rounded row is the scale of the row); a row's bytes depend only on that row
+//! (each list starts from node 0), so rows are copied as bytes.
 
 use super::link::{Leaf, Link};
 
 /// One row's leaf links, packed.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Leaves<'a> {
-    coeffs: &'a [f32],
+    /// The row's scale as a power of two.
+    scale: i8,
+    coeffs: &'a [u16],
     nodes: &'a [u8],
 }
 
 /// One row's far-field and cluster links, packed.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FarLinks<'a> {
-    coeffs: &'a [f32],
+    scale: i8,
+    coeffs: &'a [u16],
     shapes: &'a [[u16; 3]],
     nodes: &'a [u8],
+}
+
+/// The row's scale: the exponent of the least power of two not below its largest |c| once
+/// that is rounded ([`encode_coeff`]; so a rounded row has its row's scale), 0 when all are zero.
+/// Coefficients are form factors (at most a few), far inside the exponents' range.
+fn row_scale(coeffs: impl Iterator<Item = f32>) -> i8 {
+    let max = coeffs.fold(0.0f32, |m, c| m.max(c.abs()));
+    if !(max > 0.0 && max.is_finite()) {
+        return 0;
+    }
+    let first = ceil_log2(max);
+    ceil_log2(decode_coeff(encode_coeff(max, first), first))
+}
+
+/// ⌈log₂ x⌉ for a positive `x`, exactly, kept within [−90, 120] (so [`decode_coeff`]'s
+/// exponents stay normal).
+fn ceil_log2(x: f32) -> i8 {
+    let bits = x.to_bits();
+    let exponent = ((bits >> 23) & 0xff) as i32 - 127;
+    let above = (bits & 0x7f_ffff != 0) as i32;
+    (exponent + above).clamp(-90, 120) as i8
+}
+
+/// The smallest exponent (relative to the scale) a stored coefficient keeps; below it, 0.
+const LOW: i32 = 31;
+
+/// `c` stored relative to the scale 2^`scale` as 16 bits: sign, then |c|/2^scale's f32 exponent
+/// (offset by [`LOW`]) and mantissa rounded to 10 bits; 0 for |c| ≤ 2^(scale − LOW). Decoding is
+/// a shift and an add.
+fn encode_coeff(c: f32, scale: i8) -> u16 {
+    let x = c.abs() * f32::from_bits(((127 - scale as i32) as u32) << 23);
+    let rounded = (x.to_bits() + 0x1000) >> 13;
+    let low = ((127 - LOW) as u32) << 10;
+    let magnitude = match rounded > low {
+        true => (rounded - low).min(0x7fff) as u16,
+        false => 0,
+    };
+    magnitude | (((c < 0.0) as u16) << 15)
+}
+
+fn decode_coeff(v: u16, scale: i8) -> f32 {
+    let magnitude = (v & 0x7fff) as u32;
+    if magnitude == 0 {
+        return 0.0;
+    }
+    let offset = ((127 - LOW + scale as i32) as u32) << 10;
+    f32::from_bits(((magnitude + offset) << 13) | (((v & 0x8000) as u32) << 16))
+}
+
+/// A row's coefficients as a packed row reads them back.
+pub fn quantised(coeffs: &[f32]) -> Vec<f32> {
+    let scale = row_scale(coeffs.iter().copied());
+    (coeffs.iter())
+        .map(|&c| decode_coeff(encode_coeff(c, scale), scale))
+        .collect()
 }
 
 impl<'a> Leaves<'a> {
@@ -37,9 +104,10 @@ impl<'a> Leaves<'a> {
     /// The links, in the order packed.
     pub fn iter(self) -> impl Iterator<Item = Leaf> + 'a {
         let mut nodes = Nodes::new(self.nodes);
-        (self.coeffs.iter()).map(move |&coeff| Leaf {
+        let scale = self.scale;
+        (self.coeffs.iter()).map(move |&c| Leaf {
             node: nodes.next(),
-            coeff,
+            coeff: decode_coeff(c, scale),
         })
     }
 }
@@ -56,8 +124,10 @@ impl<'a> FarLinks<'a> {
     /// The links, in the order packed.
     pub fn iter(self) -> impl Iterator<Item = Link> + 'a {
         let mut nodes = Nodes::new(self.nodes);
-        (self.coeffs.iter().zip(self.shapes))
-            .map(move |(&coeff, &shape)| Link::from_stored(nodes.next(), coeff, shape))
+        let scale = self.scale;
+        (self.coeffs.iter().zip(self.shapes)).map(move |(&c, &shape)| {
+            Link::from_stored(nodes.next(), decode_coeff(c, scale), shape)
+        })
     }
 }
 
@@ -119,9 +189,11 @@ pub struct PackedRows {
     /// Per row, where it starts: leaf links, their node bytes, far links, their node bytes;
     /// one more entry closes the last row.
     at: Vec<[u32; 4]>,
-    leaf_coeffs: Vec<f32>,
+    /// Per row, its scale ([`row_scale`]).
+    scales: Vec<i8>,
+    leaf_coeffs: Vec<u16>,
     leaf_nodes: Vec<u8>,
-    far_coeffs: Vec<f32>,
+    far_coeffs: Vec<u16>,
     far_shapes: Vec<[u16; 3]>,
     far_nodes: Vec<u8>,
 }
@@ -130,6 +202,7 @@ impl Default for PackedRows {
     fn default() -> Self {
         PackedRows {
             at: vec![[0; 4]],
+            scales: Vec::new(),
             leaf_coeffs: Vec::new(),
             leaf_nodes: Vec::new(),
             far_coeffs: Vec::new(),
@@ -146,6 +219,7 @@ impl PackedRows {
         at.push([0; 4]);
         PackedRows {
             at,
+            scales: Vec::with_capacity(rows),
             leaf_coeffs: Vec::with_capacity(leaves),
             leaf_nodes: Vec::with_capacity(leaves * 2),
             far_coeffs: Vec::with_capacity(far),
@@ -156,19 +230,23 @@ impl PackedRows {
 
     /// Append one row: its leaf links and its other links.
     pub fn push(&mut self, leaves: &[Leaf], far: &[Link]) {
+        let scale = row_scale((leaves.iter().map(|l| l.coeff)).chain(far.iter().map(|l| l.coeff)));
         encode(&mut self.leaf_nodes, leaves.iter().map(|l| l.node));
-        self.leaf_coeffs.extend(leaves.iter().map(|l| l.coeff));
+        (self.leaf_coeffs).extend(leaves.iter().map(|l| encode_coeff(l.coeff, scale)));
         encode(&mut self.far_nodes, far.iter().map(|l| l.node));
         for l in far {
             let (_, coeff, shape) = l.stored();
-            self.far_coeffs.push(coeff);
+            self.far_coeffs.push(encode_coeff(coeff, scale));
             self.far_shapes.push(shape);
         }
+        self.scales.push(scale);
         self.close_row();
     }
 
     /// Append a row packed elsewhere (its bytes copied).
     pub fn push_packed(&mut self, leaves: Leaves, far: FarLinks) {
+        debug_assert_eq!(leaves.scale, far.scale);
+        self.scales.push(leaves.scale);
         self.leaf_coeffs.extend_from_slice(leaves.coeffs);
         self.leaf_nodes.extend_from_slice(leaves.nodes);
         self.far_coeffs.extend_from_slice(far.coeffs);
@@ -207,10 +285,12 @@ impl PackedRows {
         let span = |a: u32, b: u32| a as usize..b as usize;
         (
             Leaves {
+                scale: self.scales[j],
                 coeffs: &self.leaf_coeffs[span(l0, l1)],
                 nodes: &self.leaf_nodes[span(b0, b1)],
             },
             FarLinks {
+                scale: self.scales[j],
                 coeffs: &self.far_coeffs[span(f0, f1)],
                 shapes: &self.far_shapes[span(f0, f1)],
                 nodes: &self.far_nodes[span(c0, c1)],
@@ -224,10 +304,11 @@ mod tests {
     use super::*;
     use glam::DVec3;
 
-    /// Rows of ascending, descending, repeated and extreme node indices come back exactly, and
-    /// rows copied as bytes read the same.
+    /// Rows of ascending, descending, repeated and extreme node indices come back with their
+    /// nodes and shapes exact and their coefficients as [`quantised`], and rows copied as bytes
+    /// read the same.
     #[test]
-    fn rows_come_back_exactly() {
+    fn rows_come_back() {
         let rows: Vec<Vec<u32>> = vec![
             vec![],
             vec![0, 1, 2, 130, 131, 20_000, 2_000_000, u32::MAX],
@@ -263,9 +344,22 @@ mod tests {
         assert_eq!(packed.rows(), rows.len());
         for (j, r) in rows.iter().enumerate() {
             let (l, f) = packed.row(j);
-            assert_eq!(l.iter().collect::<Vec<_>>(), leaves(r), "row {j}");
-            assert_eq!(f.iter().collect::<Vec<_>>(), far(r), "row {j}");
-            assert_eq!((l.len(), f.len()), (r.len(), r.len()));
+            let (want_l, want_f) = (leaves(r), far(r));
+            let all: Vec<f32> = (want_l.iter().map(|x| x.coeff))
+                .chain(want_f.iter().map(|x| x.coeff))
+                .collect();
+            let q = quantised(&all);
+            let got_l: Vec<Leaf> = l.iter().collect();
+            let got_f: Vec<Link> = f.iter().collect();
+            assert_eq!((got_l.len(), got_f.len()), (r.len(), r.len()));
+            for (k, (got, want)) in got_l.iter().zip(&want_l).enumerate() {
+                assert_eq!((got.node, got.coeff), (want.node, q[k]), "row {j}");
+            }
+            for (k, (got, want)) in got_f.iter().zip(&want_f).enumerate() {
+                let (node, coeff, shape) = got.stored();
+                let (w_node, _, w_shape) = want.stored();
+                assert_eq!((node, coeff, shape), (w_node, q[r.len() + k], w_shape), "row {j}");
+            }
             assert_eq!(copied.row(j), packed.row(j));
         }
         // Neighbouring nodes take one byte each.
@@ -273,5 +367,54 @@ mod tests {
         let run: Vec<Leaf> = (1000..1100).map(|node| Leaf { node, coeff: 1.0 }).collect();
         near.push(&run, &[]);
         assert_eq!(near.leaf_nodes.len(), 2 + 99);
+    }
+
+    /// Every coefficient within 2⁻¹¹ of itself, or 2⁻²⁵ of its row's largest when small (the
+    /// bound the module states), signs kept; a row read back and packed again gives the same
+    /// bytes, also where the largest coefficient rounds to a power of two from above or below.
+    #[test]
+    fn coefficients_keep_half_precision_and_repack_to_the_same_bytes() {
+        let mut rows: Vec<Vec<f32>> = vec![
+            vec![0.0; 3],
+            vec![1.0, 0.5, -0.25],
+            vec![0.5 * (1.0 + 2f32.powi(-13)), 0.3, 1e-9],
+            vec![0.5 * (1.0 - 2f32.powi(-13)), -0.1, 0.2],
+            vec![3.7e-6, 1.2e-7, -2.0e-6],
+            vec![2.5, 0.99, 1e-12],
+        ];
+        // A spread of magnitudes from 10⁻⁸ to 1, as rows of form factors have.
+        let mut x = 0.618f64;
+        rows.push(
+            (0..500)
+                .map(|_| {
+                    x = (x * 997.0 + 0.123).fract();
+                    10f64.powf(-8.0 * x) as f32
+                })
+                .collect(),
+        );
+        for c in &rows {
+            let leaves: Vec<Leaf> = (c.iter().enumerate())
+                .map(|(k, &coeff)| Leaf { node: k as u32, coeff })
+                .collect();
+            let far: Vec<Link> = c.iter().map(|&v| Link::plain(7, v as f64)).collect();
+            let mut once = PackedRows::default();
+            once.push(&leaves, &far);
+            let (l, f) = once.row(0);
+            let back_l: Vec<Leaf> = l.iter().collect();
+            let back_f: Vec<Link> = f.iter().collect();
+            let scale = 2f32.powi(row_scale(c.iter().copied()) as i32);
+            let max = c.iter().fold(0.0f32, |m, v| m.max(v.abs()));
+            // The scale is not below the largest once rounded (nor twice it).
+            assert!(max <= scale * (1.0 + 2f32.powi(-11)), "{max} {scale}");
+            assert!(scale <= 2.0 * max || max == 0.0, "{max} {scale}");
+            for (got, want) in (back_l.iter().map(|x| x.coeff)).zip(c) {
+                let bound = (want.abs() * 2f32.powi(-11)).max(scale * 2f32.powi(-31));
+                assert!((got - want).abs() <= bound, "{got} vs {want} (scale {scale})");
+                assert!(got * want >= 0.0, "{got} vs {want}");
+            }
+            let mut twice = PackedRows::default();
+            twice.push(&back_l, &back_f);
+            assert_eq!(twice.row(0), once.row(0), "{c:?}");
+        }
     }
 }
