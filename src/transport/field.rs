@@ -151,7 +151,7 @@ impl NodeField {
         let mut sh = vec![[DVec3::ZERO; sh::DIST]; clusters.len()];
         let mut pending: Vec<[DVec3; sh::DIST]> = Vec::new();
         for i in (0..n).rev() {
-            let node = &tree.nodes[i];
+            let node = &tree.bounds[i];
             if node.is_leaf() {
                 let p = tree.order[node.start as usize] as usize;
                 mean[i] = patch_value(p);
@@ -179,7 +179,7 @@ impl NodeField {
             }
             mean[i] = (mean[a] * wa + mean[b] * wb) / (wa + wb);
             let c = node.centroid;
-            let (da, db) = (tree.nodes[a].centroid - c, tree.nodes[b].centroid - c);
+            let (da, db) = (tree.bounds[a].centroid - c, tree.bounds[b].centroid - c);
             let moment = |c: usize| match tree.slot[c] {
                 LEAF_SLOT => [DVec3::ZERO; 3],
                 s => dipole[s as usize],

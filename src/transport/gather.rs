@@ -332,8 +332,7 @@ impl Gatherer<'_> {
         out: &mut Vec<Link>,
         coverage: &mut Coverage,
     ) {
-        let node = &self.tree.nodes[i as usize];
-        let c = node.centroid;
+        let c = self.tree.bounds[i as usize].centroid;
         let d2 = (c - p).length_squared();
         let w = (p - c) / d2.sqrt();
         // What the cluster hides from itself is neither seen nor covers anything.
@@ -567,7 +566,7 @@ impl Gatherer<'_> {
         let Some((patches, rank)) = &self.tree.own_hits else {
             return self.ray_visibility(p, n, i, &[0, 2], shared);
         };
-        let node = &self.tree.nodes[i as usize];
+        let node = &self.tree.bounds[i as usize];
         let own = node.start..node.end;
         let visible = [0, 2]
             .iter()
@@ -736,7 +735,7 @@ mod tests {
         let is_far = |k: u32| mesh.patches[tree.order[k as usize] as usize].group == 1;
         let reads_far = far != Far::Nothing
             && links.iter().any(|l| {
-                let node = &tree.nodes[l.node as usize];
+                let node = &tree.bounds[l.node as usize];
                 (node.start..node.end).any(is_far)
             });
         // The nodes that hold an eighth of `far` or more (a node's reps may lie below the
@@ -746,7 +745,7 @@ mod tests {
             .count() as u32;
         let mut sights: Vec<Sight> = (0..tree.nodes.len() as u32)
             .filter(|&i| {
-                let node = &tree.nodes[i as usize];
+                let node = &tree.bounds[i as usize];
                 8 * (node.end - node.start) >= total && (node.start..node.end).all(is_far)
             })
             .map(|i| {

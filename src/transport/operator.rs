@@ -205,16 +205,15 @@ impl<'a> PatchOperator<'a> {
         // Σ Bⱼ·(Aⱼ's normal distribution): patch j collects its own (the leaf's `normal_sh`)
         // against the sum of its ancestors' accumulations, pushed down the same way.
         node_acc.par_iter_mut().enumerate().for_each(|(i, a)| {
-            let node = &self.tree.nodes[i];
-            *a /= node.area;
+            *a /= self.tree.nodes[i].area;
             if slot[i] != LEAF_SLOT {
-                *a -= node_grad[slot[i] as usize].dot(node.centroid);
+                *a -= node_grad[slot[i] as usize].dot(self.tree.bounds[i].centroid);
             }
         });
         let mut z = vec![0.0; mesh.patches.len()];
         // Leaf c (own value `own`) under ancestors whose sums are s, g and sh.
         let mut leaf = |c: usize, own: f64, s: f64, g: DVec3, sh: Option<&[f64; DIST]>| {
-            let node = &self.tree.nodes[c];
+            let node = &self.tree.bounds[c];
             let p = self.tree.order[node.start as usize] as usize;
             let cj = node.centroid;
             let clusters: f64 = sh.map_or(0.0, |sh| {
@@ -235,7 +234,7 @@ impl<'a> PatchOperator<'a> {
             }
             let si = slot[i] as usize;
             let (a, g) = (node_acc[i], node_grad[si]);
-            let node = &self.tree.nodes[i];
+            let node = &self.tree.bounds[i];
             let sh = (!clusters.is_empty()).then(|| {
                 while path.last().is_some_and(|(end, _)| *end <= node.start) {
                     path.pop();
@@ -499,7 +498,7 @@ mod tests {
                 assert_eq!(solver.sh[c], full.sh[tree.slot[i] as usize], "node {i}");
                 named += 1;
                 // Against the definition: Σ over the node's patches of value × distribution.
-                let node = &tree.nodes[i];
+                let node = &tree.bounds[i];
                 let mut direct = [DVec3::ZERO; DIST];
                 for &p in &tree.order[node.start as usize..node.end as usize] {
                     let patch = &mesh.patches[p as usize];

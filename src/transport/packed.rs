@@ -103,7 +103,8 @@ fn stored(coeffs: &[f32]) -> (i8, Vec<u16>) {
     for &k in largest.iter().take(4) {
         let mended = encode_coeff((decode_coeff(stored[k], scale) as f64 + lost) as f32, scale);
         let keeps_scale = ceil_log2(decode_coeff(mended, scale).abs()) == scale || k != largest[0];
-        let below_scale = decode_coeff(mended, scale).abs() <= decode_coeff(stored[largest[0]], scale).abs();
+        let below_scale =
+            decode_coeff(mended, scale).abs() <= decode_coeff(stored[largest[0]], scale).abs();
         if (mended >> 15) == (stored[k] >> 15) && keeps_scale && (k == largest[0] || below_scale) {
             stored[k] = mended;
             break;
@@ -151,9 +152,8 @@ impl<'a> FarLinks<'a> {
     pub fn iter(self) -> impl Iterator<Item = Link> + 'a {
         let mut nodes = Nodes::new(self.nodes);
         let scale = self.scale;
-        (self.coeffs.iter().zip(self.shapes)).map(move |(&c, &shape)| {
-            Link::from_stored(nodes.next(), decode_coeff(c, scale), shape)
-        })
+        (self.coeffs.iter().zip(self.shapes))
+            .map(move |(&c, &shape)| Link::from_stored(nodes.next(), decode_coeff(c, scale), shape))
     }
 }
 
@@ -384,7 +384,11 @@ mod tests {
             for (k, (got, want)) in got_f.iter().zip(&want_f).enumerate() {
                 let (node, coeff, shape) = got.stored();
                 let (w_node, _, w_shape) = want.stored();
-                assert_eq!((node, coeff, shape), (w_node, q[r.len() + k], w_shape), "row {j}");
+                assert_eq!(
+                    (node, coeff, shape),
+                    (w_node, q[r.len() + k], w_shape),
+                    "row {j}"
+                );
             }
             assert_eq!(copied.row(j), packed.row(j));
         }
@@ -420,7 +424,10 @@ mod tests {
         rows.push((0..300).map(|_| (0.003 + 0.0005 * next()) as f32).collect());
         for c in &rows {
             let leaves: Vec<Leaf> = (c.iter().enumerate())
-                .map(|(k, &coeff)| Leaf { node: k as u32, coeff })
+                .map(|(k, &coeff)| Leaf {
+                    node: k as u32,
+                    coeff,
+                })
                 .collect();
             let far: Vec<Link> = c.iter().map(|&v| Link::plain(7, v as f64)).collect();
             let mut once = PackedRows::default();
@@ -441,14 +448,20 @@ mod tests {
                 if k == largest {
                     bound += (total * 2f64.powi(-11)) as f32;
                 }
-                assert!((got - want).abs() <= bound, "{got} vs {want} (scale {scale})");
+                assert!(
+                    (got - want).abs() <= bound,
+                    "{got} vs {want} (scale {scale})"
+                );
                 assert!(got * want >= 0.0, "{got} vs {want}");
             }
             // The row holds `c` twice (as leaves and as far links).
             let sum = |v: &[f32]| v.iter().map(|&x| x as f64).sum::<f64>();
             let far_back: Vec<f32> = back_f.iter().map(|x| x.stored().1).collect();
             let off = (sum(&back) + sum(&far_back) - 2.0 * sum(c)).abs();
-            assert!(off <= scale as f64 * 2f64.powi(-11), "sum off by {off} (scale {scale})");
+            assert!(
+                off <= scale as f64 * 2f64.powi(-11),
+                "sum off by {off} (scale {scale})"
+            );
             let mut twice = PackedRows::default();
             twice.push(&back_l, &back_f);
             assert_eq!(twice.row(0), once.row(0), "{c:?}");

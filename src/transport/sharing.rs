@@ -418,7 +418,7 @@ fn estimates(
                 inverse += c / d.max(1e-6);
             };
             for l in row.leaves.iter() {
-                let node = &tree.nodes[l.node as usize];
+                let node = &tree.bounds[l.node as usize];
                 let patch = &gatherer.mesh.patches[tree.order[node.start as usize] as usize];
                 add(
                     to_triangle(v.point, patch.corners(&gatherer.mesh.receivers)),
@@ -427,7 +427,7 @@ fn estimates(
             }
             for l in row.far.iter() {
                 add(
-                    tree.nodes[l.node as usize].centroid.distance(v.point),
+                    tree.bounds[l.node as usize].centroid.distance(v.point),
                     l.coeff,
                 );
             }

@@ -39,28 +39,35 @@ pub const NO_CHILD: u32 = u32::MAX;
 /// outer ones, a single ray to the median.
 pub const REP_QUANTILES: [f64; 3] = [0.25, 0.5, 0.75];
 
-/// A node of the hierarchy: what gathers and the solver read besides [`NodeBounds`] (its box
-/// and normal cone are there, in the form a visit reads them).
-#[derive(Debug, Clone)]
+/// A node of the hierarchy: what the solver reads besides [`NodeBounds`] (its box, normal
+/// cone, centroid, children and patch range are there, in the form a visit reads them).
+#[derive(Debug, Clone, Copy)]
 pub struct TreeNode {
-    /// Area of the node's patches and its centroid (a far-field source's full moments, needed
-    /// by inner nodes only, are [`PatchTree::moments`]).
+    /// Area of the node's patches (a far-field source's full moments, needed by inner nodes
+    /// only, are [`PatchTree::moments`]).
     pub area: f64,
-    pub centroid: DVec3,
-    pub children: [u32; 2],
     /// Area of the node's single-sided patches: only their backs absorb (a double-sided patch's
     /// back is its twin, counted on its own).
     pub single_sided_area: f64,
-    /// Its patches face more than [`CURVED`] distinct directions (a tessellated chair, not a
-    /// room's planes): only such nodes are split in space and treated as two-sided clusters.
-    pub curved: bool,
-    /// Range into `PatchTree::order`.
-    pub start: u32,
-    pub end: u32,
 }
 
-impl TreeNode {
-    pub fn is_leaf(&self) -> bool {
+/// A node while the tree is built (kept afterwards as [`TreeNode`] and [`NodeBounds`]).
+#[derive(Debug, Clone)]
+struct Building {
+    area: f64,
+    centroid: DVec3,
+    children: [u32; 2],
+    single_sided_area: f64,
+    /// Its patches face more than [`CURVED`] distinct directions (a tessellated chair, not a
+    /// room's planes): only such nodes are split in space and treated as two-sided clusters.
+    curved: bool,
+    /// Range into `PatchTree::order`.
+    start: u32,
+    end: u32,
+}
+
+impl Building {
+    fn is_leaf(&self) -> bool {
         self.children[0] == NO_CHILD
     }
 }
@@ -99,7 +106,7 @@ pub struct NodeBounds {
 }
 
 impl NodeBounds {
-    fn of(node: &TreeNode, shape: &Shape) -> Self {
+    fn of(node: &Building, shape: &Shape) -> Self {
         NodeBounds {
             center: (shape.lo + shape.hi) * 0.5,
             half: (shape.hi - shape.lo) * 0.5,
@@ -169,6 +176,8 @@ impl NodeBounds {
 #[derive(Default)]
 pub struct PatchTree {
     pub nodes: Vec<TreeNode>,
+    /// The nodes while [`PatchTree::build`] runs (empty after).
+    building: Vec<Building>,
     /// Per node: what every visit reads ([`NodeBounds`]).
     pub bounds: Vec<NodeBounds>,
     /// Patch indices in leaf order.
@@ -215,7 +224,8 @@ impl PatchTree {
     /// Build the hierarchy over `subset` (patch indices) of `mesh`.
     pub fn build(mesh: &PatchMesh, subset: Vec<u32>) -> Self {
         let mut tree = PatchTree {
-            nodes: Vec::with_capacity(2 * subset.len()),
+            nodes: Vec::new(),
+            building: Vec::with_capacity(2 * subset.len()),
             bounds: Vec::new(),
             order: subset,
             area_prefix: Vec::new(),
@@ -239,7 +249,7 @@ impl PatchTree {
         tree.split(mesh, &leaf, &clutter_patches(mesh), 0, n);
         let mut inner = 0;
         tree.slot = tree
-            .nodes
+            .building
             .iter()
             .map(|node| match node.is_leaf() {
                 true => LEAF_SLOT,
@@ -251,15 +261,20 @@ impl PatchTree {
             .collect();
         tree.inner_nodes = inner as usize;
         let shapes = tree.finish(mesh, &leaf);
-        tree.bounds = tree
-            .nodes
-            .iter()
-            .zip(&shapes)
+        let building = std::mem::take(&mut tree.building);
+        tree.bounds = (building.iter().zip(&shapes))
             .map(|(n, s)| NodeBounds::of(n, s))
             .collect();
+        tree.nodes = (building.iter())
+            .map(|n| TreeNode {
+                area: n.area,
+                single_sided_area: n.single_sided_area,
+            })
+            .collect();
+        drop(building);
         tree.visible = visible_shares(&tree, mesh, &shapes);
         drop(shapes);
-        if tree.nodes.iter().any(|n| n.curved) {
+        if tree.bounds.iter().any(|n| n.curved) {
             let tris: Vec<[DVec3; 3]> = mesh
                 .patches
                 .iter()
@@ -300,14 +315,24 @@ impl PatchTree {
     /// Node `i`'s normal distribution: its own for an inner node, its patch's for a leaf.
     pub fn node_sh(&self, mesh: &PatchMesh, i: usize) -> sh::Dist {
         match self.slot[i] {
-            LEAF_SLOT => leaf_sh(&mesh.patches[self.order[self.nodes[i].start as usize] as usize]),
+            LEAF_SLOT => leaf_sh(&mesh.patches[self.order[self.bounds[i].start as usize] as usize]),
+            s => self.normal_sh[s as usize],
+        }
+    }
+
+    /// [`PatchTree::node_sh`] while the tree is built.
+    fn building_sh(&self, mesh: &PatchMesh, i: usize) -> sh::Dist {
+        match self.slot[i] {
+            LEAF_SLOT => {
+                leaf_sh(&mesh.patches[self.order[self.building[i].start as usize] as usize])
+            }
             s => self.normal_sh[s as usize],
         }
     }
 
     /// Node `i`'s patch at area quantile `q` (in leaf order).
     fn representative(&self, i: usize, q: f64) -> u32 {
-        let node = &self.nodes[i];
+        let node = &self.bounds[i];
         let (a0, a1) = (
             self.area_prefix[node.start as usize],
             self.area_prefix[node.end as usize],
@@ -336,8 +361,8 @@ impl PatchTree {
             return None;
         }
         let all =
-            |n: &TreeNode| passing[n.end as usize] - passing[n.start as usize] == n.end - n.start;
-        Some(self.nodes.iter().map(all).collect())
+            |n: &NodeBounds| passing[n.end as usize] - passing[n.start as usize] == n.end - n.start;
+        Some(self.bounds.iter().map(all).collect())
     }
 
     /// Create the node for `order[start..end]` and its subtree (pre-order); returns its index.
@@ -349,8 +374,8 @@ impl PatchTree {
         start: u32,
         end: u32,
     ) -> u32 {
-        let index = self.nodes.len() as u32;
-        self.nodes.push(TreeNode {
+        let index = self.building.len() as u32;
+        self.building.push(Building {
             area: 0.0,
             centroid: DVec3::ZERO,
             single_sided_area: 0.0,
@@ -369,7 +394,7 @@ impl PatchTree {
             slice.select_nth_unstable_by(mid, |&a, &b| key(a).total_cmp(&key(b)).then(a.cmp(&b)));
         };
         let curved = curved(mesh, slice);
-        self.nodes[index as usize].curved = curved;
+        self.building[index as usize].curved = curved;
         let flat = spread(mesh, slice) <= SPLIT_CONE;
         let planar = slice.iter().filter(|&&p| !clutter[p as usize]).count();
         if planar > 0 && planar < slice.len() {
@@ -389,7 +414,7 @@ impl PatchTree {
         let m = start + mid as u32;
         let left = self.split(mesh, leaf, clutter, start, m);
         let right = self.split(mesh, leaf, clutter, m, end);
-        self.nodes[index as usize].children = [left, right];
+        self.building[index as usize].children = [left, right];
         index
     }
 
@@ -401,16 +426,16 @@ impl PatchTree {
             cone_axis: DVec3::Y,
             cone_angle: 0.0,
         };
-        let mut shapes = vec![unset; self.nodes.len()];
+        let mut shapes = vec![unset; self.building.len()];
         self.normal_sh = vec![[0.0; sh::DIST]; self.inner_nodes];
         self.inner_moments = vec![AreaMoments::ZERO; self.inner_nodes];
         // A child's moments: its patch's for a leaf.
         let moments_of = |tree: &Self, c: usize| match tree.slot[c] {
-            LEAF_SLOT => leaf[tree.order[tree.nodes[c].start as usize] as usize],
+            LEAF_SLOT => leaf[tree.order[tree.building[c].start as usize] as usize],
             s => tree.inner_moments[s as usize],
         };
-        for i in (0..self.nodes.len()).rev() {
-            let node = &self.nodes[i];
+        for i in (0..self.building.len()).rev() {
+            let node = &self.building[i];
             if node.is_leaf() {
                 let p = self.order[node.start as usize] as usize;
                 let patch = &mesh.patches[p];
@@ -422,13 +447,13 @@ impl PatchTree {
                     cone_axis: patch.normal,
                     cone_angle: 0.0,
                 };
-                let node = &mut self.nodes[i];
+                let node = &mut self.building[i];
                 node.area = leaf[p].area;
                 node.centroid = leaf[p].centroid;
                 node.single_sided_area = if patch.double_sided { 0.0 } else { patch.area };
             } else {
                 let [ia, ib] = node.children.map(|c| c as usize);
-                let [a, b] = [&self.nodes[ia], &self.nodes[ib]];
+                let [a, b] = [&self.building[ia], &self.building[ib]];
                 let [sa, sb] = [shapes[ia], shapes[ib]];
                 let moments = moments_of(self, ia).combine(&moments_of(self, ib));
                 let axis = moments.normal_sum.try_normalize().unwrap_or(sa.cone_axis);
@@ -442,9 +467,9 @@ impl PatchTree {
                     cone_angle,
                 };
                 let single = a.single_sided_area + b.single_sided_area;
-                let (da, db) = (self.node_sh(mesh, ia), self.node_sh(mesh, ib));
+                let (da, db) = (self.building_sh(mesh, ia), self.building_sh(mesh, ib));
                 self.normal_sh[self.slot[i] as usize] = std::array::from_fn(|k| da[k] + db[k]);
-                let node = &mut self.nodes[i];
+                let node = &mut self.building[i];
                 node.single_sided_area = single;
                 node.area = moments.area;
                 node.centroid = moments.centroid;
@@ -458,7 +483,7 @@ impl PatchTree {
 /// Visible shares ([`silhouette`]) of every inner node, in node order (1 for nodes that are not
 /// curved: they are never two-sided clusters).
 fn visible_shares(tree: &PatchTree, mesh: &PatchMesh, shapes: &[Shape]) -> Vec<[f32; 6]> {
-    tree.nodes
+    tree.bounds
         .par_iter()
         .zip(shapes)
         .filter(|(node, _)| !node.is_leaf())
@@ -657,15 +682,15 @@ mod tests {
         let surface = |p: u32| mesh.groups[mesh.patches[p as usize].group as usize].surface;
         let floor = surface(tree.order[0]);
         let patches = |i: u32| {
-            let n = &tree.nodes[i as usize];
+            let n = &tree.bounds[i as usize];
             &tree.order[n.start as usize..n.end as usize]
         };
-        let [planes, clutter] = tree.nodes[0].children;
+        let [planes, clutter] = tree.bounds[0].children;
         assert!(patches(planes).iter().all(|&p| surface(p) == floor));
         assert!(patches(clutter).iter().all(|&p| surface(p) != floor));
         let floor_patches = (0..mesh.patches.len() as u32).filter(|&p| surface(p) == floor);
         assert_eq!(patches(planes).len(), floor_patches.count());
-        for ball in tree.nodes[clutter as usize].children {
+        for ball in tree.bounds[clutter as usize].children {
             let node = &tree.bounds[ball as usize];
             assert!(
                 node.radius < 1.0,
