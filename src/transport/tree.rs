@@ -51,6 +51,26 @@ pub struct TreeNode {
     pub single_sided_area: f64,
 }
 
+/// An inner node's [`AreaMoments`] less its area and centroid, the second moments by their upper
+/// triangle (they are symmetric exactly: sums of outer products of a vector with itself).
+#[derive(Debug, Clone, Copy)]
+struct InnerMoments {
+    normal_sum: DVec3,
+    /// xx, xy, xz, yy, yz, zz.
+    second: [f64; 6],
+}
+
+impl InnerMoments {
+    fn of(m: &AreaMoments) -> Self {
+        let c = m.second.to_cols_array_2d();
+        debug_assert!(c[0][1] == c[1][0] && c[0][2] == c[2][0] && c[1][2] == c[2][1]);
+        InnerMoments {
+            normal_sum: m.normal_sum,
+            second: [c[0][0], c[0][1], c[0][2], c[1][1], c[1][2], c[2][2]],
+        }
+    }
+}
+
 /// A node while the tree is built (kept afterwards as [`TreeNode`] and [`NodeBounds`]).
 #[derive(Debug, Clone)]
 struct Building {
@@ -192,9 +212,10 @@ pub struct PatchTree {
     /// bins, the rest to order 2), for far receivers that see its patches from both sides (a
     /// chair across the room). A leaf's is its patch's, [`leaf_sh`].
     pub normal_sh: Vec<sh::Dist>,
-    /// Per inner node ([`PatchTree::slot`]): its area moments to second order (a far-field
-    /// source's geometry; [`PatchTree::moments`]).
-    inner_moments: Vec<AreaMoments>,
+    /// Per inner node ([`PatchTree::slot`]): its area moments to second order beyond its area
+    /// and centroid, which its node and bounds hold (a far-field source's geometry;
+    /// [`PatchTree::moments`]).
+    inner_moments: Vec<InnerMoments>,
     /// Per inner node ([`PatchTree::slot`]): the share of its front-facing area it does not
     /// hide from itself, along ±x, ±y, ±z (`silhouette`; 1 for nodes that are never two-sided
     /// clusters).
@@ -308,8 +329,15 @@ impl PatchTree {
     }
 
     /// Inner node `i`'s area moments (panics on a leaf: leaves are never far-field sources).
-    pub fn moments(&self, i: usize) -> &AreaMoments {
-        &self.inner_moments[self.slot[i] as usize]
+    pub fn moments(&self, i: usize) -> AreaMoments {
+        let m = &self.inner_moments[self.slot[i] as usize];
+        let [xx, xy, xz, yy, yz, zz] = m.second;
+        AreaMoments {
+            area: self.nodes[i].area,
+            centroid: self.bounds[i].centroid,
+            normal_sum: m.normal_sum,
+            second: glam::DMat3::from_cols_array(&[xx, xy, xz, xy, yy, yz, xz, yz, zz]),
+        }
     }
 
     /// Node `i`'s normal distribution: its own for an inner node, its patch's for a leaf.
@@ -428,11 +456,11 @@ impl PatchTree {
         };
         let mut shapes = vec![unset; self.building.len()];
         self.normal_sh = vec![[0.0; sh::DIST]; self.inner_nodes];
-        self.inner_moments = vec![AreaMoments::ZERO; self.inner_nodes];
+        let mut inner_moments = vec![AreaMoments::ZERO; self.inner_nodes];
         // A child's moments: its patch's for a leaf.
-        let moments_of = |tree: &Self, c: usize| match tree.slot[c] {
+        let moments_of = |tree: &Self, inner: &[AreaMoments], c: usize| match tree.slot[c] {
             LEAF_SLOT => leaf[tree.order[tree.building[c].start as usize] as usize],
-            s => tree.inner_moments[s as usize],
+            s => inner[s as usize],
         };
         for i in (0..self.building.len()).rev() {
             let node = &self.building[i];
@@ -455,7 +483,11 @@ impl PatchTree {
                 let [ia, ib] = node.children.map(|c| c as usize);
                 let [a, b] = [&self.building[ia], &self.building[ib]];
                 let [sa, sb] = [shapes[ia], shapes[ib]];
-                let moments = moments_of(self, ia).combine(&moments_of(self, ib));
+                let moments = moments_of(self, &inner_moments, ia).combine(&moments_of(
+                    self,
+                    &inner_moments,
+                    ib,
+                ));
                 let axis = moments.normal_sum.try_normalize().unwrap_or(sa.cone_axis);
                 let spread =
                     |c: &Shape| c.cone_axis.dot(axis).clamp(-1.0, 1.0).acos() + c.cone_angle;
@@ -473,9 +505,10 @@ impl PatchTree {
                 node.single_sided_area = single;
                 node.area = moments.area;
                 node.centroid = moments.centroid;
-                self.inner_moments[self.slot[i] as usize] = moments;
+                inner_moments[self.slot[i] as usize] = moments;
             }
         }
+        self.inner_moments = inner_moments.iter().map(InnerMoments::of).collect();
         shapes
     }
 }
