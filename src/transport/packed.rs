@@ -98,9 +98,8 @@ fn stored(coeffs: &[f32]) -> (i8, Vec<u16>) {
     if lost == 0.0 {
         return (scale, stored);
     }
-    let mut largest: Vec<usize> = (0..coeffs.len()).collect();
-    largest.sort_by(|&a, &b| coeffs[b].abs().total_cmp(&coeffs[a].abs()).then(a.cmp(&b)));
-    for &k in largest.iter().take(4) {
+    let largest = four_largest(coeffs);
+    for &k in &largest {
         let mended = encode_coeff((decode_coeff(stored[k], scale) as f64 + lost) as f32, scale);
         let keeps_scale = ceil_log2(decode_coeff(mended, scale).abs()) == scale || k != largest[0];
         let below_scale =
@@ -111,6 +110,19 @@ fn stored(coeffs: &[f32]) -> (i8, Vec<u16>) {
         }
     }
     (scale, stored)
+}
+
+/// The indices of the (up to) four largest |c|, largest first, ties by index: one pass.
+fn four_largest(coeffs: &[f32]) -> Vec<usize> {
+    let mut best: Vec<usize> = Vec::with_capacity(5);
+    for k in 0..coeffs.len() {
+        let at = best.partition_point(|&b| coeffs[b].abs() >= coeffs[k].abs());
+        if at < 4 {
+            best.insert(at, k);
+            best.truncate(4);
+        }
+    }
+    best
 }
 
 /// A row's coefficients as a packed row reads them back.
