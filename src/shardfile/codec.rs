@@ -2,7 +2,7 @@
 
 use glam::DVec3;
 
-pub(super) const VERSION: u32 = 3;
+pub(super) const VERSION: u32 = 4;
 
 pub(super) struct Writer(pub(super) Vec<u8>);
 
@@ -11,9 +11,6 @@ impl Writer {
         self.0.extend_from_slice(&x.to_le_bytes());
     }
     pub(super) fn u64(&mut self, x: u64) {
-        self.0.extend_from_slice(&x.to_le_bytes());
-    }
-    pub(super) fn u16(&mut self, x: u16) {
         self.0.extend_from_slice(&x.to_le_bytes());
     }
     pub(super) fn f32(&mut self, x: f32) {
@@ -77,9 +74,6 @@ impl Reader<'_> {
     }
     pub(super) fn u64(&mut self) -> Result<u64, String> {
         Ok(u64::from_le_bytes(self.take(8)?.try_into().unwrap()))
-    }
-    pub(super) fn u16(&mut self) -> Result<u16, String> {
-        Ok(u16::from_le_bytes(self.take(2)?.try_into().unwrap()))
     }
     pub(super) fn f32(&mut self) -> Result<f32, String> {
         Ok(f32::from_le_bytes(self.take(4)?.try_into().unwrap()))

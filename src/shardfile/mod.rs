@@ -111,7 +111,7 @@ pub fn task_bytes(t: &TaskResult) -> Vec<u8> {
             let (node, coeff, shape) = l.stored();
             w.u32(node);
             w.f32(coeff);
-            shape.iter().for_each(|x| w.u16(*x));
+            w.u32(shape);
         }
     }
     w.u64(p.stats.len() as u64);
@@ -154,15 +154,11 @@ pub fn read_task(bytes: &[u8]) -> Result<TaskResult, String> {
                     })
                 })
                 .collect::<Result<Vec<_>, String>>()?;
-            let n = r.len(14)?;
+            let n = r.len(12)?;
             let far = (0..n)
                 .map(|_| {
                     let (node, coeff) = (r.u32()?, r.f32()?);
-                    Ok(Link::from_stored(
-                        node,
-                        coeff,
-                        [r.u16()?, r.u16()?, r.u16()?],
-                    ))
+                    Ok(Link::from_stored(node, coeff, r.u32()?))
                 })
                 .collect::<Result<Vec<_>, String>>()?;
             rows.push(&leaves, &far);

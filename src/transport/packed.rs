@@ -33,7 +33,7 @@ pub struct Leaves<'a> {
 pub struct FarLinks<'a> {
     scale: i8,
     coeffs: &'a [u16],
-    shapes: &'a [[u16; 3]],
+    shapes: &'a [u32],
     nodes: &'a [u8],
 }
 
@@ -232,7 +232,7 @@ pub struct PackedRows {
     leaf_coeffs: Vec<u16>,
     leaf_nodes: Vec<u8>,
     far_coeffs: Vec<u16>,
-    far_shapes: Vec<[u16; 3]>,
+    far_shapes: Vec<u32>,
     far_nodes: Vec<u8>,
 }
 
