@@ -3,7 +3,7 @@
 //! Input: a [`Gatherer`] over the tree of all patches, and the points to gather at. Output:
 //! [`ReceiverLinks`] in compressed rows: row g gathers E_g = Σ coeff·B(node) over its leaf links
 //! (one patch each) and far-field and cluster links ([`Link`]), stored packed
-//! ([`super::packed`]: about 3 and 9 bytes a link). Receiver r reads row r,
+//! ([`super::packed`]: about 3 and 7 bytes a link). Receiver r reads row r,
 //! or with a [`Blend`] (`transport::sharing`) a weighted mean of rows, weights summing to 1.
 //!
 //! Closure: a receiver inside a closed space sees geometry in every direction, so its true

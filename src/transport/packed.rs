@@ -1,10 +1,10 @@
 //! Gathered rows packed for storage. A row's coefficients are stored in 16 bits (sign, 5-bit
 //! exponent, 10-bit mantissa) relative to the row's scale (the least power of two not below its
-//! largest |coefficient|), its far-field and cluster links' shapes in half precision as made
+//! largest |coefficient|), its far-field and cluster links' shapes in 32 bits as made
 //! ([`Link::stored`]); the node indices are stored as differences between consecutive ones in
 //! variable-length bytes (7 bits a byte, zig-zag signed). A gather visits the tree depth first,
 //! so a row's links come in ascending node order, near each other: most differences take one or
-//! two bytes instead of four. 8 bytes a leaf link become about 3, 16 a far link about 9.
+//! two bytes instead of four. 8 bytes a leaf link become about 3, 16 a far link about 7.
 //!
 //! Why 16 bits are enough: a coefficient comes back within 2⁻¹¹ of itself (4.9·10⁻⁴), rounded
 //! to nearest, or as 0 when below 2⁻³¹ of its row's scale; what rounding takes from a row's sum
