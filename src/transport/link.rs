@@ -112,15 +112,18 @@ fn shape_bits(v: DVec3) -> u32 {
     if max == 0.0 {
         return 0;
     }
-    let mut exponent = (max.log2().ceil() as i32).clamp(-SHAPE_LOW, SHAPE_HIGH);
-    // log2 may round across a power of two: the scale must not be below the largest.
-    if max > 2f64.powi(exponent) && exponent < SHAPE_HIGH {
-        exponent += 1;
-    }
+    let exponent = ceil_log2(max).clamp(-SHAPE_LOW, SHAPE_HIGH);
     let unit = 2f64.powi(exponent) / SHAPE_STEPS;
     let bits =
         v.map(|x| ((x / unit).round().clamp(-SHAPE_STEPS, SHAPE_STEPS) as i32 as u32) & 0x1ff);
     (((exponent + SHAPE_LOW) as u32) << 27) | (bits[0] << 18) | (bits[1] << 9) | bits[2]
+}
+
+/// ⌈log₂ x⌉ for a positive normal `x`, exactly (from its bits: no rounding of a logarithm).
+pub fn ceil_log2(x: f64) -> i32 {
+    let bits = x.to_bits();
+    let exponent = ((bits >> 52) & 0x7ff) as i32 - 1023;
+    exponent + (bits & 0x000f_ffff_ffff_ffff != 0) as i32
 }
 
 /// A link without a gradient — every link to one patch (a leaf of the tree, whose exitance is

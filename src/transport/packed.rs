@@ -17,7 +17,7 @@
 //! scale of the rounded row is the scale of the row); a row's bytes depend only on that row
 //! (each list starts from node 0), so rows are copied as bytes.
 
-use super::link::{Leaf, Link};
+use super::link::{self, Leaf, Link};
 
 /// One row's leaf links, packed.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -49,13 +49,9 @@ fn row_scale(coeffs: impl Iterator<Item = f32>) -> i8 {
     ceil_log2(decode_coeff(encode_coeff(max, first), first))
 }
 
-/// ⌈log₂ x⌉ for a positive `x`, exactly, kept within [−90, 120] (so [`decode_coeff`]'s
-/// exponents stay normal).
+/// ⌈log₂ x⌉ kept within [−90, 120] (so [`decode_coeff`]'s exponents stay normal).
 fn ceil_log2(x: f32) -> i8 {
-    let bits = x.to_bits();
-    let exponent = ((bits >> 23) & 0xff) as i32 - 127;
-    let above = (bits & 0x7f_ffff != 0) as i32;
-    (exponent + above).clamp(-90, 120) as i8
+    link::ceil_log2(x as f64).clamp(-90, 120) as i8
 }
 
 /// The smallest exponent (relative to the scale) a stored coefficient keeps; below it, 0.
