@@ -75,11 +75,12 @@ pub fn stage_many(
     tolerance: f64,
 ) -> Vec<Radiosity> {
     let Rows {
-        tree,
+        mut tree,
         rho,
         dark,
         mut links,
     } = rows;
+    tree.release_own_hits();
     let mesh = &base.mesh;
     let areas: Vec<f64> = mesh.patches.iter().map(|p| p.area).collect();
     let mut operator = PatchOperator::new(mesh, &tree, &links);
@@ -103,11 +104,11 @@ pub fn stage_many(
         let b: Vec<DVec3> = (0..mesh.patches.len())
             .map(|i| rho[i] * direct_patch[i])
             .collect();
-        let apply = |x: &[DVec3], out: &mut [DVec3]| {
-            operator.apply_into(x, out);
+        let apply = |x: solve::Input, out: &mut [DVec3]| {
+            operator.apply_fn(|p| x.get(p), out);
             out.par_iter_mut()
                 .enumerate()
-                .for_each(|(i, o)| *o = x[i] - rho[i] * *o);
+                .for_each(|(i, o)| *o = x.get(i) - rho[i] * *o);
         };
         let (reflected, stats) = solve::gmres(apply, &b, &areas, tolerance, 2_000, 40);
         let indirect_patch = operator.apply(&reflected);

@@ -381,7 +381,7 @@ impl Gatherer<'_> {
             return Sight::Seen;
         }
         let node = &self.tree.bounds[i as usize];
-        let own_hits = self.tree.own_hits.as_ref().filter(|_| node.curved);
+        let own_hits = self.tree.own_hits(self.mesh).filter(|_| node.curved);
         // A representative facing away is a fair target when the node's own patches do not
         // count as blockers (a curved node); otherwise its own front would hide it.
         let backs = facing.is_some() || own_hits.is_some();
@@ -563,7 +563,7 @@ impl Gatherer<'_> {
         if self.occluder.convex_empty {
             return 1.0;
         }
-        let Some((patches, rank)) = &self.tree.own_hits else {
+        let Some((patches, rank)) = self.tree.own_hits(self.mesh) else {
             return self.ray_visibility(p, n, i, &[0, 2], shared);
         };
         let node = &self.tree.bounds[i as usize];

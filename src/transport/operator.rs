@@ -96,7 +96,12 @@ impl<'a> PatchOperator<'a> {
 
     /// [`PatchOperator::apply`] into `out`.
     pub fn apply_into(&self, b: &[DVec3], out: &mut [DVec3]) {
-        let at = self.gather_scaled(|p| b[p] * self.col[p]);
+        self.apply_fn(|p| b[p], out);
+    }
+
+    /// [`PatchOperator::apply_into`] of the exitance `b(patch)`.
+    pub fn apply_fn(&self, b: impl Fn(usize) -> DVec3, out: &mut [DVec3]) {
+        let at = self.gather_scaled(|p| b(p) * self.col[p]);
         self.mesh
             .patches
             .par_iter()

@@ -220,11 +220,13 @@ pub struct PatchTree {
     /// hide from itself, along ±x, ±y, ±z (`silhouette`; 1 for nodes that are never two-sided
     /// clusters).
     pub visible: Vec<[f32; 6]>,
-    /// Exactly for trees with curved nodes: the patches as ray targets, and each patch's position in
-    /// `order` (`u32::MAX` outside the tree), so a cluster's shadow ray can tell a blocker that
-    /// is part of the cluster (its own far side, which `visible` accounts for) from one that is
-    /// not.
-    pub own_hits: Option<(crate::visibility::Occluder, Vec<u32>)>,
+    /// Does any node hold curved clutter (so receivers may link to it as a two-sided cluster)?
+    curved: bool,
+    /// For trees with curved nodes, built on first use ([`PatchTree::own_hits`]): the patches
+    /// as ray targets, and each patch's position in `order` (`u32::MAX` outside the tree), so a
+    /// cluster's shadow ray can tell a blocker that is part of the cluster (its own far side,
+    /// which `visible` accounts for) from one that is not.
+    own_hits: std::sync::OnceLock<OwnHits>,
     /// Per node: its index among the inner nodes (in node order), [`LEAF_SLOT`] for leaves.
     /// Only inner nodes are far-field or cluster sources, so what only those read (a field's
     /// first moments and normal distributions) is stored per inner node: half the nodes.
@@ -233,13 +235,45 @@ pub struct PatchTree {
     pub inner_nodes: usize,
 }
 
+/// A BVH over every patch of a mesh, and each patch's position in a tree's leaf order
+/// (`u32::MAX` outside the tree).
+pub type OwnHits = (crate::visibility::Occluder, Vec<u32>);
+
+fn own_hits(mesh: &PatchMesh, order: &[u32]) -> OwnHits {
+    let tris: Vec<[DVec3; 3]> = (mesh.patches.iter())
+        .map(|p| p.corners(&mesh.receivers))
+        .collect();
+    let mut rank = vec![u32::MAX; mesh.patches.len()];
+    for (k, &p) in order.iter().enumerate() {
+        rank[p as usize] = k as u32;
+    }
+    (
+        crate::visibility::Occluder::from_triangles(&tris, false),
+        rank,
+    )
+}
+
 /// [`PatchTree::slot`] of a leaf.
 pub const LEAF_SLOT: u32 = u32::MAX;
 
 impl PatchTree {
     /// Does any node hold curved clutter (so receivers may link to it as a two-sided cluster)?
     pub fn has_curved(&self) -> bool {
-        self.own_hits.is_some()
+        self.curved
+    }
+
+    /// [`PatchTree::own_hits`](field) of a tree with curved nodes over `mesh` (the mesh it was
+    /// built over), built on first use (a BVH over every patch; the build is single-threaded,
+    /// so threads that ask meanwhile wait for it).
+    pub fn own_hits(&self, mesh: &PatchMesh) -> Option<&OwnHits> {
+        self.curved
+            .then(|| self.own_hits.get_or_init(|| own_hits(mesh, &self.order)))
+    }
+
+    /// Free [`PatchTree::own_hits`] until a gather needs it again (the solve gathers nothing: a
+    /// BVH over every patch fewer at its peak).
+    pub fn release_own_hits(&mut self) {
+        self.own_hits.take();
     }
 
     /// Build the hierarchy over `subset` (patch indices) of `mesh`.
@@ -254,7 +288,8 @@ impl PatchTree {
             normal_sh: Vec::new(),
             inner_moments: Vec::new(),
             visible: Vec::new(),
-            own_hits: None,
+            curved: false,
+            own_hits: std::sync::OnceLock::new(),
             slot: std::sync::Arc::from([]),
             inner_nodes: 0,
         };
@@ -295,19 +330,7 @@ impl PatchTree {
         drop(building);
         tree.visible = visible_shares(&tree, mesh, &shapes);
         drop(shapes);
-        if tree.bounds.iter().any(|n| n.curved) {
-            let tris: Vec<[DVec3; 3]> = mesh
-                .patches
-                .iter()
-                .map(|p| p.corners(&mesh.receivers))
-                .collect();
-            let mut rank = vec![u32::MAX; mesh.patches.len()];
-            for (k, &p) in tree.order.iter().enumerate() {
-                rank[p as usize] = k as u32;
-            }
-            let hits = crate::visibility::Occluder::from_triangles(&tris, false);
-            tree.own_hits = Some((hits, rank));
-        }
+        tree.curved = tree.bounds.iter().any(|n| n.curved);
         let mut acc = 0.0;
         tree.area_prefix.push(0.0);
         for &p in &tree.order {
