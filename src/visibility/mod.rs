@@ -130,6 +130,13 @@ impl Tracer {
         }
     }
 
+    /// The nearest hit of `ray` (BVH units) by the test `hit` (a distance, infinite for none).
+    fn nearest(&self, ray: Ray, hit: impl Fn(&Triangle, &Ray) -> f32) -> Option<RayHit> {
+        let bvh = self.bvh.as_ref()?;
+        let mut found = RayHit::none();
+        (bvh.ray_traverse(ray, &mut found, |r, id| hit(&self.triangles[id], r))).then_some(found)
+    }
+
     /// No triangle blocks `ray`. The triangle that blocked this thread's last blocked ray is
     /// tried first (a desk top hides a chair's seat from most luminaires, a seat its legs from
     /// most of the ceiling): it blocks only where the traversal would find a blocker too, so the
@@ -162,10 +169,12 @@ impl Tracer {
 }
 
 pub struct Occluder {
-    /// Every triangle.
-    all: Tracer,
-    /// The triangles not on the convex shell: the only possible blockers between inner points.
+    /// The triangles not on the convex shell (every triangle when there is no shell): the only
+    /// possible blockers between inner points.
     interior: Tracer,
+    /// The triangles on the convex shell (none when there is none). Segments that leave the
+    /// shell are traced against both: the scene's triangles are held once.
+    on_shell: Tracer,
     /// The shell's planes (unit normal n, offset d: inside is n·x ≥ d).
     shell: Vec<(DVec3, f64)>,
     center: DVec3,
@@ -232,7 +241,7 @@ impl Occluder {
         let scale = BVH_DIAGONAL / diagonal.max(1e-300);
         let tol = 1e-7 * diagonal.max(1e-12);
         let f = |p: DVec3| as_vec3a((p - center) * scale);
-        let (mut all, mut interior) = (Vec::new(), Vec::new());
+        let (mut on_shell_tris, mut interior) = (Vec::new(), Vec::new());
         for (k, [a, b, c]) in tris.iter().enumerate() {
             let n = (*b - *a).cross(*c - *a);
             if n.length_squared() <= 0.0 {
@@ -251,27 +260,18 @@ impl Occluder {
                     .iter()
                     .any(|(m, d)| [a, b, c].iter().all(|p| (m.dot(**p) - d).abs() <= tol))
             });
-            if !on_shell {
-                interior.push(t);
+            match on_shell {
+                true => on_shell_tris.push(t),
+                false => interior.push(t),
             }
-            all.push(t);
         }
         let shell_present = shell.is_some();
-        let all = Tracer::new(all);
-        let interior = if shell_present {
-            Tracer::new(interior)
-        } else {
-            Tracer::default()
-        };
+        let interior = Tracer::new(interior);
         Occluder {
             convex_empty: shell_present && interior.bvh.is_none(),
-            interior: if shell_present {
-                interior
-            } else {
-                Tracer::default()
-            },
+            interior,
+            on_shell: Tracer::new(on_shell_tris),
             shell: shell.unwrap_or_default(),
-            all,
             center,
             scale,
             epsilon: 1e-5 * diagonal.max(1e-9),
@@ -307,14 +307,9 @@ impl Occluder {
     /// The nearest triangle a ray from `origin` along the unit `dir` hits: its index (as given to
     /// the constructor), distance (m) and unit geometric normal (by its winding).
     pub fn closest(&self, origin: DVec3, dir: DVec3) -> Option<Hit> {
-        let hit = self.nearest(self.ray(origin, dir, f64::INFINITY))?;
-        let t = &self.all.triangles[hit.primitive_id as usize];
-        let n = (t.v1 - t.v0).cross(t.v2 - t.v0);
-        Some(Hit {
-            triangle: self.all.ids[hit.primitive_id as usize] as usize,
-            distance: hit.t as f64 / self.scale,
-            normal: n.as_dvec3().normalize_or_zero(),
-        })
+        let ray = self.ray(origin, dir, f64::INFINITY);
+        self.rays.add();
+        self.nearest_of(|t| t.nearest(ray, intersect))
     }
 
     /// The nearest triangle whose FRONT (counter-clockwise side) a ray from `origin` along the
@@ -333,30 +328,35 @@ impl Occluder {
     }
 
     fn closest_facing(&self, origin: DVec3, dir: DVec3, front: bool) -> Option<Hit> {
-        let bvh = self.all.bvh.as_ref()?;
-        self.rays.add();
         let ray = self.ray(origin, dir, f64::INFINITY);
-        let mut hit = RayHit::none();
-        let tris = &self.all.triangles;
-        if !bvh.ray_traverse(ray, &mut hit, |r, id| intersect_facing(&tris[id], r, front)) {
-            return None;
-        }
-        let t = &tris[hit.primitive_id as usize];
+        self.rays.add();
+        self.nearest_of(|t| t.nearest(ray, |tri, r| intersect_facing(tri, r, front)))
+    }
+
+    /// The nearer of the hits `find` reports in the interior and on the shell (the interior's
+    /// on a tie), as a [`Hit`].
+    fn nearest_of(&self, find: impl Fn(&Tracer) -> Option<RayHit>) -> Option<Hit> {
+        let inner = find(&self.interior).map(|h| (h, &self.interior));
+        let shell = find(&self.on_shell).map(|h| (h, &self.on_shell));
+        let (hit, tracer) = match (inner, shell) {
+            (Some(a), Some(b)) => match b.0.t < a.0.t {
+                true => b,
+                false => a,
+            },
+            (a, b) => a.or(b)?,
+        };
+        let t = &tracer.triangles[hit.primitive_id as usize];
         let n = (t.v1 - t.v0).cross(t.v2 - t.v0);
         Some(Hit {
-            triangle: self.all.ids[hit.primitive_id as usize] as usize,
+            triangle: tracer.ids[hit.primitive_id as usize] as usize,
             distance: hit.t as f64 / self.scale,
             normal: n.as_dvec3().normalize_or_zero(),
         })
     }
 
-    /// The nearest hit of a ray (in BVH units) among all triangles.
-    fn nearest(&self, ray: Ray) -> Option<RayHit> {
-        let bvh = self.all.bvh.as_ref()?;
-        self.rays.add();
-        let mut hit = RayHit::none();
-        bvh.ray_traverse(ray, &mut hit, |r, id| intersect(&self.all.triangles[id], r))
-            .then_some(hit)
+    /// No triangle, in the interior or on the shell, blocks `ray`.
+    fn miss_all(&self, ray: Ray) -> bool {
+        self.interior.miss(ray) && self.on_shell.miss(ray)
     }
 
     /// The ends of the segment from `a` (surface normal `na`) to `b` (normal `nb`), each pulled
@@ -389,8 +389,7 @@ impl Occluder {
         // The pulled-off ends decide: a face on the shell looking out (the top of a fitting
         // flush with the ceiling) pulls its end outside, and then the shell must count.
         let inner = self.inside_shell(from) && self.inside_shell(to);
-        let tracer = if inner { &self.interior } else { &self.all };
-        if tracer.bvh.is_none() {
+        if self.interior.bvh.is_none() && (inner || self.on_shell.bvh.is_none()) {
             return true;
         }
         let dir = to - from;
@@ -399,7 +398,11 @@ impl Occluder {
             return true;
         }
         self.rays.add();
-        tracer.miss(self.ray(from, dir / len, len - self.epsilon))
+        let ray = self.ray(from, dir / len, len - self.epsilon);
+        match inner {
+            true => self.interior.miss(ray),
+            false => self.miss_all(ray),
+        }
     }
 
     /// The first triangle (index as given to the constructor) that blocks the segment from `a`
@@ -412,15 +415,17 @@ impl Occluder {
         if len <= self.epsilon {
             return None;
         }
-        let hit = self.nearest(self.ray(from, dir / len, len - self.epsilon))?;
-        Some(self.all.ids[hit.primitive_id as usize] as usize)
+        let ray = self.ray(from, dir / len, len - self.epsilon);
+        self.rays.add();
+        self.nearest_of(|t| t.nearest(ray, intersect))
+            .map(|h| h.triangle)
     }
 
     /// Does a ray from point `a` (surface normal `na`) in direction `dir` leave the scene?
     pub fn escapes(&self, a: DVec3, na: DVec3, dir: DVec3) -> bool {
         let side = if na.dot(dir) >= 0.0 { 1.0 } else { -1.0 };
         self.rays.add();
-        self.all.miss(self.ray(
+        self.miss_all(self.ray(
             a + na * (self.epsilon * side),
             dir.normalize(),
             f64::INFINITY,

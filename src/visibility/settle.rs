@@ -73,7 +73,11 @@ impl Occluder {
             .iter()
             .chain(&box_corners(lo, hi))
             .all(|p| self.inside_shell(*p));
-        let tracer = if inner { &self.interior } else { &self.all };
+        // Segments that leave the shell are left to the rays (the proofs read one tracer).
+        if !inner && self.on_shell.bvh.is_some() {
+            return None;
+        }
+        let tracer = &self.interior;
         let Some(bvh) = tracer.bvh.as_ref() else {
             // Nothing can block.
             return Some(true);
