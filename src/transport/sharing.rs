@@ -162,11 +162,15 @@ pub fn part(gatherer: &Gatherer, receivers: &[Vertex], subset: &[u32], sharing: 
             .collect();
         let first = links.rows();
         let new = links.append(gatherer, &points);
-        let at = estimates(gatherer, &links, &new, first, &picks, receivers, sharing);
-        gathered.extend(at.into_iter().zip(&picks).map(|(mut g, &r)| {
-            g.reach = g.reach.min(near[r as usize]);
-            g
-        }));
+        // After the last level nobody is left to read the rows: no estimates (their field is
+        // the largest thing built while every row is held).
+        if !last {
+            let at = estimates(gatherer, &links, &new, first, &picks, receivers, sharing);
+            gathered.extend(at.into_iter().zip(&picks).map(|(mut g, &r)| {
+                g.reach = g.reach.min(near[r as usize]);
+                g
+            }));
+        }
         stats.extend(new);
         for (k, &r) in picks.iter().enumerate() {
             own[r as usize] = (first + k) as u32;
