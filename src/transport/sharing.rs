@@ -153,7 +153,12 @@ pub fn part(gatherer: &Gatherer, receivers: &[Vertex], subset: &[u32], sharing: 
         let last = level == LEVELS;
         let spacing = h / (1u64 << level) as f64;
         let picks = match last {
-            true => open.clone(),
+            // What the levels before gathered is read only to settle others: freed before the
+            // last gather, which holds every row.
+            true => {
+                gathered = Vec::new();
+                std::mem::take(&mut open)
+            }
             false => pick(receivers, &open, spacing),
         };
         let points: Vec<(DVec3, DVec3)> = picks
