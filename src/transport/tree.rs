@@ -264,7 +264,8 @@ impl PatchTree {
 
     /// [`PatchTree::own_hits`](field) of a tree with curved nodes over `mesh` (the mesh it was
     /// built over), built on first use (a BVH over every patch; the build is single-threaded,
-    /// so threads that ask meanwhile wait for it).
+    /// obvhs having no `parallel` feature here, so threads that ask meanwhile wait for it and
+    /// no rayon job can re-enter it).
     pub fn own_hits(&self, mesh: &PatchMesh) -> Option<&OwnHits> {
         self.curved
             .then(|| self.own_hits.get_or_init(|| own_hits(mesh, &self.order)))
