@@ -108,7 +108,9 @@ pub fn gmres(
                     *wi -= vi.as_dvec3() * h[j][k];
                 }
             }
-            h[k + 1][k] = dot(&w, &w).sqrt();
+            // ‖w‖: the subdiagonal entry, the breakdown test and the next basis vector's scale.
+            let norm = dot(&w, &w).sqrt();
+            h[k + 1][k] = norm;
             for j in 0..k {
                 let t = cs[j] * h[j][k] + sn[j] * h[j + 1][k];
                 h[j + 1][k] = -sn[j] * h[j][k] + cs[j] * h[j + 1][k];
@@ -126,11 +128,10 @@ pub fn gmres(
             g[k] *= cs[k];
             stats.iterations += 1;
             k_used = k + 1;
-            let breakdown = h_next_zero(&w, &dot);
+            let breakdown = norm <= 1e-300;
             if (g[k + 1].abs() / b_norm) < tol * 0.5 || breakdown {
                 break;
             }
-            let norm = dot(&w, &w).sqrt();
             v.push(single(&w, norm));
         }
         // Back-substitute y from the triangular system and update x.
@@ -162,10 +163,6 @@ fn dot_single(x: &[DVec3], v: &[Vec3], weights: &[f64]) -> f64 {
         .zip(weights)
         .map(|((a, c), w)| w * a.dot(c.as_dvec3()))
         .sum()
-}
-
-fn h_next_zero(w: &[DVec3], dot: &impl Fn(&[DVec3], &[DVec3]) -> f64) -> bool {
-    dot(w, w).sqrt() <= 1e-300
 }
 
 #[cfg(test)]

@@ -90,16 +90,11 @@ impl<'a> PatchOperator<'a> {
     /// Irradiance per patch from per-patch exitance, with the balancing scalings.
     pub fn apply(&self, b: &[DVec3]) -> Vec<DVec3> {
         let mut out = vec![DVec3::ZERO; b.len()];
-        self.apply_into(b, &mut out);
+        self.apply_fn(|p| b[p], &mut out);
         out
     }
 
-    /// [`PatchOperator::apply`] into `out`.
-    pub fn apply_into(&self, b: &[DVec3], out: &mut [DVec3]) {
-        self.apply_fn(|p| b[p], out);
-    }
-
-    /// [`PatchOperator::apply_into`] of the exitance `b(patch)`.
+    /// [`PatchOperator::apply`] of the exitance `b(patch)`, into `out`.
     pub fn apply_fn(&self, b: impl Fn(usize) -> DVec3, out: &mut [DVec3]) {
         let at = self.gather_scaled(|p| b(p) * self.col[p]);
         self.mesh
