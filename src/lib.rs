@@ -20,6 +20,7 @@ pub mod export;
 pub mod fit;
 pub mod fixtures;
 pub mod geom;
+pub mod heap;
 pub mod import;
 pub mod lightmap;
 pub mod patches;

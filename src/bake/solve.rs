@@ -2,7 +2,8 @@
 //! room loses nothing per bounce, and GMRES on (I − ρG)B = ρE_direct.
 //!
 //! Input: the meshed scene, the [`Rows`] (consumed: the largest thing a bake holds, dropped here
-//! once the solve is done), the direct flux into each patch from lights and luminaires, and the
+//! once the solve is done; their tree is reduced to its skeleton while the solve runs and
+//! rebuilt after), the direct flux into each patch from lights and luminaires, and the
 //! solver's tolerance. Output: [`Radiosity`]: the reflected exitance of every patch and what
 //! the vertices and the energy report need of the operator.
 
@@ -75,15 +76,17 @@ pub fn stage_many(
     tolerance: f64,
 ) -> Vec<Radiosity> {
     let Rows {
-        mut tree,
+        tree,
         rho,
         dark,
         mut links,
     } = rows;
-    tree.release_own_hits();
+    // The solve reads only the tree's skeleton: the rest is freed while the rows are held and
+    // rebuilt from the skeleton once they are dropped (the same tree).
+    let skeleton = tree.into_skeleton();
     let mesh = &base.mesh;
     let areas: Vec<f64> = mesh.patches.iter().map(|p| p.area).collect();
-    let mut operator = PatchOperator::new(mesh, &tree, &links);
+    let mut operator = PatchOperator::new(mesh, &skeleton, &links);
     let black = |p: usize| dark.is_some() && links::black(&rho, &base.exitance, p);
     let balance = operator.balance(40, 1e-6, &black);
     let mut solved = Vec::with_capacity(rhs.len());
@@ -132,18 +135,25 @@ pub fn stage_many(
     let back = std::mem::take(&mut links.back);
     let closed = std::mem::take(&mut links.closed);
     drop(links);
-    // Every solution but the last gets a tree of its own (built again: the same tree), the last
-    // takes this one.
+    // The rows lived in the allocator's heap (chunks of 64 rows: blocks too small to be
+    // mapped on their own): hand their pages back before the tree is rebuilt beside them.
+    crate::heap::return_freed();
+    // Every solution gets the tree back, rebuilt from the skeleton (the last takes it).
     let n = solved.len();
-    let mut tree = Some(tree);
+    let mut skeleton = Some(skeleton);
     let mut out = Vec::with_capacity(n);
     for (k, (reflected, direct_patch, indirect_patch, indirect_vertex, stats)) in
         solved.into_iter().enumerate()
     {
-        let tree = match k + 1 == n {
-            true => tree.take().expect("the last solution takes the tree"),
-            false => PatchTree::build(mesh, (0..mesh.patches.len() as u32).collect()),
+        let skeleton = match k + 1 == n {
+            true => skeleton
+                .take()
+                .expect("the last solution takes the skeleton"),
+            false => skeleton
+                .clone()
+                .expect("the skeleton is kept until the last"),
         };
+        let tree = PatchTree::from_skeleton(skeleton, mesh);
         out.push(Radiosity {
             tree,
             rho: rho.clone(),

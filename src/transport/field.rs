@@ -2,11 +2,13 @@
 //! row reads (a node's mean, its first moment for far-field links, its exitance-weighted normal
 //! distribution for cluster links).
 //!
-//! Input: a tree, its patch mesh and a value per patch. Output: a [`NodeField`]. Sums run
+//! Input: a tree (or its skeleton), its patch mesh and a value per patch. Output: a
+//! [`NodeField`]. Sums run
 //! bottom-up in a fixed order, so equal inputs give equal bits.
 
 use super::link::{Link, moment_scale};
 use super::packed::Leaves;
+use super::skeleton::Topology;
 use super::tree::{LEAF_SLOT, PatchTree, leaf_sh};
 use crate::geom::sh;
 use crate::patches::PatchMesh;
@@ -138,22 +140,21 @@ impl NodeField {
     /// children's on a stack: in a reverse pre-order sweep a node's left child was swept last
     /// and its right child's subtree just before, so their values are the stack's top two.
     pub fn for_clusters(
-        tree: &PatchTree,
+        tree: &impl Topology,
         mesh: &PatchMesh,
         patch_value: impl Fn(usize) -> DVec3,
         clusters: &ClusterSlots,
     ) -> NodeField {
-        let n = tree.nodes.len();
-        let inner = tree.inner_nodes;
+        let n = tree.node_count();
+        let slot = tree.slots();
         let mut mean = vec![DVec3::ZERO; n];
-        let mut dipole = vec![[DVec3::ZERO; 3]; inner];
+        let mut dipole = vec![[DVec3::ZERO; 3]; tree.inner_nodes()];
         let with_sh = !clusters.is_empty();
         let mut sh = vec![[DVec3::ZERO; sh::DIST]; clusters.len()];
         let mut pending: Vec<[DVec3; sh::DIST]> = Vec::new();
         for i in (0..n).rev() {
-            let node = &tree.bounds[i];
-            if node.is_leaf() {
-                let p = tree.order[node.start as usize] as usize;
+            if tree.is_leaf(i) {
+                let p = tree.first_patch(i);
                 mean[i] = patch_value(p);
                 if with_sh {
                     // A leaf's distribution is its patch's normal, weighted by its value.
@@ -161,8 +162,8 @@ impl NodeField {
                 }
                 continue;
             }
-            let here = tree.slot[i] as usize;
-            let [a, b] = node.children.map(|c| c as usize);
+            let here = slot[i] as usize;
+            let [a, b] = tree.children(i).map(|c| c as usize);
             if with_sh {
                 debug_assert_eq!(a, i + 1, "children follow their parent in pre-order");
                 let sa = pending.pop().expect("left child swept");
@@ -173,14 +174,14 @@ impl NodeField {
                 }
                 pending.push(d);
             }
-            let (wa, wb) = (tree.nodes[a].area, tree.nodes[b].area);
+            let (wa, wb) = (tree.node(a).area, tree.node(b).area);
             if wa + wb <= 0.0 {
                 continue;
             }
             mean[i] = (mean[a] * wa + mean[b] * wb) / (wa + wb);
-            let c = node.centroid;
-            let (da, db) = (tree.bounds[a].centroid - c, tree.bounds[b].centroid - c);
-            let moment = |c: usize| match tree.slot[c] {
+            let c = tree.centroid(i);
+            let (da, db) = (tree.centroid(a) - c, tree.centroid(b) - c);
+            let moment = |c: usize| match slot[c] {
                 LEAF_SLOT => [DVec3::ZERO; 3],
                 s => dipole[s as usize],
             };
@@ -191,10 +192,11 @@ impl NodeField {
             }
         }
         // Each first moment over area^(3/2), once every parent has summed its children's.
-        for (i, node) in tree.nodes.iter().enumerate() {
-            if let Some(d) = dipole.get_mut(tree.slot[i] as usize) {
-                let scale = match node.area > 0.0 {
-                    true => moment_scale(node.area).recip(),
+        for i in 0..n {
+            if let Some(d) = dipole.get_mut(slot[i] as usize) {
+                let area = tree.node(i).area;
+                let scale = match area > 0.0 {
+                    true => moment_scale(area).recip(),
                     false => 0.0,
                 };
                 *d = d.map(|v| v * scale);
@@ -204,7 +206,7 @@ impl NodeField {
             mean,
             dipole,
             sh,
-            slot: tree.slot.clone(),
+            slot: slot.clone(),
             clusters: clusters.clone(),
         }
     }

@@ -18,7 +18,8 @@
 use super::field::NodeField;
 use super::link::moment_scale;
 use super::links::ReceiverLinks;
-use super::tree::{LEAF_SLOT, PatchTree};
+use super::skeleton::Skeleton;
+use super::tree::LEAF_SLOT;
 use crate::geom::sh::DIST;
 use crate::patches::PatchMesh;
 use glam::DVec3;
@@ -37,7 +38,7 @@ const TRANSPOSE_PARTS: usize = 2;
 
 pub struct PatchOperator<'a> {
     pub mesh: &'a PatchMesh,
-    pub tree: &'a PatchTree,
+    pub tree: &'a Skeleton,
     pub links: &'a ReceiverLinks,
     /// Row and column scalings (1 until [`PatchOperator::balance`]).
     pub row: Vec<f64>,
@@ -63,7 +64,7 @@ pub struct BalanceStats {
 }
 
 impl<'a> PatchOperator<'a> {
-    pub fn new(mesh: &'a PatchMesh, tree: &'a PatchTree, links: &'a ReceiverLinks) -> Self {
+    pub fn new(mesh: &'a PatchMesh, tree: &'a Skeleton, links: &'a ReceiverLinks) -> Self {
         let n = mesh.patches.len();
         PatchOperator {
             mesh,
@@ -207,15 +208,14 @@ impl<'a> PatchOperator<'a> {
         node_acc.par_iter_mut().enumerate().for_each(|(i, a)| {
             *a /= self.tree.nodes[i].area;
             if slot[i] != LEAF_SLOT {
-                *a -= node_grad[slot[i] as usize].dot(self.tree.bounds[i].centroid);
+                *a -= node_grad[slot[i] as usize].dot(self.tree.centroid[i]);
             }
         });
         let mut z = vec![0.0; mesh.patches.len()];
         // Leaf c (own value `own`) under ancestors whose sums are s, g and sh.
         let mut leaf = |c: usize, own: f64, s: f64, g: DVec3, sh: Option<&[f64; DIST]>| {
-            let node = &self.tree.bounds[c];
-            let p = self.tree.order[node.start as usize] as usize;
-            let cj = node.centroid;
+            let p = self.tree.order[self.tree.range[c][0] as usize] as usize;
+            let cj = self.tree.centroid[c];
             let clusters: f64 = sh.map_or(0.0, |sh| {
                 let own = super::tree::leaf_sh(&mesh.patches[p]);
                 (0..DIST).map(|k| sh[k] * own[k]).sum()
@@ -234,9 +234,9 @@ impl<'a> PatchOperator<'a> {
             }
             let si = slot[i] as usize;
             let (a, g) = (node_acc[i], node_grad[si]);
-            let node = &self.tree.bounds[i];
+            let [start, end] = self.tree.range[i];
             let sh = (!clusters.is_empty()).then(|| {
-                while path.last().is_some_and(|(end, _)| *end <= node.start) {
+                while path.last().is_some_and(|(e, _)| *e <= start) {
                     path.pop();
                 }
                 let own = clusters.get(i).map(|c| node_sh[c]);
@@ -246,10 +246,10 @@ impl<'a> PatchOperator<'a> {
                     (None, Some((_, up))) => *up,
                     (None, None) => [0.0; DIST],
                 };
-                path.push((node.end, sum));
+                path.push((end, sum));
                 sum
             });
-            for c in node.children {
+            for c in self.tree.children[i] {
                 let c = c as usize;
                 match slot[c] {
                     LEAF_SLOT => leaf(c, node_acc[c], a, g, sh.as_ref()),
@@ -388,6 +388,7 @@ mod tests {
     use super::*;
     use crate::fixtures::SceneBuilder;
     use crate::transport::gather::Gatherer;
+    use crate::transport::tree::PatchTree;
     use crate::visibility::{Occluder, OccluderOptions};
 
     /// A room with tessellated balls in it: far receivers see the balls as clusters.
@@ -444,7 +445,7 @@ mod tests {
         let (mesh, tree, links) = cluttered_links(None);
         let clusters = links.far_links().filter(|l| l.is_cluster()).count();
         assert!(clusters > 100, "{clusters} cluster links");
-        transpose_matches_apply(&mesh, &tree, &links);
+        transpose_matches_apply(&mesh, &tree.into_skeleton(), &links);
     }
 
     /// Receivers that read blends of gathered rows (`transport::sharing`): the transpose carries
@@ -456,10 +457,10 @@ mod tests {
             .filter(|&r| links.terms(r).len() > 1)
             .count();
         assert!(blended > 100, "{blended} blended receivers");
-        transpose_matches_apply(&mesh, &tree, &links);
+        transpose_matches_apply(&mesh, &tree.into_skeleton(), &links);
     }
 
-    fn transpose_matches_apply(mesh: &PatchMesh, tree: &PatchTree, links: &ReceiverLinks) {
+    fn transpose_matches_apply(mesh: &PatchMesh, tree: &Skeleton, links: &ReceiverLinks) {
         let mut op = PatchOperator::new(mesh, tree, links);
         // Non-trivial scalings, as after balancing.
         let n = mesh.patches.len();
@@ -475,8 +476,9 @@ mod tests {
         assert!((lhs / rhs - 1.0).abs() < 1e-9, "{lhs} vs {rhs}");
     }
 
-    /// The solver's fields keep the normal distributions of the nodes cluster links name, and
-    /// only those: bit for bit the full field's, so every row gathers the same light from both.
+    /// The solver's fields (on the tree's skeleton) keep the normal distributions of the nodes
+    /// cluster links name, and only those: bit for bit the full field's, so every row gathers
+    /// the same light from both.
     #[test]
     fn solver_fields_keep_only_the_named_clusters_bit_for_bit() {
         let (mesh, tree, links) = cluttered_links(None);
@@ -490,7 +492,13 @@ mod tests {
             .map(|k| DVec3::new(1.0, 2.0, 0.5) * (1.0 + 0.3 * (k as f64 * 0.9).sin()))
             .collect();
         let full = NodeField::new(&tree, &mesh, &b);
-        let solver = NodeField::for_clusters(&tree, &mesh, |p| b[p], &links.clusters);
+        let on_tree = NodeField::for_clusters(&tree, &mesh, |p| b[p], &links.clusters);
+        let skeleton =
+            PatchTree::build(&mesh, (0..mesh.patches.len() as u32).collect()).into_skeleton();
+        let solver = NodeField::for_clusters(&skeleton, &mesh, |p| b[p], &links.clusters);
+        assert_eq!(solver.mean, on_tree.mean);
+        assert_eq!(solver.dipole, on_tree.dipole);
+        assert_eq!(solver.sh, on_tree.sh);
         assert_eq!(solver.sh.len(), kept);
         let mut named = 0;
         for i in 0..tree.nodes.len() {

@@ -21,6 +21,8 @@
 //! reverse sweep visits children first); a node's patches are `order[range]`.
 
 use super::silhouette;
+pub use super::skeleton::{NO_CHILD, TreeNode};
+use super::skeleton::{Skeleton, Topology};
 use crate::geom::farfield::AreaMoments;
 use crate::geom::sh;
 use crate::patches::PatchMesh;
@@ -33,27 +35,13 @@ const SPLIT_CONE: f64 = 0.35; // ≈ 20°
 /// (quantised to about 7°): a handful of planes (a room, a desk) never is.
 const CURVED: usize = 12;
 
-pub const NO_CHILD: u32 = u32::MAX;
-
 /// Area quantiles of a node's representative patches ([`PatchTree::reps`]): two rays go to the
 /// outer ones, a single ray to the median.
 pub const REP_QUANTILES: [f64; 3] = [0.25, 0.5, 0.75];
 
-/// A node of the hierarchy: what the solver reads besides [`NodeBounds`] (its box, normal
-/// cone, centroid, children and patch range are there, in the form a visit reads them).
-#[derive(Debug, Clone, Copy)]
-pub struct TreeNode {
-    /// Area of the node's patches (a far-field source's full moments, needed by inner nodes
-    /// only, are [`PatchTree::moments`]).
-    pub area: f64,
-    /// Area of the node's single-sided patches: only their backs absorb (a double-sided patch's
-    /// back is its twin, counted on its own).
-    pub single_sided_area: f64,
-}
-
 /// An inner node's [`AreaMoments`] less its area and centroid, the second moments by their upper
 /// triangle (they are symmetric exactly: sums of outer products of a vector with itself).
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 struct InnerMoments {
     normal_sum: DVec3,
     /// xx, xy, xz, yy, yz, zz.
@@ -106,7 +94,7 @@ pub struct Shape {
 
 /// The part of a [`TreeNode`] a gather reads at every node it visits, packed apart from the rest
 /// (a third of the size) so traversals stay in cache: the same values, so the same answers.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct NodeBounds {
     pub center: DVec3,
     /// Half the bounding box's extent.
@@ -271,37 +259,14 @@ impl PatchTree {
             .then(|| self.own_hits.get_or_init(|| own_hits(mesh, &self.order)))
     }
 
-    /// Free [`PatchTree::own_hits`] until a gather needs it again (the solve gathers nothing: a
-    /// BVH over every patch fewer at its peak).
-    pub fn release_own_hits(&mut self) {
-        self.own_hits.take();
-    }
-
     /// Build the hierarchy over `subset` (patch indices) of `mesh`.
     pub fn build(mesh: &PatchMesh, subset: Vec<u32>) -> Self {
-        let mut tree = PatchTree {
-            nodes: Vec::new(),
-            building: Vec::with_capacity(2 * subset.len()),
-            bounds: Vec::new(),
-            order: subset,
-            area_prefix: Vec::new(),
-            reps: Vec::new(),
-            normal_sh: Vec::new(),
-            inner_moments: Vec::new(),
-            visible: Vec::new(),
-            curved: false,
-            own_hits: std::sync::OnceLock::new(),
-            slot: std::sync::Arc::from([]),
-            inner_nodes: 0,
-        };
+        let mut tree = PatchTree::unbuilt(subset);
         if tree.order.is_empty() {
             return tree;
         }
-        let leaf: Vec<AreaMoments> = mesh
-            .patches
-            .iter()
-            .map(|p| AreaMoments::triangle(&p.corners(&mesh.receivers), p.area, p.normal))
-            .collect();
+        tree.building.reserve(2 * tree.order.len());
+        let leaf = leaf_moments(mesh);
         let n = tree.order.len() as u32;
         tree.split(mesh, &leaf, &clutter_patches(mesh), 0, n);
         let mut inner = 0;
@@ -317,31 +282,110 @@ impl PatchTree {
             })
             .collect();
         tree.inner_nodes = inner as usize;
-        let shapes = tree.finish(mesh, &leaf);
-        let building = std::mem::take(&mut tree.building);
-        tree.bounds = (building.iter().zip(&shapes))
+        tree.assemble(mesh, &leaf);
+        tree
+    }
+
+    /// The tree's [`Skeleton`]; the rest is freed before the skeleton's arrays are made.
+    pub fn into_skeleton(mut self) -> Skeleton {
+        let nodes = std::mem::take(&mut self.nodes);
+        let bounds = std::mem::take(&mut self.bounds);
+        let order = std::mem::take(&mut self.order);
+        let slot = std::mem::replace(&mut self.slot, std::sync::Arc::from([]));
+        let inner_nodes = self.inner_nodes;
+        drop(self);
+        Skeleton {
+            nodes,
+            centroid: bounds.iter().map(|b| b.centroid).collect(),
+            children: bounds.iter().map(|b| b.children).collect(),
+            range: bounds.iter().map(|b| [b.start, b.end]).collect(),
+            curved: bounds.iter().map(|b| b.curved).collect(),
+            order,
+            slot,
+            inner_nodes,
+        }
+    }
+
+    /// The tree `skeleton` was taken from, over the same `mesh`: its nodes as they were split,
+    /// everything else computed again by the same sums as [`PatchTree::build`] (the same bits).
+    pub fn from_skeleton(skeleton: Skeleton, mesh: &PatchMesh) -> Self {
+        let Skeleton {
+            children,
+            range,
+            curved,
+            order,
+            slot,
+            inner_nodes,
+            ..
+        } = skeleton;
+        let mut tree = PatchTree::unbuilt(order);
+        if tree.order.is_empty() {
+            return tree;
+        }
+        tree.building = (children.iter().zip(&range).zip(&curved))
+            .map(|((&children, &[start, end]), &curved)| Building {
+                area: 0.0,
+                centroid: DVec3::ZERO,
+                children,
+                single_sided_area: 0.0,
+                curved,
+                start,
+                end,
+            })
+            .collect();
+        drop((children, range, curved));
+        tree.slot = slot;
+        tree.inner_nodes = inner_nodes;
+        tree.assemble(mesh, &leaf_moments(mesh));
+        tree
+    }
+
+    /// A tree over `order` with no nodes yet.
+    fn unbuilt(order: Vec<u32>) -> Self {
+        PatchTree {
+            nodes: Vec::new(),
+            building: Vec::new(),
+            bounds: Vec::new(),
+            order,
+            area_prefix: Vec::new(),
+            reps: Vec::new(),
+            normal_sh: Vec::new(),
+            inner_moments: Vec::new(),
+            visible: Vec::new(),
+            curved: false,
+            own_hits: std::sync::OnceLock::new(),
+            slot: std::sync::Arc::from([]),
+            inner_nodes: 0,
+        }
+    }
+
+    /// Everything but the split, from the split nodes (`building`, `order`, `slot`): moments,
+    /// boxes, cones and normal distributions bottom-up, visible shares, representatives.
+    fn assemble(&mut self, mesh: &PatchMesh, leaf: &[AreaMoments]) {
+        let shapes = self.finish(mesh, leaf);
+        let building = std::mem::take(&mut self.building);
+        self.bounds = (building.iter().zip(&shapes))
             .map(|(n, s)| NodeBounds::of(n, s))
             .collect();
-        tree.nodes = (building.iter())
+        self.nodes = (building.iter())
             .map(|n| TreeNode {
                 area: n.area,
                 single_sided_area: n.single_sided_area,
             })
             .collect();
         drop(building);
-        tree.visible = visible_shares(&tree, mesh, &shapes);
+        self.visible = visible_shares(self, mesh, &shapes);
         drop(shapes);
-        tree.curved = tree.bounds.iter().any(|n| n.curved);
+        self.curved = self.bounds.iter().any(|n| n.curved);
         let mut acc = 0.0;
-        tree.area_prefix.push(0.0);
-        for &p in &tree.order {
+        self.area_prefix.push(0.0);
+        for &p in &self.order {
             acc += mesh.patches[p as usize].area;
-            tree.area_prefix.push(acc);
+            self.area_prefix.push(acc);
         }
-        tree.reps = (0..tree.nodes.len())
-            .map(|i| REP_QUANTILES.map(|q| tree.representative(i, q)))
+        self.reps = (0..self.nodes.len())
+            .map(|i| REP_QUANTILES.map(|q| self.representative(i, q)))
             .collect();
-        tree
     }
 
     /// Centroid and unit normal of node `i`'s representative `k` (at area quantile
@@ -554,6 +598,40 @@ fn visible_shares(tree: &PatchTree, mesh: &PatchMesh, shapes: &[Shape]) -> Vec<[
         .collect()
 }
 
+impl Topology for PatchTree {
+    fn node_count(&self) -> usize {
+        self.nodes.len()
+    }
+    fn inner_nodes(&self) -> usize {
+        self.inner_nodes
+    }
+    fn slots(&self) -> &std::sync::Arc<[u32]> {
+        &self.slot
+    }
+    fn order(&self) -> &[u32] {
+        &self.order
+    }
+    fn node(&self, i: usize) -> &TreeNode {
+        &self.nodes[i]
+    }
+    fn centroid(&self, i: usize) -> DVec3 {
+        self.bounds[i].centroid
+    }
+    fn children(&self, i: usize) -> [u32; 2] {
+        self.bounds[i].children
+    }
+    fn range(&self, i: usize) -> (u32, u32) {
+        (self.bounds[i].start, self.bounds[i].end)
+    }
+}
+
+/// Every patch's area moments (a leaf's).
+fn leaf_moments(mesh: &PatchMesh) -> Vec<AreaMoments> {
+    (mesh.patches.iter())
+        .map(|p| AreaMoments::triangle(&p.corners(&mesh.receivers), p.area, p.normal))
+        .collect()
+}
+
 /// A leaf's normal distribution: its patch's area at its normal.
 pub fn leaf_sh(patch: &crate::patches::Patch) -> sh::Dist {
     sh::dist_point(patch.normal, patch.area)
@@ -757,5 +835,36 @@ mod tests {
             let first = surface(patches(ball)[0]);
             assert!(patches(ball).iter().all(|&p| surface(p) == first));
         }
+    }
+
+    /// The solve holds only a tree's skeleton; the tree rebuilt from it is the tree, every
+    /// array bit for bit (on planes and curved clutter, so normal distributions, moments and
+    /// visible shares are all exercised).
+    #[test]
+    fn a_tree_rebuilt_from_its_skeleton_is_the_same_tree() {
+        let mut b = SceneBuilder::new();
+        let grey = b.material("grey", 0.5);
+        b.floor("floor", 6.0, 0.0, grey);
+        b.ball("fine", DVec3::new(-2.0, 1.0, 0.5), 0.3, (12, 16), grey);
+        b.ball("coarse", DVec3::new(2.0, 1.0, 0.0), 0.4, (6, 8), grey);
+        let mesh = crate::patches::build(&b.build(), 0.7, None);
+        let built = || PatchTree::build(&mesh, (0..mesh.patches.len() as u32).collect());
+        let tree = built();
+        assert!(tree.has_curved() && tree.inner_nodes > 100);
+        let skeleton = built().into_skeleton();
+        assert_eq!(skeleton.nodes.len(), tree.nodes.len());
+        let again = PatchTree::from_skeleton(skeleton, &mesh);
+        assert_eq!(again.nodes, tree.nodes);
+        assert_eq!(again.bounds, tree.bounds);
+        assert_eq!(again.order, tree.order);
+        assert_eq!(again.area_prefix, tree.area_prefix);
+        assert_eq!(again.reps, tree.reps);
+        assert_eq!(again.normal_sh, tree.normal_sh);
+        assert_eq!(again.inner_moments, tree.inner_moments);
+        assert_eq!(again.visible, tree.visible);
+        assert_eq!(again.slot, tree.slot);
+        assert_eq!(again.inner_nodes, tree.inner_nodes);
+        assert_eq!(again.curved, tree.curved);
+        assert!(again.building.is_empty());
     }
 }

@@ -1,0 +1,95 @@
+//! The part of a patch tree (`tree::PatchTree`) that fields and the solve read: each node's
+//! area, centroid, children and patch range, the leaf order and the inner-node slots. A gather
+//! needs the rest (boxes, normal cones, moments, normal distributions, representatives); the
+//! solve iterates on precomputed rows and does not, so it runs on a [`Skeleton`] (about a fifth
+//! of the tree) and the full tree is rebuilt from it afterwards, the same bits
+//! (`PatchTree::from_skeleton`).
+//!
+//! Input: a patch tree (consumed: `PatchTree::into_skeleton`). Output: a [`Skeleton`].
+//! [`Topology`] is what a node field and the operator read, served by either.
+
+use glam::DVec3;
+use std::sync::Arc;
+
+pub const NO_CHILD: u32 = u32::MAX;
+
+/// A node of the hierarchy: its areas. Its centroid, children and patch range are a tree's
+/// `NodeBounds` (with its box and normal cone, as a visit reads them) or a [`Skeleton`]'s arrays.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TreeNode {
+    /// Area of the node's patches (a far-field source's full moments, needed by inner nodes
+    /// only, are `PatchTree::moments`).
+    pub area: f64,
+    /// Area of the node's single-sided patches: only their backs absorb (a double-sided patch's
+    /// back is its twin, counted on its own).
+    pub single_sided_area: f64,
+}
+
+/// A tree's nodes as fields and the operator read them.
+pub trait Topology {
+    /// Number of nodes (the root is node 0; children follow their parent in pre-order).
+    fn node_count(&self) -> usize;
+    /// Number of inner nodes (the length of per-inner-node arrays).
+    fn inner_nodes(&self) -> usize;
+    /// Per node: its index among the inner nodes, `LEAF_SLOT` for leaves.
+    fn slots(&self) -> &Arc<[u32]>;
+    /// Patch indices in leaf order.
+    fn order(&self) -> &[u32];
+    fn node(&self, i: usize) -> &TreeNode;
+    fn centroid(&self, i: usize) -> DVec3;
+    fn children(&self, i: usize) -> [u32; 2];
+    /// The node's patches are `order()[start..end]`.
+    fn range(&self, i: usize) -> (u32, u32);
+
+    fn is_leaf(&self, i: usize) -> bool {
+        self.children(i)[0] == NO_CHILD
+    }
+
+    /// The first patch of node `i` (a leaf's only one).
+    fn first_patch(&self, i: usize) -> usize {
+        self.order()[self.range(i).0 as usize] as usize
+    }
+}
+
+/// A patch tree's [`Topology`] alone.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Skeleton {
+    pub nodes: Vec<TreeNode>,
+    pub centroid: Vec<DVec3>,
+    pub children: Vec<[u32; 2]>,
+    /// Per node: `[start, end)` into `order`.
+    pub range: Vec<[u32; 2]>,
+    /// Per node: does it hold curved clutter (decided while splitting, so kept for the rebuild).
+    pub curved: Vec<bool>,
+    pub order: Vec<u32>,
+    pub slot: Arc<[u32]>,
+    pub inner_nodes: usize,
+}
+
+impl Topology for Skeleton {
+    fn node_count(&self) -> usize {
+        self.nodes.len()
+    }
+    fn inner_nodes(&self) -> usize {
+        self.inner_nodes
+    }
+    fn slots(&self) -> &Arc<[u32]> {
+        &self.slot
+    }
+    fn order(&self) -> &[u32] {
+        &self.order
+    }
+    fn node(&self, i: usize) -> &TreeNode {
+        &self.nodes[i]
+    }
+    fn centroid(&self, i: usize) -> DVec3 {
+        self.centroid[i]
+    }
+    fn children(&self, i: usize) -> [u32; 2] {
+        self.children[i]
+    }
+    fn range(&self, i: usize) -> (u32, u32) {
+        let [s, e] = self.range[i];
+        (s, e)
+    }
+}
