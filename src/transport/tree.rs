@@ -310,14 +310,17 @@ impl PatchTree {
     /// everything else computed again by the same sums as [`PatchTree::build`] (the same bits).
     pub fn from_skeleton(skeleton: Skeleton, mesh: &PatchMesh) -> Self {
         let Skeleton {
+            nodes,
+            centroid,
             children,
             range,
             curved,
             order,
             slot,
             inner_nodes,
-            ..
         } = skeleton;
+        // Summed again below: freed before the rebuild's own arrays are made.
+        drop((nodes, centroid));
         let mut tree = PatchTree::unbuilt(order);
         if tree.order.is_empty() {
             return tree;
