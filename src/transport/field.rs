@@ -77,49 +77,133 @@ impl ClusterSlots {
     }
 }
 
-/// A per-patch RGB field summarised on every node: its area-mean, and on inner nodes (indexed
-/// by [`PatchTree::slot`]; a leaf's is zero) its first moment over its area to the power 3/2
-/// (`dipole[channel]` = Σₖ Aₖ·Bₖ·(cₖ − c_node) / A_node^(3/2): what a far-field link's stored
-/// gradient is relative to, [`Link::relative`]), which far-field links use to first order.
-pub struct NodeField {
-    pub mean: Vec<DVec3>,
-    pub dipole: Vec<[DVec3; 3]>,
-    /// The exitance-weighted normal distribution (RGB, `geom::sh::Dist`) of the nodes in
+/// What a node field sums: RGB exitance ([`DVec3`]) or one channel of it (`f64`: the
+/// luminance estimates sharing reads, a third of the memory).
+pub trait FieldValue:
+    Copy
+    + Send
+    + Sync
+    + std::ops::Add<Output = Self>
+    + std::ops::Mul<f64, Output = Self>
+    + std::ops::Div<f64, Output = Self>
+{
+    const ZERO: Self;
+    /// A first moment: one vector per channel.
+    type Moment: Copy + Send + Sync;
+    const NO_MOMENT: Self::Moment;
+    /// A parent's moment from its children's (`ma`, `mb`), their centroids' offsets from its own
+    /// (`da`, `db`), their means and areas.
+    #[allow(clippy::too_many_arguments)]
+    fn parent_moment(
+        ma: Self::Moment,
+        mb: Self::Moment,
+        da: DVec3,
+        va: Self,
+        wa: f64,
+        db: DVec3,
+        vb: Self,
+        wb: f64,
+    ) -> Self::Moment;
+    fn scaled(m: Self::Moment, s: f64) -> Self::Moment;
+    /// The gradient `g` dotted with each channel's moment.
+    fn along(g: DVec3, m: &Self::Moment) -> Self;
+}
+
+impl FieldValue for DVec3 {
+    const ZERO: Self = DVec3::ZERO;
+    type Moment = [DVec3; 3];
+    const NO_MOMENT: Self::Moment = [DVec3::ZERO; 3];
+    fn parent_moment(
+        ma: Self::Moment,
+        mb: Self::Moment,
+        da: DVec3,
+        va: Self,
+        wa: f64,
+        db: DVec3,
+        vb: Self,
+        wb: f64,
+    ) -> Self::Moment {
+        std::array::from_fn(|ch| ma[ch] + mb[ch] + da * (va[ch] * wa) + db * (vb[ch] * wb))
+    }
+    fn scaled(m: Self::Moment, s: f64) -> Self::Moment {
+        m.map(|v| v * s)
+    }
+    fn along(g: DVec3, m: &Self::Moment) -> Self {
+        DVec3::new(g.dot(m[0]), g.dot(m[1]), g.dot(m[2]))
+    }
+}
+
+impl FieldValue for f64 {
+    const ZERO: Self = 0.0;
+    type Moment = DVec3;
+    const NO_MOMENT: Self::Moment = DVec3::ZERO;
+    fn parent_moment(
+        ma: DVec3,
+        mb: DVec3,
+        da: DVec3,
+        va: f64,
+        wa: f64,
+        db: DVec3,
+        vb: f64,
+        wb: f64,
+    ) -> DVec3 {
+        ma + mb + da * (va * wa) + db * (vb * wb)
+    }
+    fn scaled(m: DVec3, s: f64) -> DVec3 {
+        m * s
+    }
+    fn along(g: DVec3, m: &DVec3) -> f64 {
+        g.dot(*m)
+    }
+}
+
+/// A per-patch field (RGB unless said) summarised on every node: its area-mean, and on inner
+/// nodes (indexed by [`PatchTree::slot`]; a leaf's is zero) its first moment over its area to
+/// the power 3/2 (`dipole[channel]` = Σₖ Aₖ·Bₖ·(cₖ − c_node) / A_node^(3/2): what a far-field
+/// link's stored gradient is relative to, [`Link::relative`]), which far-field links use to
+/// first order.
+pub struct NodeField<V: FieldValue = DVec3> {
+    pub mean: Vec<V>,
+    pub dipole: Vec<V::Moment>,
+    /// The exitance-weighted normal distribution (`geom::sh::Dist` per channel) of the nodes in
     /// `clusters`: what cluster links read.
-    pub sh: Vec<[DVec3; sh::DIST]>,
+    pub sh: Vec<[V; sh::DIST]>,
     slot: std::sync::Arc<[u32]>,
     clusters: ClusterSlots,
 }
 
-impl NodeField {
+impl<V: FieldValue> NodeField<V> {
     /// Σ over leaf links of coefficient × the patch's exitance.
-    pub fn gather_leaves(&self, leaves: Leaves) -> DVec3 {
+    pub fn gather_leaves(&self, leaves: Leaves) -> V {
         leaves
             .iter()
             .map(|l| self.mean[l.node as usize] * l.coeff as f64)
-            .sum()
+            .fold(V::ZERO, |a, b| a + b)
     }
 
     /// Σ over `links` of coefficient × mean + gradient · dipole (per channel).
     ///
     /// Panics on a cluster link to a node the field keeps no distribution for.
-    pub fn gather(&self, links: impl IntoIterator<Item = Link>) -> DVec3 {
-        let mut sum = DVec3::ZERO;
+    pub fn gather(&self, links: impl IntoIterator<Item = Link>) -> V {
+        let mut sum = V::ZERO;
         for l in links {
             let i = l.node as usize;
             if l.is_cluster() {
                 let (k, w) = l.cluster();
                 let weights = sh::dist_weights(w);
                 let s = &self.sh[self.clusters.get(i).expect("a kept cluster node")];
-                sum += (0..sh::DIST).map(|c| s[c] * weights[c]).sum::<DVec3>() * k;
+                sum = sum
+                    + (0..sh::DIST)
+                        .map(|c| s[c] * weights[c])
+                        .fold(V::ZERO, |a, b| a + b)
+                        * k;
                 continue;
             }
-            sum += self.mean[i] * l.coeff as f64;
+            sum = sum + self.mean[i] * l.coeff as f64;
             // Far-field links name inner nodes only (a leaf's moment is zero).
             let slot = self.slot[i] as usize;
             if slot != LEAF_SLOT as usize && l.has_shape() {
-                let (g, d) = (l.relative(), &self.dipole[slot]);
-                sum += DVec3::new(g.dot(d[0]), g.dot(d[1]), g.dot(d[2])) * l.coeff as f64;
+                sum = sum + V::along(l.relative(), &self.dipole[slot]) * l.coeff as f64;
             }
         }
         sum
@@ -132,7 +216,9 @@ impl NodeField {
     pub fn new(tree: &PatchTree, mesh: &PatchMesh, patch_values: &[DVec3]) -> NodeField {
         NodeField::for_clusters(tree, mesh, |p| patch_values[p], &ClusterSlots::all(tree))
     }
+}
 
+impl<V: FieldValue> NodeField<V> {
     /// [`NodeField::new`] of the values `patch_value(patch)` (a closure, so a scaled
     /// field needs no scaled copy), keeping the normal distributions of `clusters` only. The
     /// distributions are summed bottom-up through every node all the same (the same sums in the
@@ -142,16 +228,16 @@ impl NodeField {
     pub fn for_clusters(
         tree: &impl Topology,
         mesh: &PatchMesh,
-        patch_value: impl Fn(usize) -> DVec3,
+        patch_value: impl Fn(usize) -> V,
         clusters: &ClusterSlots,
-    ) -> NodeField {
+    ) -> NodeField<V> {
         let n = tree.node_count();
         let slot = tree.slots();
-        let mut mean = vec![DVec3::ZERO; n];
-        let mut dipole = vec![[DVec3::ZERO; 3]; tree.inner_nodes()];
+        let mut mean = vec![V::ZERO; n];
+        let mut dipole = vec![V::NO_MOMENT; tree.inner_nodes()];
         let with_sh = !clusters.is_empty();
-        let mut sh = vec![[DVec3::ZERO; sh::DIST]; clusters.len()];
-        let mut pending: Vec<[DVec3; sh::DIST]> = Vec::new();
+        let mut sh = vec![[V::ZERO; sh::DIST]; clusters.len()];
+        let mut pending: Vec<[V; sh::DIST]> = Vec::new();
         for i in (0..n).rev() {
             if tree.is_leaf(i) {
                 let p = tree.first_patch(i);
@@ -168,7 +254,7 @@ impl NodeField {
                 debug_assert_eq!(a, i + 1, "children follow their parent in pre-order");
                 let sa = pending.pop().expect("left child swept");
                 let sb = pending.pop().expect("right child swept");
-                let d: [DVec3; sh::DIST] = std::array::from_fn(|k| sa[k] + sb[k]);
+                let d: [V; sh::DIST] = std::array::from_fn(|k| sa[k] + sb[k]);
                 if let Some(s) = clusters.get(i) {
                     sh[s] = d;
                 }
@@ -182,14 +268,11 @@ impl NodeField {
             let c = tree.centroid(i);
             let (da, db) = (tree.centroid(a) - c, tree.centroid(b) - c);
             let moment = |c: usize| match slot[c] {
-                LEAF_SLOT => [DVec3::ZERO; 3],
+                LEAF_SLOT => V::NO_MOMENT,
                 s => dipole[s as usize],
             };
             let (ma, mb) = (moment(a), moment(b));
-            for ch in 0..3 {
-                dipole[here][ch] =
-                    ma[ch] + mb[ch] + da * (mean[a][ch] * wa) + db * (mean[b][ch] * wb);
-            }
+            dipole[here] = V::parent_moment(ma, mb, da, mean[a], wa, db, mean[b], wb);
         }
         // Each first moment over area^(3/2), once every parent has summed its children's.
         for i in 0..n {
@@ -199,7 +282,7 @@ impl NodeField {
                     true => moment_scale(area).recip(),
                     false => 0.0,
                 };
-                *d = d.map(|v| v * scale);
+                *d = V::scaled(*d, scale);
             }
         }
         NodeField {

@@ -407,10 +407,11 @@ fn estimates(
         gatherer.tree.nodes.len(),
         named.collect::<Vec<_>>().into_iter(),
     );
-    let field = NodeField::for_clusters(
+    // Only the luminance is read, and a row's reading is linear in the field: one channel.
+    let field: NodeField<f64> = NodeField::for_clusters(
         gatherer.tree,
         gatherer.mesh,
-        |p| sharing.first_bounce[p],
+        |p| luma(sharing.first_bounce[p]),
         &slots,
     );
     let tree = gatherer.tree;
@@ -449,7 +450,7 @@ fn estimates(
                 normal: v.normal,
                 group: v.group,
                 reach: if lends { sum / inverse } else { 0.0 },
-                first: luma(field.gather_leaves(row.leaves) + field.gather(row.far.iter())),
+                first: field.gather_leaves(row.leaves) + field.gather(row.far.iter()),
             }
         })
         .collect()
