@@ -91,39 +91,33 @@ pub trait FieldValue:
     /// A first moment: one vector per channel.
     type Moment: Copy + Send + Sync;
     const NO_MOMENT: Self::Moment;
-    /// A parent's moment from its children's (`ma`, `mb`), their centroids' offsets from its own
-    /// (`da`, `db`), their means and areas.
-    #[allow(clippy::too_many_arguments)]
-    fn parent_moment(
-        ma: Self::Moment,
-        mb: Self::Moment,
-        da: DVec3,
-        va: Self,
-        wa: f64,
-        db: DVec3,
-        vb: Self,
-        wb: f64,
-    ) -> Self::Moment;
+    /// A parent's moment from its two children's.
+    fn parent_moment(a: Child<Self>, b: Child<Self>) -> Self::Moment;
     fn scaled(m: Self::Moment, s: f64) -> Self::Moment;
     /// The gradient `g` dotted with each channel's moment.
     fn along(g: DVec3, m: &Self::Moment) -> Self;
+}
+
+/// A child node as its parent's first moment reads it.
+pub struct Child<V: FieldValue> {
+    pub moment: V::Moment,
+    /// Its centroid less its parent's.
+    pub offset: DVec3,
+    pub mean: V,
+    pub area: f64,
 }
 
 impl FieldValue for DVec3 {
     const ZERO: Self = DVec3::ZERO;
     type Moment = [DVec3; 3];
     const NO_MOMENT: Self::Moment = [DVec3::ZERO; 3];
-    fn parent_moment(
-        ma: Self::Moment,
-        mb: Self::Moment,
-        da: DVec3,
-        va: Self,
-        wa: f64,
-        db: DVec3,
-        vb: Self,
-        wb: f64,
-    ) -> Self::Moment {
-        std::array::from_fn(|ch| ma[ch] + mb[ch] + da * (va[ch] * wa) + db * (vb[ch] * wb))
+    fn parent_moment(a: Child<Self>, b: Child<Self>) -> Self::Moment {
+        std::array::from_fn(|ch| {
+            a.moment[ch]
+                + b.moment[ch]
+                + a.offset * (a.mean[ch] * a.area)
+                + b.offset * (b.mean[ch] * b.area)
+        })
     }
     fn scaled(m: Self::Moment, s: f64) -> Self::Moment {
         m.map(|v| v * s)
@@ -137,17 +131,8 @@ impl FieldValue for f64 {
     const ZERO: Self = 0.0;
     type Moment = DVec3;
     const NO_MOMENT: Self::Moment = DVec3::ZERO;
-    fn parent_moment(
-        ma: DVec3,
-        mb: DVec3,
-        da: DVec3,
-        va: f64,
-        wa: f64,
-        db: DVec3,
-        vb: f64,
-        wb: f64,
-    ) -> DVec3 {
-        ma + mb + da * (va * wa) + db * (vb * wb)
+    fn parent_moment(a: Child<Self>, b: Child<Self>) -> DVec3 {
+        a.moment + b.moment + a.offset * (a.mean * a.area) + b.offset * (b.mean * b.area)
     }
     fn scaled(m: DVec3, s: f64) -> DVec3 {
         m * s
@@ -231,16 +216,16 @@ impl<V: FieldValue> NodeField<V> {
         patch_value: impl Fn(usize) -> V,
         clusters: &ClusterSlots,
     ) -> NodeField<V> {
-        let n = tree.node_count();
-        let slot = tree.slots();
+        let shared = tree.shared();
+        let (n, slot) = (shared.nodes.len(), shared.slot);
         let mut mean = vec![V::ZERO; n];
-        let mut dipole = vec![V::NO_MOMENT; tree.inner_nodes()];
+        let mut dipole = vec![V::NO_MOMENT; shared.inner_nodes];
         let with_sh = !clusters.is_empty();
         let mut sh = vec![[V::ZERO; sh::DIST]; clusters.len()];
         let mut pending: Vec<[V; sh::DIST]> = Vec::new();
         for i in (0..n).rev() {
             if tree.is_leaf(i) {
-                let p = tree.first_patch(i);
+                let p = shared.order[tree.range(i).0 as usize] as usize;
                 mean[i] = patch_value(p);
                 if with_sh {
                     // A leaf's distribution is its patch's normal, weighted by its value.
@@ -260,7 +245,7 @@ impl<V: FieldValue> NodeField<V> {
                 }
                 pending.push(d);
             }
-            let (wa, wb) = (tree.node(a).area, tree.node(b).area);
+            let (wa, wb) = (shared.nodes[a].area, shared.nodes[b].area);
             if wa + wb <= 0.0 {
                 continue;
             }
@@ -271,13 +256,18 @@ impl<V: FieldValue> NodeField<V> {
                 LEAF_SLOT => V::NO_MOMENT,
                 s => dipole[s as usize],
             };
-            let (ma, mb) = (moment(a), moment(b));
-            dipole[here] = V::parent_moment(ma, mb, da, mean[a], wa, db, mean[b], wb);
+            let child = |c: usize, offset: DVec3, area: f64| Child {
+                moment: moment(c),
+                offset,
+                mean: mean[c],
+                area,
+            };
+            dipole[here] = V::parent_moment(child(a, da, wa), child(b, db, wb));
         }
         // Each first moment over area^(3/2), once every parent has summed its children's.
         for i in 0..n {
             if let Some(d) = dipole.get_mut(slot[i] as usize) {
-                let area = tree.node(i).area;
+                let area = shared.nodes[i].area;
                 let scale = match area > 0.0 {
                     true => moment_scale(area).recip(),
                     false => 0.0,

@@ -25,29 +25,44 @@ pub struct TreeNode {
     pub single_sided_area: f64,
 }
 
-/// A tree's nodes as fields and the operator read them.
-pub trait Topology {
-    /// Number of nodes (the root is node 0; children follow their parent in pre-order).
-    fn node_count(&self) -> usize;
-    /// Number of inner nodes (the length of per-inner-node arrays).
-    fn inner_nodes(&self) -> usize;
-    /// Per node: its index among the inner nodes, `LEAF_SLOT` for leaves.
-    fn slots(&self) -> &Arc<[u32]>;
+/// What a tree and its skeleton hold alike (borrowed).
+pub struct Shared<'a> {
+    pub nodes: &'a [TreeNode],
     /// Patch indices in leaf order.
-    fn order(&self) -> &[u32];
-    fn node(&self, i: usize) -> &TreeNode;
+    pub order: &'a [u32],
+    /// Per node: its index among the inner nodes, `LEAF_SLOT` for leaves.
+    pub slot: &'a Arc<[u32]>,
+    /// Number of inner nodes (the length of per-inner-node arrays).
+    pub inner_nodes: usize,
+}
+
+impl<'a> Shared<'a> {
+    pub fn new(
+        nodes: &'a [TreeNode],
+        order: &'a [u32],
+        slot: &'a Arc<[u32]>,
+        inner_nodes: usize,
+    ) -> Self {
+        Shared {
+            nodes,
+            order,
+            slot,
+            inner_nodes,
+        }
+    }
+}
+
+/// A tree's nodes as fields and the operator read them (the root is node 0; children follow
+/// their parent in pre-order).
+pub trait Topology {
+    fn shared(&self) -> Shared<'_>;
     fn centroid(&self, i: usize) -> DVec3;
     fn children(&self, i: usize) -> [u32; 2];
-    /// The node's patches are `order()[start..end]`.
+    /// The node's patches are `order[start..end]`.
     fn range(&self, i: usize) -> (u32, u32);
 
     fn is_leaf(&self, i: usize) -> bool {
         self.children(i)[0] == NO_CHILD
-    }
-
-    /// The first patch of node `i` (a leaf's only one).
-    fn first_patch(&self, i: usize) -> usize {
-        self.order()[self.range(i).0 as usize] as usize
     }
 }
 
@@ -67,20 +82,8 @@ pub struct Skeleton {
 }
 
 impl Topology for Skeleton {
-    fn node_count(&self) -> usize {
-        self.nodes.len()
-    }
-    fn inner_nodes(&self) -> usize {
-        self.inner_nodes
-    }
-    fn slots(&self) -> &Arc<[u32]> {
-        &self.slot
-    }
-    fn order(&self) -> &[u32] {
-        &self.order
-    }
-    fn node(&self, i: usize) -> &TreeNode {
-        &self.nodes[i]
+    fn shared(&self) -> Shared<'_> {
+        Shared::new(&self.nodes, &self.order, &self.slot, self.inner_nodes)
     }
     fn centroid(&self, i: usize) -> DVec3 {
         self.centroid[i]

@@ -22,7 +22,7 @@
 
 use super::silhouette;
 pub use super::skeleton::{NO_CHILD, TreeNode};
-use super::skeleton::{Skeleton, Topology};
+use super::skeleton::{Shared, Skeleton, Topology};
 use crate::geom::farfield::AreaMoments;
 use crate::geom::sh;
 use crate::patches::PatchMesh;
@@ -602,20 +602,8 @@ fn visible_shares(tree: &PatchTree, mesh: &PatchMesh, shapes: &[Shape]) -> Vec<[
 }
 
 impl Topology for PatchTree {
-    fn node_count(&self) -> usize {
-        self.nodes.len()
-    }
-    fn inner_nodes(&self) -> usize {
-        self.inner_nodes
-    }
-    fn slots(&self) -> &std::sync::Arc<[u32]> {
-        &self.slot
-    }
-    fn order(&self) -> &[u32] {
-        &self.order
-    }
-    fn node(&self, i: usize) -> &TreeNode {
-        &self.nodes[i]
+    fn shared(&self) -> Shared<'_> {
+        Shared::new(&self.nodes, &self.order, &self.slot, self.inner_nodes)
     }
     fn centroid(&self, i: usize) -> DVec3 {
         self.bounds[i].centroid
