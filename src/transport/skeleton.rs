@@ -6,7 +6,7 @@
 //! (`PatchTree::from_skeleton`).
 //!
 //! Input: a patch tree (consumed: `PatchTree::into_skeleton`). Output: a [`Skeleton`].
-//! [`Topology`] is what a node field and the operator read, served by either.
+//! [`Topology`] is what a node field reads, served by either; the operator reads a skeleton.
 
 use glam::DVec3;
 use std::sync::Arc;
