@@ -49,7 +49,7 @@ enum Command {
 }
 
 fn main() {
-    cli::memory::return_large_blocks();
+    luxbake::heap::return_large_blocks();
     // SIGINT/SIGTERM remove the run's temporary files before exiting (130/143).
     if let Err(e) = luxbake::export::atomic::install_signal_handler() {
         eprintln!("warning: cannot handle SIGINT/SIGTERM: {e}");

@@ -13,22 +13,6 @@ use std::time::Duration;
 
 const EVERY: Duration = Duration::from_millis(10);
 
-/// Blocks of this many bytes and more are mapped on their own and returned to the system when
-/// freed (glibc's default, fixed: left dynamic, glibc raises it as large blocks are freed, and
-/// a bake's freed rows, trees and patch vectors then stay in its heap for good).
-const MAP_ON_THEIR_OWN: i32 = 128 * 1024;
-
-/// Keep large blocks out of the allocator's heap (glibc on Linux; elsewhere nothing to do), so
-/// what one stage frees is returned rather than kept: on the 10⁵ floor the peak resident
-/// memory falls by about 6 % and what is resident after the solve by half (bench/results/floor-stages.md).
-pub fn return_large_blocks() {
-    #[cfg(all(target_os = "linux", target_env = "gnu"))]
-    // SAFETY: mallopt only sets a parameter of the allocator; called before any thread starts.
-    unsafe {
-        libc::mallopt(libc::M_MMAP_THRESHOLD, MAP_ON_THEIR_OWN);
-    }
-}
-
 pub struct MemoryTrace {
     state: Arc<Mutex<State>>,
     stop: Arc<AtomicBool>,

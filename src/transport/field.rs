@@ -1,10 +1,9 @@
-//! Per-patch RGB fields summarised on the nodes of a [`PatchTree`]: what every link of a gather
+//! Per-patch fields (RGB, or one channel) summarised on the nodes of a [`PatchTree`]: what every link of a gather
 //! row reads (a node's mean, its first moment for far-field links, its exitance-weighted normal
 //! distribution for cluster links).
 //!
 //! Input: a tree (or its skeleton), its patch mesh and a value per patch. Output: a
-//! [`NodeField`]. Sums run
-//! bottom-up in a fixed order, so equal inputs give equal bits.
+//! [`NodeField`]. Sums run bottom-up in a fixed order, so equal inputs give equal bits.
 
 use super::link::{Link, moment_scale};
 use super::packed::Leaves;
@@ -193,17 +192,7 @@ impl<V: FieldValue> NodeField<V> {
         }
         sum
     }
-}
 
-impl NodeField {
-    /// Summarise a per-patch quantity on every node of `tree` (bottom-up), with the normal
-    /// distributions of every inner node (a field any new point may gather from).
-    pub fn new(tree: &PatchTree, mesh: &PatchMesh, patch_values: &[DVec3]) -> NodeField {
-        NodeField::for_clusters(tree, mesh, |p| patch_values[p], &ClusterSlots::all(tree))
-    }
-}
-
-impl<V: FieldValue> NodeField<V> {
     /// [`NodeField::new`] of the values `patch_value(patch)` (a closure, so a scaled
     /// field needs no scaled copy), keeping the normal distributions of `clusters` only. The
     /// distributions are summed bottom-up through every node all the same (the same sums in the
@@ -282,5 +271,13 @@ impl<V: FieldValue> NodeField<V> {
             slot: slot.clone(),
             clusters: clusters.clone(),
         }
+    }
+}
+
+impl NodeField {
+    /// Summarise a per-patch quantity on every node of `tree` (bottom-up), with the normal
+    /// distributions of every inner node (a field any new point may gather from).
+    pub fn new(tree: &PatchTree, mesh: &PatchMesh, patch_values: &[DVec3]) -> NodeField {
+        NodeField::for_clusters(tree, mesh, |p| patch_values[p], &ClusterSlots::all(tree))
     }
 }
