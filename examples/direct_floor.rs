@@ -20,12 +20,12 @@
 //!
 //!     cargo run --release --example direct_floor -- SCENE.gltf [stride] [POINTS.glb] [f ...]
 
+mod shared;
+
 use glam::DVec3;
 use luxbake::direct::bounds::ProfileBounds;
 use luxbake::direct::groups::Known;
-use luxbake::direct::luminaire::Source;
 use luxbake::direct::sources::DirectSource;
-use luxbake::import::{ImportOptions, load};
 use luxbake::visibility::{Occluder, OccluderOptions};
 use rayon::prelude::*;
 use std::time::Instant;
@@ -57,17 +57,13 @@ fn main() {
     let points_from = args.next();
     let fractions: Vec<f64> = args.map(|x| x.parse().expect("f")).collect();
     let t0 = Instant::now();
-    let scene = load(std::path::Path::new(&path), &ImportOptions::default()).expect("scene loads");
+    let scene = shared::scene(&path);
     let occ = Occluder::build(&scene, OccluderOptions::default());
     let bounds = ProfileBounds::new(&scene);
-    let sources: Vec<DirectSource> = (Source::all(&scene, &bounds).into_iter())
-        .map(DirectSource::Luminaire)
-        .collect();
+    let sources = shared::luminaires(&scene, &bounds);
     let groups = DirectSource::groups(&sources);
-    let baked = points_from
-        .map(|f| load(std::path::Path::new(&f), &ImportOptions::default()).expect("points load"));
-    let points: Vec<(DVec3, DVec3)> = (baked.as_ref().unwrap_or(&scene).surfaces.iter())
-        .flat_map(|s| s.positions.iter().copied().zip(s.normals.iter().copied()))
+    let baked = points_from.map(|f| shared::scene(&f));
+    let points: Vec<(DVec3, DVec3)> = shared::vertices(baked.as_ref().unwrap_or(&scene))
         .step_by(stride)
         .collect();
     println!(

@@ -10,27 +10,22 @@
 //!
 //!     cargo run --release --example light_tail -- SCENE.gltf [f]
 
+mod shared;
+
 use glam::DVec3;
 use luxbake::direct::bounds::ProfileBounds;
 use luxbake::direct::groups::Known;
-use luxbake::direct::luminaire::Source;
-use luxbake::direct::sources::DirectSource;
-use luxbake::import::{ImportOptions, load};
 use luxbake::visibility::{Occluder, OccluderOptions};
 
 fn main() {
     let mut args = std::env::args().skip(1);
     let path = args.next().expect("usage: light_tail SCENE [f]");
     let f: f64 = args.next().map_or(0.01, |x| x.parse().expect("f"));
-    let scene = load(std::path::Path::new(&path), &ImportOptions::default()).expect("scene loads");
+    let scene = shared::scene(&path);
     let occ = Occluder::build(&scene, OccluderOptions::default());
     let bounds = ProfileBounds::new(&scene);
-    let sources: Vec<DirectSource> = (Source::all(&scene, &bounds).into_iter())
-        .map(DirectSource::Luminaire)
-        .collect();
-    let points: Vec<(DVec3, DVec3)> = (scene.surfaces.iter())
-        .flat_map(|s| s.positions.iter().copied().zip(s.normals.iter().copied()))
-        .collect();
+    let sources = shared::luminaires(&scene, &bounds);
+    let points: Vec<(DVec3, DVec3)> = shared::vertices(&scene).collect();
     let step = (points.len() / 3000).max(1);
     let (mut reaching, mut traced, mut n) = (0, 0, 0);
     let mut errors = Vec::new();
