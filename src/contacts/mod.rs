@@ -21,10 +21,10 @@
 
 pub mod cut;
 mod faces;
-mod grid;
 
 use crate::scene::Scene;
 use crate::visibility::Occluder;
+use crate::visibility::boxes::BoxIndex;
 use glam::DVec3;
 use rayon::prelude::*;
 
@@ -160,7 +160,18 @@ pub fn find(scene: &Scene, gap: f64, occ: &Occluder) -> Contacts {
     for (t, e) in tris.iter_mut().zip(extents) {
         t.extent = e;
     }
-    let grid = grid::Grid::new(&tris.iter().map(|t| t.p).collect::<Vec<_>>(), tolerance);
+    let index = BoxIndex::new(
+        (tris.iter())
+            .map(|t| {
+                let pad = DVec3::splat(tolerance);
+                let (lo, hi) = (
+                    t.p[0].min(t.p[1]).min(t.p[2]),
+                    t.p[0].max(t.p[1]).max(t.p[2]),
+                );
+                (lo - pad, hi + pad)
+            })
+            .collect(),
+    );
     // What can cover a triangle or cut it along a seam lies within the gap of its plane, and
     // within the gap × the tilt that still counts as parallel of its outline: its box grown by
     // that (a desk top's box grown upward, not sideways), with margin.
@@ -191,7 +202,7 @@ pub fn find(scene: &Scene, gap: f64, occ: &Occluder) -> Contacts {
             let mut near = Vec::new();
             for t in chunk {
                 let (lo, hi) = reach(t);
-                grid.near(lo, hi, &mut near);
+                index.near(lo, hi, &mut near);
                 let (mut c, mut m) = (Vec::new(), Vec::new());
                 for &u in &near {
                     context.covers(t, &tris[u as usize], &mut c);

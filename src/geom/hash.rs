@@ -1,4 +1,4 @@
-//! A multiplicative hash for maps keyed by small integers (grid cells, sample points): the
+//! A multiplicative hash for maps keyed by small integers (sample points): the
 //! standard library's SipHash costs more than the lookups it serves, and no key here is chosen
 //! by an attacker in a way that matters. Lookups only: nothing iterates these maps in an order
 //! that reaches the output.

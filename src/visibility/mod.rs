@@ -34,6 +34,7 @@ use obvhs::{
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Duration;
 
+pub mod boxes;
 mod hull;
 mod settle;
 
