@@ -4,7 +4,8 @@
 //! Input: every surface triangle of the scene (world space, m). Output: an [`Occluder`] answering
 //! "is the segment between two points clear?", "does a ray escape the scene?", "what does a
 //! ray hit first?" and, for a group of luminaires, "are all segments from these points to this
-//! box provably clear, or provably blocked?" ([`Occluder::settle`]).
+//! box provably clear, or provably blocked?" ([`Occluder::settle`]). Beside it, for searches
+//! that are not rays, [`boxes::BoxIndex`]: which of some boxes meet a box.
 //!
 //! Skipping what a scene does not need: the planes that have the whole scene (every vertex,
 //! light and luminaire opening) on their front side bound a convex hull — the room's shell. A
