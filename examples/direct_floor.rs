@@ -4,7 +4,7 @@
 //! proofs ([`Groups::visit`] with [`Occluder::settle`], as the bake runs them) settle some pairs
 //! without rays; every other pair is summed three ways, each timed on all of rayon's threads:
 //! one shadow ray to the luminaire's centre (the least any per-pair answer costs), one ray per
-//! near-field sub-source ([`Source::illuminance_faces`] without its penumbra pass), and as the
+//! near-field sub-source ([`DirectSource::illuminance_faces`] without its penumbra pass), and as the
 //! bake sums it (the corner check and the penumbra pass too). Prints the pairs per vertex, what
 //! the proofs settled, and each way's rays and wall seconds (finding the pairs and the proofs
 //! are timed apart).
@@ -42,7 +42,7 @@ struct Pairs {
 }
 
 /// How a traced pair is summed: one ray to the luminaire's centre; one ray per near-field
-/// sub-source ([`Source::illuminance_faces`] without its penumbra pass); as the bake sums it.
+/// sub-source ([`DirectSource::illuminance_faces`] without its penumbra pass); as the bake sums it.
 #[derive(Clone, Copy, Debug)]
 enum Way {
     Centre,
@@ -50,9 +50,27 @@ enum Way {
     Bake,
 }
 
+const WAYS: [Way; 3] = [Way::Centre, Way::SubSources, Way::Bake];
+
+/// Source `s`'s light (lx) at `p` on the plane of unit normal `n`: `known` and `soft` as
+/// [`DirectSource::illuminance_faces`] takes them.
+fn light(
+    s: &DirectSource,
+    occ: &Occluder,
+    (p, n): (DVec3, DVec3),
+    known: Known,
+    soft: bool,
+) -> f64 {
+    let mut e = [0.0];
+    s.illuminance_faces(occ, p, &[n], &mut e, (known, soft));
+    e[0]
+}
+
 fn main() {
     let mut args = std::env::args().skip(1);
-    let path = args.next().expect("usage: direct_floor SCENE [stride]");
+    let path = args
+        .next()
+        .expect("usage: direct_floor SCENE [stride] [POINTS] [f ...]");
     let stride: usize = args.next().map_or(1, |x| x.parse().expect("stride"));
     let points_from = args.next();
     let fractions: Vec<f64> = args.map(|x| x.parse().expect("f")).collect();
@@ -62,6 +80,12 @@ fn main() {
     let bounds = ProfileBounds::new(&scene);
     let sources = shared::luminaires(&scene, &bounds);
     let groups = DirectSource::groups(&sources);
+    let centres: Vec<DVec3> = (sources.iter())
+        .map(|s| match s {
+            DirectSource::Luminaire(l) => l.position,
+            _ => unreachable!("only luminaires"),
+        })
+        .collect();
     let baked = points_from.map(|f| shared::scene(&f));
     let points: Vec<(DVec3, DVec3)> = shared::vertices(baked.as_ref().unwrap_or(&scene))
         .step_by(stride)
@@ -84,12 +108,7 @@ fn main() {
                 let settle = |lo: DVec3, hi: DVec3, _: DVec3| occ.settle(&starts, lo, hi);
                 let mut out = Pairs::default();
                 groups.visit(p, &[n], settle, |k, known| {
-                    let DirectSource::Luminaire(s) = &sources[k] else {
-                        return;
-                    };
-                    let mut open = [0.0];
-                    s.illuminance_faces(&occ, p, &[n], &mut open, (Known::Seen, true));
-                    if open[0] <= 0.0 {
+                    if light(&sources[k], &occ, (p, n), Known::Seen, true) <= 0.0 {
                         return;
                     }
                     match known {
@@ -102,35 +121,21 @@ fn main() {
             })
             .collect();
         find_s += t.elapsed().as_secs_f64();
-        for (w, way) in [Way::Centre, Way::SubSources, Way::Bake]
-            .into_iter()
-            .enumerate()
-        {
+        for (w, way) in WAYS.into_iter().enumerate() {
             let (t, before) = (Instant::now(), occ.rays_traced());
             let light: f64 = block
                 .par_iter()
                 .zip(&pairs)
                 .map(|(&(p, n), v)| {
-                    let mut e = [0.0];
-                    for &k in &v.trace {
-                        let DirectSource::Luminaire(s) = &sources[k] else {
-                            continue;
-                        };
-                        match way {
-                            Way::Centre => {
-                                if occ.clear(p, n, s.position, DVec3::ZERO) {
-                                    e[0] += 1.0;
-                                }
-                            }
+                    (v.trace.iter())
+                        .map(|&k| match way {
+                            Way::Centre => occ.clear(p, n, centres[k], DVec3::ZERO) as u8 as f64,
                             Way::SubSources => {
-                                s.illuminance_faces(&occ, p, &[n], &mut e, (Known::Trace, false))
+                                light(&sources[k], &occ, (p, n), Known::Trace, false)
                             }
-                            Way::Bake => {
-                                s.illuminance_faces(&occ, p, &[n], &mut e, (Known::Trace, true))
-                            }
-                        }
-                    }
-                    e[0]
+                            Way::Bake => light(&sources[k], &occ, (p, n), Known::Trace, true),
+                        })
+                        .sum::<f64>()
                 })
                 .sum();
             seconds[w] += t.elapsed().as_secs_f64();
@@ -154,10 +159,7 @@ fn main() {
         reaching as f64 / n,
         traced as f64 / n
     );
-    for (w, way) in [Way::Centre, Way::SubSources, Way::Bake]
-        .into_iter()
-        .enumerate()
-    {
+    for (w, way) in WAYS.into_iter().enumerate() {
         println!(
             "{way:?}: {} rays ({:.1} per vertex), {:.2} s wall ({:.2} M rays/s)",
             rays[w],
@@ -191,24 +193,19 @@ fn penumbra_budget(
     for &(p, n) in points.iter().step_by(20) {
         let mut row = Vec::new();
         for s in sources {
-            let DirectSource::Luminaire(s) = s else {
-                continue;
-            };
-            let mut u = [0.0];
-            s.illuminance_faces(occ, p, &[n], &mut u, (Known::Seen, true));
-            if u[0] <= 0.0 {
+            let u = light(s, occ, (p, n), Known::Seen, true);
+            if u <= 0.0 {
                 continue;
             }
-            let (mut sub, mut bake) = ([0.0], [0.0]);
             let r0 = occ.rays_traced();
-            s.illuminance_faces(occ, p, &[n], &mut sub, (Known::Trace, false));
+            let sub = light(s, occ, (p, n), Known::Trace, false);
             let r1 = occ.rays_traced();
-            s.illuminance_faces(occ, p, &[n], &mut bake, (Known::Trace, true));
+            let bake = light(s, occ, (p, n), Known::Trace, true);
             let r2 = occ.rays_traced();
             row.push(Pair {
-                u: u[0],
-                sub: sub[0],
-                bake: bake[0],
+                u,
+                sub,
+                bake,
                 sub_rays: r1 - r0,
                 bake_rays: r2 - r1,
             });
