@@ -34,6 +34,8 @@ pub struct CutSurface {
     /// Per triangle: a piece of a triangle cut along a seam (its sides are judged by what is in
     /// front of them, see `contacts::find`).
     pub seamed: Vec<bool>,
+    /// Edges (vertex pairs, smaller first) along a crease: see [`part_creases`].
+    pub creases: Vec<(u32, u32)>,
 }
 
 /// Where a piece's vertex came from: an input vertex, a point on an input edge (its ends'
@@ -79,6 +81,7 @@ pub fn cut(
         normal: DVec3,
         pieces: Vec<Placed>,
         seamed: bool,
+        creases: std::ops::Range<usize>,
     }
     let mut cuts: Vec<Cut> = Vec::with_capacity(surface.triangles.len());
     // Points put on each input edge, by the edge's place (its ends' positions, ordered): two
@@ -150,6 +153,7 @@ pub fn cut(
                 normal,
                 pieces: vec![(ids, mask, gap)],
                 seamed,
+                creases: seam_start..seam_at,
             });
             continue;
         }
@@ -184,10 +188,12 @@ pub fn cut(
             normal,
             pieces,
             seamed,
+            creases: seam_start..seam_at,
         });
     }
     // ...then each piece with the points of its neighbours' cuts on its edges put in (no
     // T-junctions across input edges either), fanned by ears.
+    let mut crease_edges = std::collections::HashSet::new();
     for (k, c) in cuts.into_iter().enumerate() {
         let tri = surface.triangles[k];
         for (piece, mask, gap) in c.pieces {
@@ -195,14 +201,120 @@ pub fn cut(
             let piece = with_edge_points(&piece, &on_edges, &surface.positions, &mut id, eps);
             let pos: Vec<DVec3> = piece.iter().map(|p| p.1.pos).collect();
             for t in ears(&pos, c.normal, eps) {
-                out.triangles.push(t.map(|i| piece[i].0));
+                let t = t.map(|i| piece[i].0);
+                for i in 0..3 {
+                    let (a, b) = (t[i], t[(i + 1) % 3]);
+                    let (pa, pb) = (out.positions[a as usize], out.positions[b as usize]);
+                    if (seams[c.creases.clone()].iter()).any(|x| x.crease && on_seam(x, pa, pb, eps)) {
+                        crease_edges.insert((a.min(b), a.max(b)));
+                    }
+                }
+                out.triangles.push(t);
                 out.covered.push(mask);
                 out.gap.push(gap);
                 out.seamed.push(c.seamed);
             }
         }
     }
+    out.creases = crease_edges.into_iter().collect();
+    out.creases.sort_unstable();
     out
+}
+
+/// Whether segment a–b lies on the seam's segment (within `eps`).
+fn on_seam(seam: &Seam, a: DVec3, b: DVec3, eps: f64) -> bool {
+    let (m, d) = seam.line;
+    let along = (seam.ends[1] - seam.ends[0]).normalize_or_zero();
+    let (s0, s1) = (along.dot(seam.ends[0]), along.dot(seam.ends[1]));
+    [a, b].iter().all(|&x| {
+        let s = along.dot(x);
+        (m.dot(x) - d).abs() <= eps && s >= s0 - eps && s <= s1 + eps
+    })
+}
+
+/// Give every vertex on a crease one copy per side: the open triangles around a vertex that
+/// meet across edges not on a crease keep one vertex; each other such set gets a copy
+/// (positions, normals and UVs the same), so nothing is interpolated across a partition's
+/// foot. Around a partition's free end the triangles still meet, and the vertex stays one;
+/// covered triangles (`all_sides` covered: under a wall standing where the partition ends)
+/// join nothing. Run once the covered sides are known.
+pub fn part_creases(out: &mut CutSurface, all_sides: u8) {
+    if out.creases.is_empty() {
+        return;
+    }
+    let creases: std::collections::HashSet<(u32, u32)> = out.creases.iter().copied().collect();
+    let creases = &creases;
+    let mut around: std::collections::BTreeMap<u32, Vec<u32>> = Default::default();
+    for &(a, b) in creases {
+        around.entry(a).or_default();
+        around.entry(b).or_default();
+    }
+    for (i, t) in out.triangles.iter().enumerate() {
+        for v in t {
+            if let Some(list) = around.get_mut(v) {
+                list.push(i as u32);
+            }
+        }
+    }
+    for (v, tris) in around {
+        // Union the triangles around v that share a non-crease edge at v.
+        let mut parent: Vec<usize> = (0..tris.len()).collect();
+        fn root(p: &mut [usize], mut i: usize) -> usize {
+            while p[i] != i {
+                p[i] = p[p[i]];
+                i = p[i];
+            }
+            i
+        }
+        let others = |t: u32| -> Vec<u32> {
+            let t = out.triangles[t as usize];
+            t.into_iter().filter(|&w| w != v).collect()
+        };
+        let open = |t: u32| out.covered[t as usize] & all_sides != all_sides;
+        for i in 0..tris.len() {
+            for j in i + 1..tris.len() {
+                if !open(tris[i]) || !open(tris[j]) {
+                    continue;
+                }
+                let (a, b) = (others(tris[i]), others(tris[j]));
+                let joined = a
+                    .iter()
+                    .any(|w| b.contains(w) && !creases.contains(&(v.min(*w), v.max(*w))));
+                if joined {
+                    let (ri, rj) = (root(&mut parent, i), root(&mut parent, j));
+                    parent[ri.max(rj)] = ri.min(rj);
+                }
+            }
+        }
+        // The set holding the first triangle keeps v; each other set gets a copy.
+        let mut copy: HashMap<usize, u32> = HashMap::new();
+        let Some(first) = (0..tris.len()).find(|&i| open(tris[i])) else {
+            continue;
+        };
+        let keep = root(&mut parent, first);
+        for i in 0..tris.len() {
+            let r = root(&mut parent, i);
+            if r == keep || !open(tris[i]) {
+                continue;
+            }
+            let w = *copy.entry(r).or_insert_with(|| {
+                out.positions.push(out.positions[v as usize]);
+                out.normals.push(out.normals[v as usize]);
+                if let Some(uv) = out.uv0.as_mut() {
+                    uv.push(uv[v as usize]);
+                }
+                if let Some(uv) = out.uv1.as_mut() {
+                    uv.push(uv[v as usize]);
+                }
+                out.positions.len() as u32 - 1
+            });
+            for c in out.triangles[tris[i] as usize].iter_mut() {
+                if *c == v {
+                    *c = w;
+                }
+            }
+        }
+    }
 }
 
 /// The input edge two points both lie on, if any (smaller index first).
@@ -271,7 +383,10 @@ fn with_edge_points(
     out
 }
 
-/// Split the pieces the seam's segment runs through along its line.
+/// Split the pieces the seam's segment runs through along its line, only within the segment:
+/// a piece reaching past an end is first cut across the line there, and only its part beside
+/// the segment is split along it (a shelf's foot on a wall parts the wall over the shelf's
+/// length, not the wall triangle's).
 fn split_along(pieces: Vec<Piece>, seam: &Seam, t: u32, eps: f64) -> Vec<Piece> {
     let (m, d) = seam.line;
     let along = (seam.ends[1] - seam.ends[0]).normalize_or_zero();
@@ -288,14 +403,28 @@ fn split_along(pieces: Vec<Piece>, seam: &Seam, t: u32, eps: f64) -> Vec<Piece> 
             out.push((piece, mask, gap));
             continue;
         }
-        let (a, b) = clip_points(&piece, |x| m.dot(x) - d, t, eps);
-        for part in [a, b] {
-            if part.len() >= 3 {
-                out.push((part, mask, gap));
-            }
+        let mut middle = piece;
+        if lo < s0 - eps {
+            let (inner, before) = clip_points(&middle, |x| along.dot(x) - s0, t, eps);
+            push_part(&mut out, before, mask, gap);
+            middle = inner;
         }
+        if hi > s1 + eps {
+            let (after, inner) = clip_points(&middle, |x| along.dot(x) - s1, t, eps);
+            push_part(&mut out, after, mask, gap);
+            middle = inner;
+        }
+        let (a, b) = clip_points(&middle, |x| m.dot(x) - d, t, eps);
+        push_part(&mut out, a, mask, gap);
+        push_part(&mut out, b, mask, gap);
     }
     out
+}
+
+fn push_part(out: &mut Vec<Piece>, part: Vec<Point>, mask: u8, gap: f64) {
+    if part.len() >= 3 {
+        out.push((part, mask, gap));
+    }
 }
 
 /// `poly` with every point of `points` that lies inside one of its edges (within `eps`)

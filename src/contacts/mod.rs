@@ -69,6 +69,10 @@ pub struct Seam {
     pub line: (DVec3, f64),
     /// The ends of the meeting segment (on the line).
     pub ends: [DVec3; 2],
+    /// Open space on both sides (a zero-thickness partition standing on a slab): nothing is
+    /// covered, but no vertex is shared across the segment, so no value is interpolated
+    /// across the partition's foot.
+    pub crease: bool,
 }
 
 /// The covers of every surface, and the tolerances they were found with.
@@ -256,6 +260,7 @@ pub fn find(scene: &Scene, gap: f64, occ: &Occluder) -> Contacts {
             let mut c = cut::cut(surface, &covers[s], &seams[s], tolerance, 8.0 * gap);
             let double = scene.materials[surface.material].double_sided;
             classify_seamed(&mut c, double, occ);
+            cut::part_creases(&mut c, if double { cut::FRONT | cut::BACK } else { cut::FRONT });
             Some(c)
         })
         .collect();
@@ -442,27 +447,36 @@ impl Context<'_> {
         if seg.len() < 2 || seg[0].distance(seg[1]) <= eps {
             return;
         }
-        // Along t's own edges nothing is cut.
+        // A seam matters where it bounds the inside of a solid (a block's foot): one side of it
+        // just in front of t is inside, the other not. A partition standing on t with open space
+        // on both sides (drawn with no thickness) is a crease: cut along, nothing covered. Along
+        // t's own edges nothing is cut, but a crease there still parts the vertices.
         let line = (m, m.dot(a));
-        if t.p.iter().all(|&c| m.dot(c) - line.1 >= -eps)
-            || t.p.iter().all(|&c| m.dot(c) - line.1 <= eps)
-        {
+        let on_edge = t.p.iter().all(|&c| m.dot(c) - line.1 >= -eps)
+            || t.p.iter().all(|&c| m.dot(c) - line.1 <= eps);
+        // Only what stands in front of a side that receives light can part it.
+        let double =
+            self.scene.materials[self.scene.surfaces[t.surface as usize].material].double_sided;
+        let in_front = h.iter().any(|x| *x > eps) || double && h.iter().any(|x| *x < -eps);
+        if on_edge && !in_front || seg[0].distance(seg[1]) < 2.0 * self.gap {
             return;
         }
-        // A seam matters where it bounds the inside of a solid (a block's foot): one side of it
-        // just in front of t is inside, the other not. A fin or a partition standing on t with
-        // open space on both sides cuts nothing.
         let mid = (seg[0] + seg[1]) * 0.5;
         let step = (seg[0].distance(seg[1]) * 0.01).max(16.0 * self.occ.epsilon);
         let inside =
             |side: f64| inside_solid(self.occ, mid + m * (side * step), t.normal).is_some();
-        if inside(1.0) == inside(-1.0) {
-            return;
-        }
+        let crease = match (inside(1.0), inside(-1.0)) {
+            (true, true) => return,
+            (false, false) if in_front => true,
+            (false, false) => return,
+            _ if on_edge => return,
+            _ => false,
+        };
         out.push(Seam {
             triangle: t.index,
             line,
             ends: [seg[0], seg[1]],
+            crease,
         });
     }
 }
