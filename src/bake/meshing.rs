@@ -17,6 +17,7 @@
 //! keep patches 4× the area of the uniform mesh's; shadow edges and steep gradients get patches
 //! a quarter of it. `--uniform-patches` turns it off (the harness measures both).
 
+use crate::transport::zones;
 use crate::contacts::{self, Contacts};
 use crate::direct::cut::Cut;
 use crate::direct::targets::AtPoint;
@@ -77,7 +78,8 @@ pub fn stage<'a>(
     // Each profile's intensity bounds, built once for meshing and the direct stage.
     let bounds = ProfileBounds::new(scene);
     let contacts = contacts::find(scene, contact_gap(h), occluder);
-    let (mesh, adaptive) = mesh(scene, settings, h, occluder, &bounds, &contacts);
+    let (mut mesh, adaptive) = mesh(scene, settings, h, occluder, &bounds, &contacts);
+    mesh.zone = zones::of(&mesh);
     let cut = settings.light_cut;
     let (emitted, exitance, lights) = light(scene, &mesh, &bounds, (tau_direct, cut), |_| true);
     let contacts = ContactsRecord {
@@ -125,10 +127,12 @@ pub fn restore<'a>(
 ) -> Meshed<'a> {
     let bounds = ProfileBounds::new(scene);
     let cut = settings.light_cut;
-    let lit = light(scene, &saved.mesh, &bounds, (tau_direct, cut), |_| true);
+    let mut mesh = saved.mesh;
+    mesh.zone = zones::of(&mesh);
+    let lit = light(scene, &mesh, &bounds, (tau_direct, cut), |_| true);
     let (emitted, exitance, lights) = lit;
     Meshed {
-        mesh: saved.mesh,
+        mesh,
         adaptive: saved.adaptive,
         contacts: saved.contacts,
         emitted,

@@ -133,6 +133,8 @@ pub struct PatchMesh {
     pub receivers: Vec<Vertex>,
     /// The patch size used (m).
     pub patch_size: f64,
+    /// Per patch, the zone of the air in front of it (`transport::zones`); empty: one zone.
+    pub zone: Vec<u32>,
 }
 
 /// Refine every surface of `scene` into patches of size ≤ `h` (m), then, with `adapt`, split

@@ -95,6 +95,7 @@ pub(super) fn read(r: &mut Reader) -> Result<SavedMesh, String> {
         patches,
         receivers,
         patch_size,
+        zone: Vec::new(), // found again on restore (`transport::zones`)
     };
     check(&mesh)?;
     Ok(SavedMesh {

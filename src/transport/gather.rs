@@ -235,6 +235,12 @@ impl Gatherer<'_> {
                 }
                 continue;
             }
+            if node.mixed {
+                // Patches from both sides of a wall: what one part shows says nothing of the
+                // other, so no ray settles it.
+                push_children(&mut stack, node, Seen::No);
+                continue;
+            }
             if node.radius >= self.tau * dist {
                 push_children(&mut stack, node, seen); // too close
                 continue;

@@ -16,3 +16,4 @@ pub mod sharing;
 pub mod silhouette;
 pub mod skeleton;
 pub mod tree;
+pub mod zones;

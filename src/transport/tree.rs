@@ -59,6 +59,21 @@ impl InnerMoments {
     }
 }
 
+/// Sort `slice` by zone (then patch) and return the zone boundary nearest its middle, when it
+/// holds more than one zone.
+fn split_by_zone(mesh: &PatchMesh, slice: &mut [u32]) -> Option<usize> {
+    let zone = |p: u32| mesh.zone.get(p as usize).copied().unwrap_or(0);
+    let first = zone(*slice.first()?);
+    if slice.iter().all(|&p| zone(p) == first) {
+        return None;
+    }
+    slice.sort_unstable_by_key(|&p| (zone(p), p));
+    let half = slice.len() / 2;
+    (1..slice.len())
+        .filter(|&k| zone(slice[k - 1]) != zone(slice[k]))
+        .min_by_key(|&k| k.abs_diff(half))
+}
+
 /// A node while the tree is built (kept afterwards as [`TreeNode`] and [`NodeBounds`]).
 #[derive(Debug, Clone)]
 struct Building {
@@ -108,6 +123,8 @@ pub struct NodeBounds {
     /// The cone's half-angle is 90° or more: the node may face any way.
     pub cone_wide: bool,
     pub curved: bool,
+    /// Its patches lie in more than one zone (`transport::zones`): it is never one source.
+    pub mixed: bool,
     pub children: [u32; 2],
     pub start: u32,
     pub end: u32,
@@ -124,6 +141,7 @@ impl NodeBounds {
             cone_chord: 2.0 * (shape.cone_angle / 2.0).sin(),
             cone_wide: shape.cone_angle >= std::f64::consts::FRAC_PI_2,
             curved: node.curved,
+            mixed: false,
             children: node.children,
             start: node.start,
             end: node.end,
@@ -377,6 +395,7 @@ impl PatchTree {
             })
             .collect();
         drop(building);
+        self.mark_mixed(mesh);
         self.visible = visible_shares(self, mesh, &shapes);
         drop(shapes);
         self.curved = self.bounds.iter().any(|n| n.curved);
@@ -389,6 +408,25 @@ impl PatchTree {
         self.reps = (0..self.nodes.len())
             .map(|i| REP_QUANTILES.map(|q| self.representative(i, q)))
             .collect();
+    }
+
+    /// Mark the nodes whose patches lie in more than one zone (children before parents).
+    fn mark_mixed(&mut self, mesh: &PatchMesh) {
+        if mesh.zone.is_empty() {
+            return;
+        }
+        let mut zone = vec![0u32; self.bounds.len()];
+        for i in (0..self.bounds.len()).rev() {
+            let b = self.bounds[i];
+            if b.is_leaf() {
+                zone[i] = mesh.zone[self.order[b.start as usize] as usize];
+                continue;
+            }
+            let [l, r] = b.children.map(|c| c as usize);
+            let mixed = self.bounds[l].mixed || self.bounds[r].mixed || zone[l] != zone[r];
+            self.bounds[i].mixed = mixed;
+            zone[i] = zone[l];
+        }
     }
 
     /// Centroid and unit normal of node `i`'s representative `k` (at area quantile
@@ -496,7 +534,10 @@ impl PatchTree {
         self.building[index as usize].curved = curved;
         let flat = spread(mesh, slice) <= SPLIT_CONE;
         let planar = slice.iter().filter(|&&p| !clutter[p as usize]).count();
-        if planar > 0 && planar < slice.len() {
+        if let Some(k) = split_by_zone(mesh, slice) {
+            // Zones apart first: no node below holds patches from both sides of a wall.
+            mid = k;
+        } else if planar > 0 && planar < slice.len() {
             // Planes and clutter apart (planes first).
             mid = partition(slice, |p| !clutter[p as usize]);
         } else if let Some(k) = (curved || flat)

@@ -1,0 +1,134 @@
+//! Zones: the patches that share the air in front of them (one closed room, rooms joined by an
+//! open door, the outside), so that the patch hierarchy never puts patches from both sides of a
+//! wall in one node.
+//!
+//! Input: a [`PatchMesh`]. Output: per patch, its zone (0, 1, … in order of each zone's first
+//! patch). Two patches are in one zone when a ray from one's front reaches the other's front
+//! ([`RAYS`] cosine-spread rays from every patch's centroid, turned about its normal by an angle
+//! of its own; a ray that leaves the scene joins its patch to the outside).
+//!
+//! Invariants: zones are joined only on a ray's evidence, so two patches an opaque surface
+//! separates are never in one zone; rays that missed an opening only split a zone in two, which
+//! costs the tree a node and changes no answer (a node's visibility is still traced). The result
+//! depends on the mesh alone (fixed directions, unions in patch order), never on the thread count.
+
+use crate::geom::samples;
+use crate::patches::PatchMesh;
+use crate::visibility::Occluder;
+use glam::{DQuat, DVec3};
+use rayon::prelude::*;
+
+/// Rays per patch: [`samples::cosine_directions`] on a 2 × 2 grid.
+const RAYS: usize = 2;
+
+/// Each patch's zone.
+pub fn of(mesh: &PatchMesh) -> Vec<u32> {
+    let n = mesh.patches.len();
+    if n == 0 {
+        return Vec::new();
+    }
+    let tris: Vec<[DVec3; 3]> = (mesh.patches.iter())
+        .map(|p| p.corners(&mesh.receivers))
+        .collect();
+    let occ = Occluder::from_triangles(&tris, false);
+    let outside = n as u32;
+    let seen: Vec<[u32; RAYS * RAYS]> = (0..n)
+        .into_par_iter()
+        .map(|i| {
+            let patch = &mesh.patches[i];
+            let c = tris[i];
+            let origin = (c[0] + c[1] + c[2]) / 3.0 + patch.normal * (4.0 * occ.epsilon);
+            let turn = DQuat::from_axis_angle(patch.normal, turn(i as u64));
+            let mut out = [u32::MAX; RAYS * RAYS];
+            for (k, d) in samples::cosine_directions(patch.normal, RAYS).enumerate() {
+                let d = turn * d;
+                out[k] = match occ.closest(origin, d) {
+                    None => outside,
+                    Some(h) if mesh.patches[h.triangle].normal.dot(d) < 0.0 => h.triangle as u32,
+                    Some(_) => u32::MAX, // a back: the inside of a solid, or a coincident twin
+                };
+            }
+            out
+        })
+        .collect();
+    let mut parent: Vec<u32> = (0..=outside).collect();
+    for (i, hits) in seen.iter().enumerate() {
+        for &j in hits.iter().filter(|&&j| j != u32::MAX) {
+            union(&mut parent, i as u32, j);
+        }
+    }
+    let mut label = vec![u32::MAX; n + 1];
+    let mut next = 0;
+    (0..n as u32)
+        .map(|i| {
+            let r = root(&mut parent, i) as usize;
+            if label[r] == u32::MAX {
+                label[r] = next;
+                next += 1;
+            }
+            label[r]
+        })
+        .collect()
+}
+
+/// A patch's own turn of the ray pattern about its normal (rad), from its index.
+fn turn(i: u64) -> f64 {
+    let mut z = i.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    (z >> 11) as f64 / (1u64 << 53) as f64 * std::f64::consts::TAU
+}
+
+fn root(parent: &mut [u32], mut i: u32) -> u32 {
+    while parent[i as usize] != i {
+        parent[i as usize] = parent[parent[i as usize] as usize];
+        i = parent[i as usize];
+    }
+    i
+}
+
+fn union(parent: &mut [u32], a: u32, b: u32) {
+    let (ra, rb) = (root(parent, a), root(parent, b));
+    parent[ra.max(rb) as usize] = ra.min(rb);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fixtures::building::{self, Partitions, Slabs};
+
+    /// The zones of a row's patches whose fronts lie inside each room.
+    fn zones_by_room(slabs: Slabs, doors: &[bool]) -> Vec<Vec<u32>> {
+        let row = building::row(slabs, 3, 0.5, 100.0, doors);
+        let occ = Occluder::build(&row.scene, Default::default());
+        let contacts = crate::contacts::find(&row.scene, 0.125, &occ);
+        let mesh = crate::patches::build_cut(&row.scene, 0.5, None, &contacts);
+        let zone = of(&mesh);
+        let mut by_room = vec![Vec::new(); 3];
+        for (p, z) in mesh.patches.iter().zip(&zone) {
+            let c = p.corners(&mesh.receivers);
+            let front = (c[0] + c[1] + c[2]) / 3.0 + p.normal * 0.01;
+            if let Some(k) = row.room_of(front, 0.0) {
+                by_room[k].push(*z);
+            }
+        }
+        by_room.iter_mut().for_each(|z| {
+            z.sort_unstable();
+            z.dedup();
+        });
+        by_room
+    }
+
+    #[test]
+    fn closed_rooms_on_one_slab_are_zones_of_their_own_and_an_open_door_joins_two() {
+        for partitions in [Partitions::Box, Partitions::Thin] {
+            let shut = zones_by_room(Slabs::Shared(partitions), &[]);
+            assert!(shut.iter().all(|z| z.len() == 1), "{partitions:?}: {shut:?}");
+            assert!(shut[0] != shut[1] && shut[1] != shut[2] && shut[0] != shut[2]);
+            let open = zones_by_room(Slabs::Shared(partitions), &[true]);
+            assert!(open.iter().all(|z| z.len() == 1), "{partitions:?}: {open:?}");
+            assert_eq!(open[0], open[1], "{partitions:?}: the open door joins rooms 0 and 1");
+            assert!(open[1] != open[2]);
+        }
+    }
+}
