@@ -238,10 +238,12 @@ fn on_seam(seam: &Seam, a: DVec3, b: DVec3, eps: f64) -> bool {
 /// foot. Around a partition's free end the triangles still meet, and the vertex stays one;
 /// covered triangles (`all_sides` covered: under a wall standing where the partition ends)
 /// join nothing. Run once the covered sides are known.
-pub fn part_creases(out: &mut CutSurface, all_sides: u8) {
+/// Returns the number of copies made.
+pub fn part_creases(out: &mut CutSurface, all_sides: u8) -> usize {
     if out.creases.is_empty() {
-        return;
+        return 0;
     }
+    let before = out.positions.len();
     let creases: std::collections::HashSet<(u32, u32)> = out.creases.iter().copied().collect();
     let creases = &creases;
     let mut around: std::collections::BTreeMap<u32, Vec<u32>> = Default::default();
@@ -315,6 +317,7 @@ pub fn part_creases(out: &mut CutSurface, all_sides: u8) {
             }
         }
     }
+    out.positions.len() - before
 }
 
 /// The input edge two points both lie on, if any (smaller index first).

@@ -31,6 +31,7 @@ pub fn of(mesh: &PatchMesh) -> Vec<u32> {
         .map(|p| p.corners(&mesh.receivers))
         .collect();
     let occ = Occluder::from_triangles(&tris, false);
+    let twin = twins(mesh, &tris);
     let outside = n as u32;
     let seen: Vec<[u32; RAYS * RAYS]> = (0..n)
         .into_par_iter()
@@ -42,10 +43,12 @@ pub fn of(mesh: &PatchMesh) -> Vec<u32> {
             let mut out = [u32::MAX; RAYS * RAYS];
             for (k, d) in samples::cosine_directions(patch.normal, RAYS).enumerate() {
                 let d = turn * d;
+                // A back is the inside of a solid, or a double-sided patch whose twin (the
+                // coincident patch facing the other way) the ray met first: then the twin.
                 out[k] = match occ.closest(origin, d) {
                     None => outside,
                     Some(h) if mesh.patches[h.triangle].normal.dot(d) < 0.0 => h.triangle as u32,
-                    Some(_) => u32::MAX, // a back: the inside of a solid, or a coincident twin
+                    Some(h) => twin.get(&(h.triangle as u32)).copied().unwrap_or(u32::MAX),
                 };
             }
             out
@@ -69,6 +72,27 @@ pub fn of(mesh: &PatchMesh) -> Vec<u32> {
             label[r]
         })
         .collect()
+}
+
+/// Each double-sided patch's twin: the patch with the same corners facing the other way.
+fn twins(mesh: &PatchMesh, tris: &[[DVec3; 3]]) -> std::collections::HashMap<u32, u32> {
+    let key = |c: &[DVec3; 3]| {
+        let mut k = c.map(|p| p.to_array().map(f64::to_bits));
+        k.sort_unstable();
+        k
+    };
+    let mut by_place: std::collections::HashMap<_, Vec<u32>> = Default::default();
+    for (i, p) in mesh.patches.iter().enumerate() {
+        if p.double_sided {
+            by_place.entry(key(&tris[i])).or_default().push(i as u32);
+        }
+    }
+    let mut twin = std::collections::HashMap::new();
+    for pair in by_place.values().filter(|v| v.len() == 2) {
+        twin.insert(pair[0], pair[1]);
+        twin.insert(pair[1], pair[0]);
+    }
+    twin
 }
 
 /// A patch's own turn of the ray pattern about its normal (rad), from its index.
@@ -109,6 +133,9 @@ mod tests {
             let c = p.corners(&mesh.receivers);
             let front = (c[0] + c[1] + c[2]) / 3.0 + p.normal * 0.01;
             if let Some(k) = row.room_of(front, 0.0) {
+                if std::env::var("ZDEBUG").is_ok() {
+                    eprintln!("room {k} zone {z} at {front:.3?} n {:.2?} area {:.3}", p.normal, p.area);
+                }
                 by_room[k].push(*z);
             }
         }
