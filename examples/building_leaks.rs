@@ -26,8 +26,14 @@ fn main() {
     );
     println!("| --- | --- | --- | --- | --- | --- | --- |");
     let variants = [
-        ("shared slabs, box partitions", Slabs::Shared(Partitions::Box)),
-        ("shared slabs, thin partitions", Slabs::Shared(Partitions::Thin)),
+        (
+            "shared slabs, box partitions",
+            Slabs::Shared(Partitions::Box),
+        ),
+        (
+            "shared slabs, thin partitions",
+            Slabs::Shared(Partitions::Thin),
+        ),
         ("separate boxes 0.12 m apart", Slabs::Separate { gap: 0.12 }),
         ("separate boxes 6 m apart", Slabs::Separate { gap: 6.0 }),
     ];
@@ -38,7 +44,9 @@ fn main() {
             let r = bake(&row.scene, &settings, &Silent).expect("bake");
             let secs = start.elapsed().as_secs_f64();
             let m = measure(&row, &r, rho);
-            if std::env::var("WORST").is_ok() { worst(&row, &r, 12); }
+            if std::env::var("WORST").is_ok() {
+                worst(&row, &r, 12);
+            }
             println!(
                 "| {name} | {rho} | {:.3} ({:.2} %) | {:.1e} | {:+.2} % | {:+.2} % | {secs:.1} |",
                 m.dark_max,
@@ -72,7 +80,10 @@ fn measure(row: &Row, r: &luxbake::result::BakeResult, rho: f64) -> Measured {
             let Some(room) = row.room_of(centre, 0.0) else {
                 continue;
             };
-            let e: Vec<f64> = t.iter().map(|&v| s.illuminance[v as usize] as f64).collect();
+            let e: Vec<f64> = t
+                .iter()
+                .map(|&v| s.illuminance[v as usize] as f64)
+                .collect();
             let mean = e.iter().sum::<f64>() / 3.0;
             absorbed[room] += (1.0 - rho) * mean * a;
             if room == 0 {
@@ -104,12 +115,20 @@ pub fn worst(row: &Row, r: &luxbake::result::BakeResult, n: usize) {
                 continue;
             }
             for &v in t {
-                all.push((s.illuminance[v as usize], row.scene.surfaces[s.surface].source_path.clone(), s.positions[v as usize], centre));
+                all.push((
+                    s.illuminance[v as usize],
+                    row.scene.surfaces[s.surface].source_path.clone(),
+                    s.positions[v as usize],
+                    centre,
+                ));
             }
         }
     }
     all.sort_by(|a, b| b.0.total_cmp(&a.0));
     for x in all.iter().take(n) {
-        println!("  {:.3} lx {} v {:.3?} tri centre {:.3?}", x.0, x.1, x.2, x.3);
+        println!(
+            "  {:.3} lx {} v {:.3?} tri centre {:.3?}",
+            x.0, x.1, x.2, x.3
+        );
     }
 }

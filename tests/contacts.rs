@@ -243,3 +243,53 @@ fn contacts_bake_alike_on_one_and_two_threads() {
         }
     }
 }
+
+#[test]
+fn a_shelf_against_a_wall_covers_only_its_footprint() {
+    // The plank (1.4 m × 3 cm, open at the back) meets the wall along two 1.4 m lines; the wall
+    // is covered between them over the shelf's length, not across the wall triangle.
+    use luxbake::contacts::{self as found, cut};
+    use luxbake::visibility::{Occluder, OccluderOptions};
+    let room = contacts::shelf_on_wall(0.5);
+    let occ = Occluder::build(&room.scene, OccluderOptions::default());
+    let c = found::find(&room.scene, 0.05, &occ);
+    let node = room
+        .scene
+        .nodes
+        .iter()
+        .position(|n| n.name.as_deref() == Some("room"));
+    let wall = room.scene.nodes[node.expect("room")].surfaces[0];
+    let cut = c.cut(wall).expect("the wall is cut along the shelf");
+    let mut covered = 0.0;
+    for (t, m) in cut.triangles.iter().zip(&cut.covered) {
+        let p = t.map(|v| cut.positions[v as usize]);
+        if m & cut::FRONT == 0 {
+            continue;
+        }
+        covered += (p[1] - p[0]).cross(p[2] - p[0]).length() / 2.0;
+        let centre = (p[0] + p[1] + p[2]) / 3.0;
+        assert!(
+            (1.3..=2.7).contains(&centre.x) && (1.5..=1.53).contains(&centre.y),
+            "covered beyond the shelf at {centre:?}"
+        );
+    }
+    assert!((covered - 1.4 * 0.03).abs() < 1e-9, "covered {covered} m²");
+}
+
+#[test]
+fn a_furnished_room_closes_energy() {
+    // A desk on legs, a cabinet against a wall and a shelf on another (issue 55: −0.53 % and
+    // −0.90 % before).
+    let mut failed = Vec::new();
+    let mut worst = [0.0; 2];
+    for rho in [0.5, 0.8] {
+        let room = contacts::furnished_room(rho);
+        failed.extend(check_closed(
+            &format!("furnished ρ {rho}"),
+            &room,
+            rho,
+            &mut worst,
+        ));
+    }
+    assert!(failed.is_empty(), "{failed:#?}");
+}

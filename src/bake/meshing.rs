@@ -17,7 +17,6 @@
 //! keep patches 4× the area of the uniform mesh's; shadow edges and steep gradients get patches
 //! a quarter of it. `--uniform-patches` turns it off (the harness measures both).
 
-use crate::transport::zones;
 use crate::contacts::{self, Contacts};
 use crate::direct::cut::Cut;
 use crate::direct::targets::AtPoint;
@@ -27,6 +26,7 @@ use crate::scene::Scene;
 use crate::settings::Settings;
 use crate::solution::DirectLight;
 use crate::summary::{ContactsRecord, MeshingRecord};
+use crate::transport::zones;
 use crate::visibility::Occluder;
 use glam::DVec3;
 use rayon::prelude::*;

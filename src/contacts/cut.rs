@@ -158,7 +158,8 @@ pub fn cut(
             continue;
         }
         for seam in &seams[seam_start..seam_at] {
-            pieces = split_along(pieces, seam, k as u32, eps);
+            let [a, b] = seam.ends.map(|x| inside_triangle(&p, x, eps));
+            pieces = split_along(pieces, seam, [a, b], k as u32, eps);
         }
         // Pieces meet along their cut lines; a corner of one lying on another's edge is put
         // into that edge too, so the pieces share every point (no T-junctions inside a triangle).
@@ -205,7 +206,9 @@ pub fn cut(
                 for i in 0..3 {
                     let (a, b) = (t[i], t[(i + 1) % 3]);
                     let (pa, pb) = (out.positions[a as usize], out.positions[b as usize]);
-                    if (seams[c.creases.clone()].iter()).any(|x| x.crease && on_seam(x, pa, pb, eps)) {
+                    if (seams[c.creases.clone()].iter())
+                        .any(|x| x.crease && on_seam(x, pa, pb, eps))
+                    {
                         crease_edges.insert((a.min(b), a.max(b)));
                     }
                 }
@@ -390,7 +393,15 @@ fn with_edge_points(
 /// a piece reaching past an end is first cut across the line there, and only its part beside
 /// the segment is split along it (a shelf's foot on a wall parts the wall over the shelf's
 /// length, not the wall triangle's).
-fn split_along(pieces: Vec<Piece>, seam: &Seam, t: u32, eps: f64) -> Vec<Piece> {
+/// `ends_inside`: which ends of the seam lie inside the triangle (not on its outline, where the
+/// seam only leaves this triangle for the next).
+fn split_along(
+    pieces: Vec<Piece>,
+    seam: &Seam,
+    ends_inside: [bool; 2],
+    t: u32,
+    eps: f64,
+) -> Vec<Piece> {
     let (m, d) = seam.line;
     let along = (seam.ends[1] - seam.ends[0]).normalize_or_zero();
     let (s0, s1) = (along.dot(seam.ends[0]), along.dot(seam.ends[1]));
@@ -407,12 +418,12 @@ fn split_along(pieces: Vec<Piece>, seam: &Seam, t: u32, eps: f64) -> Vec<Piece> 
             continue;
         }
         let mut middle = piece;
-        if lo < s0 - eps {
+        if ends_inside[0] && lo < s0 - eps {
             let (inner, before) = clip_points(&middle, |x| along.dot(x) - s0, t, eps);
             push_part(&mut out, before, mask, gap);
             middle = inner;
         }
-        if hi > s1 + eps {
+        if ends_inside[1] && hi > s1 + eps {
             let (after, inner) = clip_points(&middle, |x| along.dot(x) - s1, t, eps);
             push_part(&mut out, after, mask, gap);
             middle = inner;
@@ -422,6 +433,17 @@ fn split_along(pieces: Vec<Piece>, seam: &Seam, t: u32, eps: f64) -> Vec<Piece> 
         push_part(&mut out, b, mask, gap);
     }
     out
+}
+
+/// Whether `x` (in the triangle's plane) lies inside triangle `p`, further than `eps` from each
+/// of its edges.
+fn inside_triangle(p: &[DVec3], x: DVec3, eps: f64) -> bool {
+    (0..3).all(|i| {
+        let (a, b) = (p[i], p[(i + 1) % 3]);
+        let e = b - a;
+        let t = ((x - a).dot(e) / e.length_squared().max(1e-300)).clamp(0.0, 1.0);
+        x.distance(a + e * t) > eps
+    })
 }
 
 fn push_part(out: &mut Vec<Piece>, part: Vec<Point>, mask: u8, gap: f64) {

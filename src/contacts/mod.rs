@@ -260,8 +260,14 @@ pub fn find(scene: &Scene, gap: f64, occ: &Occluder) -> Contacts {
             let mut c = cut::cut(surface, &covers[s], &seams[s], tolerance, 8.0 * gap);
             let double = scene.materials[surface.material].double_sided;
             classify_seamed(&mut c, double, occ);
-            let copies =
-                cut::part_creases(&mut c, if double { cut::FRONT | cut::BACK } else { cut::FRONT });
+            let copies = cut::part_creases(
+                &mut c,
+                if double {
+                    cut::FRONT | cut::BACK
+                } else {
+                    cut::FRONT
+                },
+            );
             // Creases along the surface's outer edges only (a wall's foot where a room is drawn
             // with nothing under its floor): nothing was cut or parted.
             let untouched = covers[s].is_empty()

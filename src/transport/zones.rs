@@ -134,7 +134,10 @@ mod tests {
             let front = (c[0] + c[1] + c[2]) / 3.0 + p.normal * 0.01;
             if let Some(k) = row.room_of(front, 0.0) {
                 if std::env::var("ZDEBUG").is_ok() {
-                    eprintln!("room {k} zone {z} at {front:.3?} n {:.2?} area {:.3}", p.normal, p.area);
+                    eprintln!(
+                        "room {k} zone {z} at {front:.3?} n {:.2?} area {:.3}",
+                        p.normal, p.area
+                    );
                 }
                 by_room[k].push(*z);
             }
@@ -150,11 +153,20 @@ mod tests {
     fn closed_rooms_on_one_slab_are_zones_of_their_own_and_an_open_door_joins_two() {
         for partitions in [Partitions::Box, Partitions::Thin] {
             let shut = zones_by_room(Slabs::Shared(partitions), &[]);
-            assert!(shut.iter().all(|z| z.len() == 1), "{partitions:?}: {shut:?}");
+            assert!(
+                shut.iter().all(|z| z.len() == 1),
+                "{partitions:?}: {shut:?}"
+            );
             assert!(shut[0] != shut[1] && shut[1] != shut[2] && shut[0] != shut[2]);
             let open = zones_by_room(Slabs::Shared(partitions), &[true]);
-            assert!(open.iter().all(|z| z.len() == 1), "{partitions:?}: {open:?}");
-            assert_eq!(open[0], open[1], "{partitions:?}: the open door joins rooms 0 and 1");
+            assert!(
+                open.iter().all(|z| z.len() == 1),
+                "{partitions:?}: {open:?}"
+            );
+            assert_eq!(
+                open[0], open[1],
+                "{partitions:?}: the open door joins rooms 0 and 1"
+            );
             assert!(open[1] != open[2]);
         }
     }
