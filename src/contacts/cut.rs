@@ -158,7 +158,9 @@ pub fn cut(
             continue;
         }
         for seam in &seams[seam_start..seam_at] {
-            let [a, b] = seam.ends.map(|x| inside_triangle(&p, x, eps));
+            // An end closer than a quarter patch to the triangle's outline is taken to it (no
+            // sliver across the triangle's corner).
+            let [a, b] = seam.ends.map(|x| inside_triangle(&p, x, whole_below / 4.0));
             pieces = split_along(pieces, seam, [a, b], k as u32, eps);
         }
         // Pieces meet along their cut lines; a corner of one lying on another's edge is put

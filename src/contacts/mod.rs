@@ -14,6 +14,12 @@
 //! but backs is seen in front of it (the cube's bottom itself, looking below the floor). Covers
 //! of less than a quarter patch are dropped unless they cover their triangle whole.
 //!
+//! Where another surface meets T along a line (a [`Seam`]), T is cut along it, only over the
+//! meeting segment's length: the pieces on a side whose front is inside a solid are covered (a
+//! block's foot); where the surface met has open space on both sides (a zero-thickness partition
+//! standing on a slab) the seam is a crease: nothing is covered, but the cut surface's vertices
+//! along it are copied per side, so no value is interpolated across the partition's foot.
+//!
 //! Invariants: covers depend on the scene and the gap only (never on the thread count); a
 //! cover's outline half-planes are computed once from U, so every triangle it cuts splits a
 //! shared edge at the same point. What a cover does — cut the surface along its outline, drop
