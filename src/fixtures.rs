@@ -9,6 +9,7 @@ use crate::scene::{
 use glam::{DMat4, DVec3};
 
 pub mod building;
+pub mod building_floor;
 pub mod contacts;
 pub mod openplan;
 pub use openplan::{OpenPlan, open_plan};

@@ -1,5 +1,6 @@
-//! `bake generate openplan [--size small|medium|large] [--triangles N] [--seed S] -o OUT`: write
-//! a scene built in code (the benchmark's open-plan office) as an input glTF for `bake`.
+//! `bake generate openplan [--size small|medium|large] [--triangles N] [--seed S] -o OUT` and
+//! `bake generate building -o OUT`: write a scene built in code (the benchmark's open-plan
+//! office; the building floor of closed rooms) as an input glTF for `bake`.
 
 use anyhow::Result;
 use clap::{Args, Subcommand, ValueEnum};
@@ -19,6 +20,20 @@ enum GenerateScene {
     /// An open-plan office floor: desk clusters, chairs, screens, columns, meeting rooms,
     /// linear fittings, downlights, spots and emissive panels (deterministic from the seed).
     Openplan(OpenplanArgs),
+    /// A building floor of closed rooms: cellular offices on both sides of a corridor, a
+    /// meeting room, thick and zero-thickness partitions, doors open and shut, shared slabs
+    /// (no parameters: always the same scene).
+    Building(BuildingArgs),
+}
+
+#[derive(Args, Debug)]
+struct BuildingArgs {
+    /// Output file: .gltf (+ .bin beside it) or .glb.
+    #[arg(short, long)]
+    output: PathBuf,
+    /// Print nothing on success.
+    #[arg(short, long)]
+    quiet: bool,
 }
 
 #[derive(Args, Debug)]
@@ -54,7 +69,44 @@ enum SizeArg {
 pub fn run(args: &GenerateArgs) -> Result<()> {
     match &args.scene {
         GenerateScene::Openplan(a) => openplan(a),
+        GenerateScene::Building(a) => building(a),
     }
+}
+
+fn building(args: &BuildingArgs) -> Result<()> {
+    let start = Instant::now();
+    luxbake::export::check(&args.output, &luxbake::scene::Scene::default(), &[])?;
+    let scene = luxbake::fixtures::building_floor::building_floor();
+    luxbake::export::write_scene(&args.output, &scene)?;
+    if !args.quiet {
+        let g = &scene.extras.as_ref().map(|e| e["generator"].clone());
+        let g = g.as_ref().unwrap_or(&serde_json::Value::Null);
+        let rooms = g["rooms"].as_array().map_or(&[][..], |r| r.as_slice());
+        let lit = rooms
+            .iter()
+            .filter(|r| r["lit"] == true && r["name"] != "corridor")
+            .count();
+        let doors: Vec<&serde_json::Value> = rooms
+            .iter()
+            .filter(|r| r["name"] != "corridor")
+            .flat_map(|r| r["doors"].as_array().into_iter().flatten())
+            .collect();
+        let open = doors.iter().filter(|d| d["open"] == true).count();
+        eprintln!(
+            "building floor: {} rooms ({lit} lit) along a lit corridor, {} doors ({open} open), \
+             {} linear fittings, {} downlights, {} emissive panels, {} triangles; written in \
+             {:.2} s → {}",
+            rooms.len().saturating_sub(1),
+            doors.len(),
+            g["linearLuminaires"],
+            g["downlights"],
+            g["emissivePanels"],
+            g["triangles"],
+            start.elapsed().as_secs_f64(),
+            args.output.display()
+        );
+    }
+    Ok(())
 }
 
 fn openplan(args: &OpenplanArgs) -> Result<()> {
