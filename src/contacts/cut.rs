@@ -115,7 +115,9 @@ pub fn cut(
         let longest = (0..3)
             .map(|i| p[i].distance(p[(i + 1) % 3]))
             .fold(0.0, f64::max);
-        if longest < whole_below {
+        // A seam is cut along however small the triangle: a floor's piece in a door's opening
+        // under a leaf would otherwise join the rooms on either side of the leaf.
+        if longest < whole_below && !seamed {
             // Judged whole: covered on a side where covers hold more than half of it.
             let area = |poly: &[Point]| {
                 let pos: Vec<DVec3> = poly.iter().map(|x| x.pos).collect();

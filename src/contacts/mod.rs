@@ -202,8 +202,9 @@ pub fn find(scene: &Scene, gap: f64, occ: &Occluder) -> Contacts {
         tolerance,
         occ,
     };
-    // Covers and seams below the patch scale (2 × the gap is h/2) are not cut along.
-    let (min_area, min_seam) = ((2.0 * gap).powi(2), 2.0 * gap);
+    // Covers below the patch scale (2 × the gap is h/2) are not cut along (seams: see
+    // `Context::seam`).
+    let min_area = (2.0 * gap).powi(2);
     type Found = (Vec<(u32, Cover)>, Vec<(u32, Seam)>);
     let found: Vec<Found> = tris
         .par_chunks(1024)
@@ -237,7 +238,6 @@ pub fn find(scene: &Scene, gap: f64, occ: &Occluder) -> Contacts {
                     .collect();
                 let mut k = keep.iter();
                 c.retain(|_| *k.next().expect("one flag per cover"));
-                m.retain(|x: &Seam| x.ends[0].distance(x.ends[1]) >= min_seam);
                 covers.extend(c.into_iter().map(|c| (t.surface, c)));
                 seams.extend(m.into_iter().map(|m| (t.surface, m)));
             }
@@ -477,7 +477,10 @@ impl Context<'_> {
         let double =
             self.scene.materials[self.scene.surfaces[t.surface as usize].material].double_sided;
         let in_front = h.iter().any(|x| *x > eps) || double && h.iter().any(|x| *x < -eps);
-        if on_edge && !in_front || seg[0].distance(seg[1]) < 2.0 * self.gap {
+        // Below the patch scale (2 × the gap is h/2) a meeting line is not cut along; judged by
+        // the whole line u meets t's plane along, not its part in t, so a partition's foot is
+        // cut along through every triangle it crosses, however little of it lies in one.
+        if on_edge && !in_front || a.distance(b) < 2.0 * self.gap {
             return;
         }
         let mid = (seg[0] + seg[1]) * 0.5;
