@@ -7,7 +7,7 @@
 
 use glam::DVec3;
 use luxbake::bake::bake;
-use luxbake::fixtures::building::{self, Partitions, Row, Slabs};
+use luxbake::fixtures::building::{self, Row};
 use luxbake::progress::Silent;
 use luxbake::settings::{Quality, Settings};
 
@@ -25,19 +25,7 @@ fn main() {
         "| scene | ρ | dark rooms: max lx (share of lit mean) | balance | Σ(1−ρ)EA/Φ − 1: all | lit room | s |"
     );
     println!("| --- | --- | --- | --- | --- | --- | --- |");
-    let variants = [
-        (
-            "shared slabs, box partitions",
-            Slabs::Shared(Partitions::Box),
-        ),
-        (
-            "shared slabs, thin partitions",
-            Slabs::Shared(Partitions::Thin),
-        ),
-        ("separate boxes 0.12 m apart", Slabs::Separate { gap: 0.12 }),
-        ("separate boxes 6 m apart", Slabs::Separate { gap: 6.0 }),
-    ];
-    for (name, slabs) in variants {
+    for (name, slabs) in building::VARIANTS {
         for rho in [0.5, 0.8] {
             let row = building::row(slabs, 3, rho, 1000.0, &[]);
             let start = std::time::Instant::now();

@@ -8,24 +8,11 @@
 
 use glam::{DMat3, DVec2, DVec3};
 use luxbake::bake::bake;
-use luxbake::fixtures::building::{self, Partitions, Row, Slabs};
+use luxbake::fixtures::building::{self, Partitions, Row, Slabs, VARIANTS};
 use luxbake::probes::{Probe, ProbeOrigin};
 use luxbake::progress::Silent;
 use luxbake::result::BakeResult;
 use luxbake::settings::{LightmapSettings, Settings};
-
-const VARIANTS: [(&str, Slabs); 4] = [
-    (
-        "shared slabs, box partitions",
-        Slabs::Shared(Partitions::Box),
-    ),
-    (
-        "shared slabs, thin partitions",
-        Slabs::Shared(Partitions::Thin),
-    ),
-    ("separate boxes 0.12 m apart", Slabs::Separate { gap: 0.12 }),
-    ("separate boxes 6 m apart", Slabs::Separate { gap: 6.0 }),
-];
 
 /// Per room: Σ(1 − ρ)·E·A over the baked triangles whose front lies in it (lm), the largest
 /// vertex illuminance in it (lx), and its area-mean illuminance (lx).
