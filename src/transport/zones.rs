@@ -60,16 +60,72 @@ pub fn of(mesh: &PatchMesh) -> Vec<u32> {
             union(&mut parent, i as u32, j);
         }
     }
-    let mut label = vec![u32::MAX; n + 1];
-    let mut next = 0;
-    (0..n as u32)
-        .map(|i| {
-            let r = root(&mut parent, i) as usize;
-            if label[r] == u32::MAX {
-                label[r] = next;
-                next += 1;
-            }
-            label[r]
+    let mut zone: Vec<u32> = (0..n as u32).map(|i| root(&mut parent, i)).collect();
+    let blind: Vec<bool> = seen
+        .iter()
+        .map(|h| h.iter().all(|&j| j == u32::MAX))
+        .collect();
+    adopt_blind(mesh, &blind, &mut zone);
+    relabel(&zone)
+}
+
+/// A zone made only of blind patches (all their rays met backs: crevices, faces inside solids)
+/// has no evidence of its own: its patches take the lowest zone among the sighted patches they
+/// share a vertex with, whose values they are interpolated with anyway; those with no sighted
+/// neighbour form one zone together. Without this every crevice would be a zone and a node of
+/// the tree for every receiver to visit.
+fn adopt_blind(mesh: &PatchMesh, blind: &[bool], zone: &mut [u32]) {
+    let n = zone.len();
+    let mut sighted = vec![false; n + 1];
+    for (i, &z) in zone.iter().enumerate() {
+        sighted[z as usize] |= !blind[i];
+    }
+    let mut at_vertex: Vec<Vec<u32>> = vec![Vec::new(); mesh.receivers.len()];
+    for (i, p) in mesh.patches.iter().enumerate() {
+        for &v in &p.v {
+            at_vertex[v as usize].push(i as u32);
+        }
+    }
+    // Rounds from the previous state (Jacobi), so the result does not depend on patch order
+    // beyond the lowest-zone rule; a chain of blind patches is adopted one link per round.
+    let mut open: Vec<usize> = (0..n).filter(|&i| !sighted[zone[i] as usize]).collect();
+    while !open.is_empty() {
+        let adopted: Vec<(usize, u32)> = (open.iter())
+            .filter_map(|&i| {
+                let near = mesh.patches[i]
+                    .v
+                    .iter()
+                    .flat_map(|&v| &at_vertex[v as usize]);
+                let z = near
+                    .map(|&j| zone[j as usize])
+                    .filter(|&z| sighted[z as usize])
+                    .min()?;
+                Some((i, z))
+            })
+            .collect();
+        if adopted.is_empty() {
+            break;
+        }
+        for &(i, z) in &adopted {
+            zone[i] = z;
+        }
+        open.retain(|&i| !sighted[zone[i] as usize]);
+    }
+    // The rest lie inside solids, out of every room's sight: one zone, so that they cost the
+    // tree one subtree rather than one per crevice.
+    if let Some(&first) = open.first() {
+        let sealed = zone[first];
+        open.iter().for_each(|&i| zone[i] = sealed);
+    }
+}
+
+/// Zones renumbered 0, 1, … in order of each zone's first patch.
+fn relabel(zone: &[u32]) -> Vec<u32> {
+    let mut label = std::collections::HashMap::new();
+    (zone.iter())
+        .map(|&z| {
+            let next = label.len() as u32;
+            *label.entry(z).or_insert(next)
         })
         .collect()
 }
@@ -169,5 +225,43 @@ mod tests {
             );
             assert!(open[1] != open[2]);
         }
+    }
+
+    #[test]
+    fn faces_inside_a_solid_take_a_neighbour_zone_or_share_one_not_a_zone_each() {
+        // A closed room; a box with its lower part sunk in a second box: the sunk faces' rays
+        // all meet the second box's backs (blind); those touching sighted faces take their zone.
+        let mut b = crate::fixtures::SceneBuilder::new();
+        let m = b.material("grey", 0.5);
+        b.axis_box("room", DVec3::ZERO, DVec3::new(4.0, 3.0, 4.0), true, m);
+        b.axis_box(
+            "plinth",
+            DVec3::new(1.0, 0.0, 1.0),
+            DVec3::new(2.0, 0.5, 2.0),
+            false,
+            m,
+        );
+        b.axis_box(
+            "post",
+            DVec3::new(1.2, 0.2, 1.2),
+            DVec3::new(1.8, 1.5, 1.8),
+            false,
+            m,
+        );
+        let scene = b.build();
+        let occ = Occluder::build(&scene, Default::default());
+        let contacts = crate::contacts::find(&scene, 0.05, &occ);
+        let mesh = crate::patches::build_cut(&scene, 0.2, None, &contacts);
+        let zone = of(&mesh);
+        let zones = zone.iter().max().map_or(0, |z| z + 1);
+        // The room; the pocket inside the plinth (the floor under it sees the post's foot); the
+        // plinth's underside. Without adoption: 29, one per blind patch.
+        assert!(zones <= 3, "{zones} zones");
+        let sunk = (mesh.patches.iter().zip(&zone)).filter(|(p, _)| {
+            let c = p.corners(&mesh.receivers);
+            let m = (c[0] + c[1] + c[2]) / 3.0;
+            m.y < 0.45 && (1.25..1.75).contains(&m.x) && (1.25..1.75).contains(&m.z)
+        });
+        assert!(sunk.count() > 10, "the post has faces inside the plinth");
     }
 }
