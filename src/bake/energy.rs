@@ -18,12 +18,11 @@ use super::direct::PatchFlux;
 use super::meshing::Meshed;
 use super::solve::Radiosity;
 use crate::direct::sources::DirectSource;
-use crate::geom::samples;
 use crate::scene::{LightKind, Scene, luma};
 use crate::summary::{EnergyBalance, LuminaireRecord, SourceKind, SourceRecord};
+use crate::transport::escape;
 use crate::visibility::Occluder;
 use glam::DVec3;
-use rayon::prelude::*;
 
 /// `flux`: what the lights and luminaires sent into the patches (its per-patch part may be
 /// spent: only the back faces' and each source's totals are read).
@@ -97,29 +96,26 @@ pub fn balance(
     }
 }
 
-/// Fraction of each patch's outgoing (cosine-distributed) flux that leaves the scene: 0 for
-/// patches whose receivers are all enclosed, else measured with 16 × 16 stratified
-/// cosine-weighted rays from the patch centroid. Not measured (0) for patches that send nothing
-/// out: the fraction is only ever multiplied by what they send.
+/// Fraction of each patch's outgoing (cosine-distributed) flux that leaves the scene
+/// ([`escape::open_fractions`], rays shared in proportion to what each patch sends): 0 for
+/// patches whose receivers are all enclosed and for patches that send nothing out (the fraction
+/// is only ever multiplied by what they send). Its own ray pattern ([`ESCAPE_SALT`]), apart
+/// from the one the balancing used, so this check does not grade an estimate against itself.
 fn open_fractions(meshed: &Meshed, occ: &Occluder, solved: &Radiosity) -> Vec<f64> {
     let mesh = &meshed.mesh;
-    mesh.patches
-        .par_iter()
-        .enumerate()
-        .map(|(k, p)| {
-            let dark = meshed.exitance[k] == DVec3::ZERO && solved.reflected[k] == DVec3::ZERO;
-            if dark || p.v.iter().all(|&v| solved.closed[v as usize]) {
-                return 0.0;
-            }
-            let c = p.corners(&mesh.receivers);
-            let centroid = (c[0] + c[1] + c[2]) / 3.0;
-            let open = samples::cosine_directions(p.normal, 16)
-                .filter(|d| occ.escapes(centroid, p.normal, *d))
-                .count();
-            open as f64 / 256.0
-        })
-        .collect()
+    let sent: Vec<f64> = (mesh.patches.iter().enumerate())
+        .map(
+            |(k, p)| match p.v.iter().all(|&v| solved.closed[v as usize]) {
+                true => 0.0,
+                false => p.area * luma(meshed.exitance[k] + solved.reflected[k]),
+            },
+        )
+        .collect();
+    escape::open_fractions(mesh, occ, &sent, ESCAPE_SALT)
 }
+
+/// Keeps the report's ray pattern apart from others drawn from patch indices.
+const ESCAPE_SALT: u64 = 0x5E5C_A9E0_0000_0000;
 
 /// What the summary says about a source, given the flux it put onto surfaces (lm).
 pub fn source_record(source: &DirectSource, scene: &Scene, received: f64) -> SourceRecord {

@@ -83,6 +83,11 @@ pub fn bake_groups(
             light_flux: &flux,
         })
     });
+    // The open patches' escape, for the balancing, with every group's light (as the rows).
+    let open = run.time(Stage::Links, || {
+        let flux = sum(lit.iter().map(|l| &l.3[..]), base.mesh.patches.len());
+        solve::open_fractions(&base, &occluder, &rows, &flux)
+    });
     run.rays(RayStage::Links, &occluder);
 
     progress.stage("solving", 0);
@@ -90,7 +95,7 @@ pub fn bake_groups(
         .map(|(m, _, _, f)| (&*m, std::mem::take(f)))
         .collect();
     let solved = run.time(Stage::Solve, || {
-        solve::stage_many(&base, rows, rhs, params.tolerance)
+        solve::stage_many(&base, rows, rhs, &open, params.tolerance)
     });
     drop(base);
 

@@ -272,8 +272,12 @@ fn complete<'a>(
     } = direct;
     progress.stage("solving", 0);
     let light_flux = std::mem::take(&mut flux.per_patch);
+    let open = run.time(Stage::Links, || {
+        solve::open_fractions(&meshed, &occluder, &rows, &light_flux)
+    });
+    run.rays(RayStage::Links, &occluder);
     let radiosity = run.time(Stage::Solve, || {
-        solve::stage(&meshed, rows, light_flux, params.tolerance)
+        solve::stage(&meshed, rows, light_flux, &open, params.tolerance)
     });
     if !radiosity.stats.relative_residual.is_finite() {
         return Err(crate::Error::Bake(format!(

@@ -3,16 +3,18 @@
 //!
 //! Input: the meshed scene, the [`Rows`] (consumed: the largest thing a bake holds, dropped here
 //! once the solve is done; their tree is reduced to its skeleton while the solve runs and
-//! rebuilt after), the direct flux into each patch from lights and luminaires, and the
-//! solver's tolerance. Output: [`Radiosity`]: the reflected exitance of every patch and what
+//! rebuilt after), the direct flux into each patch from lights and luminaires, the open patches'
+//! measured escape ([`open_fractions`]) and the solver's tolerance. Output: [`Radiosity`]: the reflected exitance of every patch and what
 //! the vertices and the energy report need of the operator.
 
 use super::links::{self, Rows};
 use super::meshing::Meshed;
 use crate::scene::luma;
 use crate::solve::{self, SolveStats};
+use crate::transport::escape;
 use crate::transport::operator::BalanceStats;
 use crate::transport::{operator::PatchOperator, tree::PatchTree};
+use crate::visibility::Occluder;
 use glam::DVec3;
 use rayon::prelude::*;
 
@@ -60,10 +62,50 @@ impl Radiosity {
 }
 
 /// `light_flux`: the direct flux of lights and luminaires into each patch's front (lm, RGB).
-pub fn stage(meshed: &Meshed, rows: Rows, light_flux: Vec<DVec3>, tolerance: f64) -> Radiosity {
-    let mut one = stage_many(meshed, rows, vec![(meshed, light_flux)], tolerance);
+pub fn stage(
+    meshed: &Meshed,
+    rows: Rows,
+    light_flux: Vec<DVec3>,
+    open: &[f64],
+    tolerance: f64,
+) -> Radiosity {
+    let mut one = stage_many(meshed, rows, vec![(meshed, light_flux)], open, tolerance);
     one.pop().expect("one right-hand side, one solution")
 }
+
+/// The share of each open patch's hemisphere through which light leaves the scene, for the
+/// balancing (`PatchOperator::balance`): measured ([`escape::open_fractions`]) for patches with
+/// a receiver that is not enclosed and that send light, rays shared by an estimate of what each
+/// sends (emitted, and the first reflection of the direct flux); 0 elsewhere. Empty when every
+/// receiver is enclosed.
+pub fn open_fractions(
+    meshed: &Meshed,
+    occ: &Occluder,
+    rows: &Rows,
+    light_flux: &[DVec3],
+) -> Vec<f64> {
+    let mesh = &meshed.mesh;
+    let closed = &rows.links.closed;
+    if closed.iter().all(|&c| c) {
+        return Vec::new();
+    }
+    let weight: Vec<f64> = (mesh.patches.iter().enumerate())
+        .map(|(k, p)| {
+            if p.v.iter().all(|&v| closed[v as usize])
+                || links::black(&rows.rho, &meshed.exitance, k)
+            {
+                return 0.0;
+            }
+            let sent = p.area * luma(meshed.exitance[k]) + luma(rows.rho[k] * light_flux[k]);
+            // Patches lit only by reflections are measured too, with the fewest rays.
+            sent.max(p.area * 1e-12).max(f64::MIN_POSITIVE)
+        })
+        .collect();
+    escape::open_fractions(mesh, occ, &weight, BALANCE_SALT)
+}
+
+/// Keeps the balancing's ray pattern apart from the energy report's.
+const BALANCE_SALT: u64 = 0xBA1A_0000_0000_0000;
 
 /// The solve for several right-hand sides on one operator: each `(lit, light_flux)` is the same
 /// mesh lit by other sources (its emitting patches and its direct flux). The operator is built
@@ -73,6 +115,7 @@ pub fn stage_many(
     base: &Meshed,
     rows: Rows,
     rhs: Vec<(&Meshed, Vec<DVec3>)>,
+    open: &[f64],
     tolerance: f64,
 ) -> Vec<Radiosity> {
     let Rows {
@@ -88,7 +131,7 @@ pub fn stage_many(
     let areas: Vec<f64> = mesh.patches.iter().map(|p| p.area).collect();
     let mut operator = PatchOperator::new(mesh, &skeleton, &links);
     let black = |p: usize| dark.is_some() && links::black(&rho, &base.exitance, p);
-    let balance = operator.balance(40, 1e-6, &black);
+    let balance = operator.balance(40, 1e-6, &black, open);
     let mut solved = Vec::with_capacity(rhs.len());
     for (lit, light_flux) in rhs {
         // Direct irradiance of each patch: punctual lights exactly (solid angle), emitting

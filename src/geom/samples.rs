@@ -33,14 +33,39 @@ fn grid_centroids(n: usize) -> Vec<[f64; 3]> {
 /// `k × k` cosine-weighted directions over the hemisphere around `n`, one per cell of a stratified
 /// grid in (u, v) (each stands for an equal share of projected solid angle).
 pub fn cosine_directions(n: DVec3, k: usize) -> impl Iterator<Item = DVec3> {
+    shifted_cosine_directions(n, k, [0.5, 0.5])
+}
+
+/// [`cosine_directions`] with the point in each cell at `shift` (in [0, 1)², the cell's middle
+/// at [0.5, 0.5]). A shift drawn per use ([`unit_pair`]) makes the pattern's estimates unbiased
+/// when summed over many uses, where a fixed pattern repeats its error at every one.
+pub fn shifted_cosine_directions(
+    n: DVec3,
+    k: usize,
+    shift: [f64; 2],
+) -> impl Iterator<Item = DVec3> {
     let (t, b) = n.any_orthonormal_pair();
     (0..k * k).map(move |c| {
-        let u = ((c / k) as f64 + 0.5) / k as f64;
-        let v = ((c % k) as f64 + 0.5) / k as f64;
+        let u = ((c / k) as f64 + shift[0]) / k as f64;
+        let v = ((c % k) as f64 + shift[1]) / k as f64;
         let r = u.sqrt();
         let phi = 2.0 * std::f64::consts::PI * v;
         t * (r * phi.cos()) + b * (r * phi.sin()) + n * (1.0 - u).sqrt()
     })
+}
+
+/// Two numbers in [0, 1) hashed from `seed` (SplitMix64's finaliser): a fixed, well-spread value
+/// per patch or ray pattern, so that results do not depend on the order of work.
+pub fn unit_pair(seed: u64) -> [f64; 2] {
+    let mix = |x: u64| {
+        let mut z = x.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    };
+    let a = mix(seed);
+    let b = mix(a);
+    [a, b].map(|z| (z >> 11) as f64 / (1u64 << 53) as f64)
 }
 
 /// `n` unit directions scattered over the whole sphere, uniform in area: a pseudo-random sequence

@@ -48,8 +48,9 @@ pub fn all(scene: &Scene, wanted: Wanted, occ: &Occluder, progress: &dyn Progres
             progress,
         ));
     }
+    let two_sided = two_sided_triangles(scene);
     for p in wanted.explicit {
-        if is_inside(occ, p.position) {
+        if is_inside(occ, &two_sided, p.position) {
             progress.warn(&format!(
                 "probe '{}' ({}) is inside an object or behind a one-sided surface: its faces may read 0 lx",
                 p.name,
@@ -144,17 +145,27 @@ pub fn grid(
         lo.z + (hi.z - lo.z - (nz - 1) as f64 * g.spacing) / 2.0,
     );
     let below = lo.y - 1e-3 * (hi - lo).length() - 1.0;
+    let two_sided = two_sided_triangles(scene);
     let (mut out, mut inside, mut no_floor) = (Vec::new(), 0, 0);
     for i in 0..nx {
         for k in 0..nz {
             let (x, z) = (x0 + i as f64 * g.spacing, z0 + k as f64 * g.spacing);
-            // The floor: the first surface a ray from underneath the scene meets.
-            let Some(hit) = occ.closest(DVec3::new(x, below, z), DVec3::Y) else {
+            // The floor: the first surface a ray from underneath the scene meets, or when that
+            // is the underside of a slab (single-sided, facing down), the slab's top: the first
+            // face turned up.
+            let from = DVec3::new(x, below, z);
+            let floor = occ.closest(from, DVec3::Y).and_then(|h| {
+                match h.normal.y < 0.0 && !two_sided[h.triangle] {
+                    true => occ.closest_back(from, DVec3::Y),
+                    false => Some(h),
+                }
+            });
+            let Some(hit) = floor else {
                 no_floor += 1;
                 continue;
             };
             let p = DVec3::new(x, below + hit.distance + g.height, z);
-            if is_inside(occ, p) {
+            if is_inside(occ, &two_sided, p) {
                 inside += 1;
                 continue;
             }
@@ -176,10 +187,71 @@ pub fn grid(
     out
 }
 
-/// True when, along some axis direction, the nearest surface shows `p` its back: `p` is inside a
-/// closed object (or behind a single-sided face).
-fn is_inside(occ: &Occluder, p: DVec3) -> bool {
-    super::FACES
-        .into_iter()
-        .any(|d| occ.closest(p, d).is_some_and(|h| h.normal.dot(d) > 0.0))
+/// True when, along some axis direction, the nearest surface shows `p` the back of a
+/// single-sided face: `p` is inside a closed object (or behind a single-sided face). Both sides of
+/// a double-sided face are fronts (a zero-thickness partition has a room on each).
+fn is_inside(occ: &Occluder, two_sided: &[bool], p: DVec3) -> bool {
+    super::FACES.into_iter().any(|d| {
+        (occ.closest(p, d)).is_some_and(|h| h.normal.dot(d) > 0.0 && !two_sided[h.triangle])
+    })
+}
+
+/// Per triangle of the scene (in the occluder's order: surfaces in turn), whether its material
+/// is double-sided.
+fn two_sided_triangles(scene: &Scene) -> Vec<bool> {
+    (scene.surfaces.iter())
+        .flat_map(|s| {
+            std::iter::repeat_n(scene.materials[s.material].double_sided, s.triangles.len())
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fixtures::building_floor::{building_floor, rooms};
+
+    #[test]
+    fn a_working_plane_stands_on_the_slab_top_in_every_room_of_a_building() {
+        // A 0.2 m slab under every room; rooms beside zero-thickness double-sided partitions.
+        // Before: every point 0.2 m low (on the slab's underside) and 849 of 2 714 points
+        // skipped as "inside objects", rooms behind a thin partition's far side among them.
+        let scene = building_floor();
+        let occ = Occluder::build(&scene, Default::default());
+        let g = ProbeGrid {
+            spacing: 0.4,
+            height: 0.8,
+        };
+        let origin = ProbeOrigin::WorkingPlane;
+        let silent = crate::progress::Silent;
+        let probes = grid(&scene, &occ, &g, "wp", origin, &silent);
+        let off: Vec<_> = probes
+            .iter()
+            .filter(|p| (p.position.y - 0.8).abs() > 1e-6)
+            .map(|p| p.position)
+            .collect();
+        assert!(
+            off.is_empty(),
+            "{} off: {:?}",
+            off.len(),
+            &off[..off.len().min(8)]
+        );
+        for room in rooms() {
+            // Points strictly inside the room's air, a spacing from its walls.
+            let inner = |p: &Probe| {
+                let q = p.position;
+                (room.lo.x + 0.4..room.hi.x - 0.4).contains(&q.x)
+                    && (room.lo.z + 0.4..room.hi.z - 0.4).contains(&q.z)
+            };
+            let cells = ((room.hi.x - room.lo.x - 0.8) / 0.4).floor()
+                * ((room.hi.z - room.lo.z - 0.8) / 0.4).floor();
+            let kept = probes.iter().filter(|p| inner(p)).count() as f64;
+            // Only a desk may stand in the way.
+            assert!(
+                kept >= 0.7 * cells,
+                "{}: {kept} of about {cells}",
+                room.name
+            );
+        }
+    }
 }

@@ -5,6 +5,7 @@
 //! [`skeleton`].
 
 pub mod covered;
+pub mod escape;
 pub mod field;
 pub mod gather;
 pub mod link;

@@ -39,7 +39,8 @@ pub fn of(mesh: &PatchMesh) -> Vec<u32> {
             let patch = &mesh.patches[i];
             let c = tris[i];
             let origin = (c[0] + c[1] + c[2]) / 3.0 + patch.normal * (4.0 * occ.epsilon);
-            let turn = DQuat::from_axis_angle(patch.normal, turn(i as u64));
+            let turn = samples::unit_pair(i as u64)[0] * std::f64::consts::TAU;
+            let turn = DQuat::from_axis_angle(patch.normal, turn);
             let mut out = [u32::MAX; RAYS * RAYS];
             for (k, d) in samples::cosine_directions(patch.normal, RAYS).enumerate() {
                 let d = turn * d;
@@ -149,14 +150,6 @@ fn twins(mesh: &PatchMesh, tris: &[[DVec3; 3]]) -> std::collections::HashMap<u32
         twin.insert(pair[1], pair[0]);
     }
     twin
-}
-
-/// A patch's own turn of the ray pattern about its normal (rad), from its index.
-fn turn(i: u64) -> f64 {
-    let mut z = i.wrapping_add(0x9E37_79B9_7F4A_7C15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    (z >> 11) as f64 / (1u64 << 53) as f64 * std::f64::consts::TAU
 }
 
 fn root(parent: &mut [u32], mut i: u32) -> u32 {
