@@ -108,6 +108,11 @@ pub struct Saved {
 }
 
 impl Meshed<'_> {
+    /// The patch size h the mesh was made for (m; recovered from the contact gap it set).
+    pub fn patch_size(&self) -> f64 {
+        self.contacts.gap_m / contact_gap(1.0)
+    }
+
     /// What [`restore`] needs (the light on the mesh is dropped).
     pub fn into_saved(self) -> Saved {
         Saved {

@@ -116,11 +116,11 @@ pub fn gather(
         vertex_direct: &state.vertex_direct,
         light_flux: &state.flux.per_patch,
     };
-    let part = links::part(&inputs, &subset);
+    let (part, marking) = links::part(&inputs, &subset);
     Ok(TaskResult {
         task: task as u32,
         fingerprint: state.fingerprint,
-        rays: m.occluder.rays_traced() - before,
+        rays: m.occluder.rays_traced() - before - marking,
         part,
     })
 }
@@ -162,7 +162,7 @@ pub fn merge(
     m.occluder.credit_rays(results.iter().map(|r| r.rays).sum());
     let parts = results.into_iter().map(|r| r.part).collect();
     let rows = m.run.time(Stage::Links, || {
-        links::assembled(scene, settings, &m.meshed, parts)
+        links::assembled(scene, settings, &m.meshed, &m.occluder, parts)
     });
     m.run.rays(RayStage::Links, &m.occluder);
     let solved = complete(scene, settings, m, direct, rows, progress)?;

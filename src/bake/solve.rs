@@ -123,6 +123,7 @@ pub fn stage_many(
         rho,
         dark,
         mut links,
+        ..
     } = rows;
     // The solve reads only the tree's skeleton: the rest is freed while the rows are held and
     // rebuilt from the skeleton once they are dropped (the same tree).

@@ -76,6 +76,8 @@ pub struct Skeleton {
     pub range: Vec<[u32; 2]>,
     /// Per node: does it hold curved clutter (decided while splitting, so kept for the rebuild).
     pub curved: Vec<bool>,
+    /// Per node: found split by a wall (`PatchTree::mark_walled`), kept for the rebuild.
+    pub walled: Vec<bool>,
     pub order: Vec<u32>,
     pub slot: Arc<[u32]>,
     pub inner_nodes: usize,
