@@ -236,8 +236,11 @@ pub struct SourceRecord {
     pub source: String,
     /// lm (for a directional light: what the scene intercepts).
     pub emitted_lm: f64,
-    /// Direct flux it put onto surfaces, front and back (lm).
+    /// Direct flux it put onto surfaces, front and back, as integrated (lm).
     pub reached_surfaces_lm: f64,
+    /// The factor its direct flux into patches was scaled by so that they receive all it emits
+    /// (a source in a closed scene: `bake::direct::closure`); 1 when none was applied.
+    pub closure: f64,
     /// Luminaires only.
     #[serde(flatten)]
     pub luminaire: Option<LuminaireRecord>,

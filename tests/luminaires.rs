@@ -570,3 +570,51 @@ fn soft_shadow(along: bool) -> (f64, f64, usize) {
     eprintln!("oracle: soft-shadow/{key} measured {worst_open:.3e}");
     (worst_open, worst_own, lit)
 }
+
+#[test]
+fn a_linear_fitting_in_a_closed_room_puts_all_its_flux_on_the_patches_and_none_in_an_open_one() {
+    // A 1.5 m louvred linear fitting (the office sample's Miral profile) 3 cm under the ceiling
+    // of a closed 4 × 3 × 5 m box (ρ 0.5): every lumen lands on a patch. Integrated patch by
+    // patch, its opening split finer for near patches than for far ones, the patches receive
+    // +2.3·10⁻³ of its flux; the closure scales that back and the energy report sees it close. Without the floor most of it escapes: no closure.
+    use luxbake::fixtures::openplan::LINEAR_IES;
+    let scene = |closed: bool| {
+        let mut b = SceneBuilder::new();
+        let walls = b.material("walls", 0.5);
+        for (i, f) in box_faces(DVec3::ZERO, DVec3::new(4.0, 3.0, 5.0))
+            .iter()
+            .enumerate()
+        {
+            if closed || f.iter().any(|p| p.y > 0.1) {
+                b.quad(&format!("face_{i}"), *f, walls);
+            }
+        }
+        let p = b.ies_light("linear", LINEAR_IES);
+        let at = DVec3::new(2.0, 2.97, 2.5);
+        b.place_luminaire("linear", p, at, -DVec3::Y, DVec3::X, 1.0, None);
+        b.build()
+    };
+    let r = bake(&scene(true), &Settings::default(), &Silent).expect("bake");
+    let s = &r.summary.sources[0];
+    let integrated = s.reached_surfaces_lm / s.emitted_lm - 1.0;
+    let balance = r.summary.energy.balance_error_relative;
+    eprintln!(
+        "closed: integrated {integrated:+.2e}, closure {:.5}, balance {balance:.1e}",
+        s.closure
+    );
+    assert!(
+        integrated.abs() > 5e-4,
+        "the integration's error is what is closed"
+    );
+    assert!((s.closure * s.reached_surfaces_lm / s.emitted_lm - 1.0).abs() < 1e-12);
+    assert!(balance < 1e-5, "balance {balance:.2e}");
+    let r = bake(&scene(false), &Settings::default(), &Silent).expect("bake");
+    let s = &r.summary.sources[0];
+    let energy = &r.summary.energy;
+    eprintln!(
+        "open: closure {}, escaped {:.1} of {:.1} lm",
+        s.closure, energy.escaped_from_lights_lm, s.emitted_lm
+    );
+    assert_eq!(s.closure, 1.0);
+    assert!(energy.escaped_from_lights_lm > 0.0);
+}

@@ -117,8 +117,14 @@ fn open_fractions(meshed: &Meshed, occ: &Occluder, solved: &Radiosity) -> Vec<f6
 /// Keeps the report's ray pattern apart from others drawn from patch indices.
 const ESCAPE_SALT: u64 = 0x5E5C_A9E0_0000_0000;
 
-/// What the summary says about a source, given the flux it put onto surfaces (lm).
-pub fn source_record(source: &DirectSource, scene: &Scene, received: f64) -> SourceRecord {
+/// What the summary says about a source, given the flux it put onto surfaces (lm) and the
+/// closure factor applied to it (`bake::direct::closure`).
+pub fn source_record(
+    source: &DirectSource,
+    scene: &Scene,
+    received: f64,
+    closure: f64,
+) -> SourceRecord {
     let (kind, name, path) = match source {
         DirectSource::Punctual(l) => (
             match l.kind {
@@ -157,6 +163,7 @@ pub fn source_record(source: &DirectSource, scene: &Scene, received: f64) -> Sou
         source: path,
         emitted_lm: source.emitted_flux().unwrap_or(received),
         reached_surfaces_lm: received,
+        closure,
         luminaire,
     }
 }

@@ -352,8 +352,8 @@ fn summary_of(
         balancing: radiosity.balance,
         energy,
         sources: (meshed.lights.sources.iter())
-            .zip(&flux.per_source)
-            .map(|(s, received)| energy::source_record(s, scene, *received))
+            .zip(flux.per_source.iter().zip(&flux.closure))
+            .map(|(s, (received, f))| energy::source_record(s, scene, *received, *f))
             .collect(),
         exposure: Default::default(),
         units: Units::default(),

@@ -91,7 +91,7 @@ pub fn sampled_spread(
     // The mean of a smooth distribution over the piece, and its error: corners and centre agree
     // for a linear variation, so their disagreement measures what the estimate misses.
     let corners = (values[0] + values[1] + values[2]) / 3.0;
-    let mean = (corners + values[3]) / 2.0;
+    let mean = 0.25 * corners + 0.75 * values[3];
     let smooth = Spread::Varies {
         mean,
         error: (corners - values[3]).abs(),
