@@ -88,8 +88,9 @@ pub fn sampled_spread(
     let (lo, hi) = values
         .iter()
         .fold((f64::INFINITY, 0.0f64), |(a, b), v| (a.min(*v), b.max(*v)));
-    // The mean of a smooth distribution over the piece, and its error: corners and centre agree
-    // for a linear variation, so their disagreement measures what the estimate misses.
+    // The mean of a smooth distribution over the piece (corners 1/12 each, centre 3/4: exact for
+    // a quadratic), and its error: corners and centre agree for a linear variation, so their
+    // disagreement bounds what the estimate misses.
     let corners = (values[0] + values[1] + values[2]) / 3.0;
     let mean = 0.25 * corners + 0.75 * values[3];
     let smooth = Spread::Varies {

@@ -41,7 +41,9 @@ const MAX_SPLITS: u32 = 10;
 pub const PENUMBRA_REFINE: f64 = 4.0;
 
 /// For the flux into a patch (the input of the inter-reflection, not a value users read) the split
-/// may be coarser: any split conserves the flux, it only shifts it between nearby patches.
+/// may be coarser. Splits chosen per patch do not conserve the flux over a room (+2.1·10⁻³ for a
+/// 1.5 m fitting in an empty box at 0.3, +8·10⁻⁵ at 0.1 for 2.6× the rays): `bake::direct::closure`
+/// gives a closed source's patches their whole flux back.
 const PATCH_RATIO: f64 = 0.3;
 const PATCH_MAX_SPLITS: u32 = 6;
 

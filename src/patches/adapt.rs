@@ -78,7 +78,7 @@ pub fn refine(m: &mut SurfaceMesh, signs: &[f64], a: &Adapt) -> usize {
         // Where each vertex is judged: pulled a little into its triangles, so a vertex on a room's
         // corner edge is not tested edge-on against the neighbouring wall (which would read as a
         // shadow edge and split every corner).
-        let (inward, local) = super::around(&m.positions, &m.triangles);
+        let (inward, _, local) = super::around(&m.positions, &m.triangles);
         let pulled = |i: usize| m.positions[i] + inward[i].normalize_or_zero() * (PULL * local[i]);
         for (s, sign) in signs.iter().enumerate() {
             let from = at[s].len();

@@ -437,11 +437,15 @@ struct GroupInput<'a> {
 }
 
 /// Per vertex: Σ over the triangles around it of the unit direction from it to their centroids
-/// (where "into the surface" is, to nudge points off edges and corners; zero where they cancel),
-/// and the longest edge of those triangles (the local patch size). Zero-area triangles are
-/// skipped.
-pub(crate) fn around(positions: &[DVec3], triangles: &[[u32; 3]]) -> (Vec<DVec3>, Vec<f64>) {
+/// (where "into the surface" is, to nudge points off edges and corners; zero where they cancel);
+/// the same directions weighed by each triangle's angle at the vertex (the bisector of an open
+/// fan, whatever its triangles' count); and the longest edge of those triangles (the local patch
+/// size). Zero-area triangles are skipped.
+pub(crate) type Around = (Vec<DVec3>, Vec<DVec3>, Vec<f64>);
+
+pub(crate) fn around(positions: &[DVec3], triangles: &[[u32; 3]]) -> Around {
     let mut inward = vec![DVec3::ZERO; positions.len()];
+    let mut by_angle = vec![DVec3::ZERO; positions.len()];
     let mut longest = vec![0.0f64; positions.len()];
     for t in triangles {
         let p = t.map(|v| positions[v as usize]);
@@ -454,18 +458,21 @@ pub(crate) fn around(positions: &[DVec3], triangles: &[[u32; 3]]) -> (Vec<DVec3>
             .map(|k| (p[k] - p[(k + 1) % 3]).length())
             .fold(0.0, f64::max);
         for (k, &v) in t.iter().enumerate() {
-            inward[v as usize] += (centroid - p[k]).normalize_or_zero();
+            let to_centroid = (centroid - p[k]).normalize_or_zero();
+            let angle = (p[(k + 1) % 3] - p[k]).angle_between(p[(k + 2) % 3] - p[k]);
+            inward[v as usize] += to_centroid;
+            by_angle[v as usize] += to_centroid * angle;
             longest[v as usize] = longest[v as usize].max(edge);
         }
     }
     // Inside a symmetric fan (a vertex inside a face) the directions cancel, and what is left
     // is rounding noise, different at every scale: such a vertex has no inward direction.
-    for d in &mut inward {
+    for d in inward.iter_mut().chain(&mut by_angle) {
         if d.length() < 1e-6 {
             *d = DVec3::ZERO;
         }
     }
-    (inward, longest)
+    (inward, by_angle, longest)
 }
 
 fn add_group(mesh: &mut PatchMesh, g: GroupInput) {
@@ -475,7 +482,7 @@ fn add_group(mesh: &mut PatchMesh, g: GroupInput) {
     let n = g.positions.len();
     // Per vertex: Σ of adjacent face normals (area-weighted).
     let mut face_sum = vec![DVec3::ZERO; n];
-    let (inward, local) = around(g.positions, g.triangles);
+    let (inward, by_angle, local) = around(g.positions, g.triangles);
     let mut area = 0.0;
     for t in g.triangles {
         let p = t.map(|v| g.positions[v as usize]);
@@ -515,7 +522,15 @@ fn add_group(mesh: &mut PatchMesh, g: GroupInput) {
         } else {
             face
         };
-        let tangent_in = (inward[i] - normal * inward[i].dot(normal)).normalize_or_zero();
+        // On an outline the step goes along the open fan's bisector: the plain sum of many thin
+        // triangles along the two edges of a 270° corner (a shelf's end) points along an edge or
+        // into the missing quarter, and the receiver reads the shelf's shadow (a dark vertex
+        // smeared over the wall's large triangles).
+        let into = match g.outline.get(i).copied().flatten() {
+            Some(_) => by_angle[i],
+            None => inward[i],
+        };
+        let tangent_in = (into - normal * into.dot(normal)).normalize_or_zero();
         offset.push(tangent_in * nudge);
         mesh.receivers.push(Vertex {
             position: g.positions[i],
