@@ -8,6 +8,7 @@
 //! luminaires are within f of their full sums.
 
 use crate::direct::enclosed::Solids;
+use crate::direct::sources::DirectSource;
 use crate::direct::targets::IntoPatch;
 use crate::patches::PatchMesh;
 use crate::progress::Progress;
@@ -38,6 +39,10 @@ pub struct PatchFlux {
     /// Per source, the factor its share of `per_patch` and `back` was scaled by so that the
     /// patches receive exactly its flux ([`closure`]); 1 where none was applied.
     pub closure: Vec<f64>,
+    /// Per source, the flux its escape rays found leaving the scene (lm; 0 for sources without
+    /// an emitted flux of their own: `DirectSource::escaping_flux`). Traced once, here: the
+    /// closure and the energy report read it.
+    pub escaped: Vec<f64>,
 }
 
 /// Per source, the factor that makes the flux its patches received (`received`, lm) its whole
@@ -55,28 +60,26 @@ pub struct PatchFlux {
 /// hidden whole (chair legs: ±5·10⁻³ per source on the open plan). The factor puts the lost or
 /// surplus per mille back in proportion to what each patch received; the summary reports it
 /// (`closure`) beside what was integrated (`reachedSurfacesLm`).
-pub fn closure(
-    sources: &[crate::direct::sources::DirectSource],
-    occ: &Occluder,
-    received: &[f64],
-) -> Vec<f64> {
-    (sources.iter().zip(received))
-        .map(|(source, &received)| match source.emitted_flux() {
-            Some(flux)
-                if received > 0.0
-                    && !matches!(source, crate::direct::sources::DirectSource::Profiled(_))
-                    && source.escaping_flux(occ) == 0.0 =>
-            {
-                let f = flux / received;
-                // A factor far from 1 is no integration error: leave that light as it is.
-                if (f - 1.0).abs() <= MAX_CLOSURE {
-                    f
-                } else {
-                    1.0
+pub fn closure(sources: &[DirectSource], received: &[f64], escaped: &[f64]) -> Vec<f64> {
+    (sources.iter().zip(received).zip(escaped))
+        .map(
+            |((source, &received), &escaped)| match source.emitted_flux() {
+                Some(flux)
+                    if received > 0.0
+                        && !matches!(source, DirectSource::Profiled(_))
+                        && escaped == 0.0 =>
+                {
+                    let f = flux / received;
+                    // A factor far from 1 is no integration error: leave that light as it is.
+                    if (f - 1.0).abs() <= MAX_CLOSURE {
+                        f
+                    } else {
+                        1.0
+                    }
                 }
-            }
-            _ => 1.0,
-        })
+                _ => 1.0,
+            },
+        )
         .collect()
 }
 
@@ -92,8 +95,8 @@ pub fn into_patches(
     let (sources, groups) = (&lights.sources, &lights.groups);
     let solids = Solids::new(scene);
     // Fixed chunks of patches, each summed into its own totals, the chunks' totals added in
-    // order: deterministic whatever the thread count. (Not a row of every source for every
-    // patch kept until the end: patches × sources × 16 bytes, too much on large scenes.)
+    // order: deterministic whatever the thread count. Each patch keeps only its nonzero fronts
+    // per source (8 bytes each, not patches × sources), summed once the closure is known.
     let parts: Vec<Chunk> = mesh
         .patches
         .par_chunks(FLUX_CHUNK)
@@ -203,7 +206,13 @@ pub fn into_patches(
             back[k] += part[k];
         }
     }
-    let closure = closure(sources, occ, &per_source);
+    let escaped: Vec<f64> = (sources.iter())
+        .map(|s| match s.emitted_flux() {
+            Some(_) => s.escaping_flux(occ),
+            None => 0.0,
+        })
+        .collect();
+    let closure = closure(sources, &per_source, &escaped);
     let weight: Vec<DVec3> = (sources.iter().zip(&closure))
         .map(|(s, f)| s.color() * *f)
         .collect();
@@ -223,6 +232,7 @@ pub fn into_patches(
         back: (back.iter().zip(&weight)).fold(DVec3::ZERO, |sum, (b, w)| sum + *w * *b),
         per_source,
         closure,
+        escaped,
     }
 }
 

@@ -35,13 +35,14 @@ pub fn balance(
     let mesh = &meshed.mesh;
     let mut lights = 0.0;
     let mut lights_escaped = 0.0;
-    for (source, received) in meshed.lights.sources.iter().zip(&flux.per_source) {
+    let sources = meshed.lights.sources.iter();
+    for ((source, received), escaped) in sources.zip(&flux.per_source).zip(&flux.escaped) {
         match source.emitted_flux() {
             // A directional light emits what the scene intercepts.
             None => lights += received,
-            Some(flux) => {
-                lights += flux;
-                lights_escaped += source.escaping_flux(occ);
+            Some(emitted) => {
+                lights += emitted;
+                lights_escaped += escaped;
             }
         }
     }

@@ -32,6 +32,7 @@ pub fn state_bytes(s: &State) -> Vec<u8> {
     w.u64(s.flux.per_source.len() as u64);
     s.flux.per_source.iter().for_each(|x| w.f64(*x));
     s.flux.closure.iter().for_each(|x| w.f64(*x));
+    s.flux.escaped.iter().for_each(|x| w.f64(*x));
     s.rays.iter().for_each(|x| w.u64(*x));
     w.u64(s.tasks.len() as u64);
     for &(a, b) in &s.tasks {
@@ -56,6 +57,7 @@ pub fn read_state(bytes: &[u8]) -> Result<State, String> {
     let sources = r.len(8)?;
     let per_source = (0..sources).map(|_| r.f64()).collect::<Result<_, _>>()?;
     let closure = (0..sources).map(|_| r.f64()).collect::<Result<_, _>>()?;
+    let escaped = (0..sources).map(|_| r.f64()).collect::<Result<_, _>>()?;
     let rays = [r.u64()?, r.u64()?, r.u64()?];
     let n = r.len(8)?;
     let tasks: Vec<(u32, u32)> = (0..n)
@@ -82,6 +84,7 @@ pub fn read_state(bytes: &[u8]) -> Result<State, String> {
             back,
             per_source,
             closure,
+            escaped,
         },
         rays,
         tasks,
