@@ -13,7 +13,8 @@ lists the working planes (0.8 m above the floor, +Y up, glTF axes): the corridor
 Reference (bench/results/building/reference.json, reused while the scene's bytes, the options
 and the points are unchanged; `--recompute` forces it): RADIANCE `rtrace -I` (pyradiance, as
 bench/radiance.py converts the glTF) at every point of the lit planes facing +Y, pure Monte Carlo
-(-aa 0, no irradiance cache: every point path traced on its own; -dj 1 jittered sources), the
+(-aa 0, no irradiance cache: every point path traced on its own; -as 0, no ambient
+super-sampling, which biases dim rooms low; -dj 1 jittered sources), the
 points listed R times per rtrace run (each ray its own sample index: independent repeats), runs
 added until the standard error of every plane's mean over the repeats is below --target-se
 (0.2 %) with at least 8 repeats; then the direct light alone (-ab 0, 32 repeats). The shut
@@ -45,7 +46,11 @@ from floor_accuracy import file_sha256, radiance_octree  # noqa: E402
 from run import PYRADIANCE, ensure_venv, machine  # noqa: E402
 
 OUT = os.path.join(BENCH, "results", "building")
-COMMON = ["-ds", "0.01", "-dt", "0", "-dc", "1", "-dj", "1", "-aa", "0"]
+# -as 0: rtrace's default ambient super-sampling (-as 128) spends extra rays where a division's
+# first samples varied and averages them in with the rest, which is not unbiased: in S2, lit
+# through its door, it read the inter-reflected light 8.6 % low (63 points, -ad 1024, 16
+# repeats each way; the corridor and S1 moved by -0.1 % and +0.4 %).
+COMMON = ["-ds", "0.01", "-dt", "0", "-dc", "1", "-dj", "1", "-aa", "0", "-as", "0"]
 DIRECT_REPEATS = 32
 MIN_REPEATS = 8
 RUNS = {"default": []}
