@@ -110,3 +110,54 @@ fn the_committed_sample_is_what_the_generator_writes() {
         );
     }
 }
+
+#[test]
+fn the_office_behind_its_shut_door_reads_zero_at_every_vertex() {
+    // N2 is unlit and its zero-thickness leaf is shut: every receiver facing into it (its room
+    // box, and its side of the door's recess behind the leaf) reads exactly 0 lx at default
+    // quality. Its door's jambs are 15 cm deep; the lintel box stands flush on them over
+    // 0.9 m. Left uncut (each jamb triangle's covered part was below a quarter patch), the
+    // jambs' patches on N2's side reached up into the seam, whose receivers read the corridor
+    // through it: up to 0.14 lx at the lintel's edge and 8·10⁻⁴ lx on N2's working plane.
+    use glam::DVec3;
+    use luxbake::fixtures::building_floor::{DoorState, rooms};
+    use luxbake::progress::Silent;
+    use luxbake::settings::Settings;
+    let scene = building_floor();
+    let r = luxbake::bake::bake(&scene, &Settings::default(), &Silent).expect("bake");
+    let room = (rooms().into_iter())
+        .find(|r| r.name == "office_n2")
+        .expect("office_n2");
+    let door = &room.doors[0];
+    assert_eq!(door.state, DoorState::ShutQuad);
+    let leaf_z = (door.lo.z + door.hi.z) / 2.0;
+    let within = |p: DVec3, lo: DVec3, hi: DVec3| {
+        (0..3).all(|k| p[k] >= lo[k] - 1e-9 && p[k] <= hi[k] + 1e-9)
+    };
+    let behind_leaf = |p: DVec3| {
+        within(p, door.lo, door.hi) && (p.z - leaf_z) * (room.lo.z - leaf_z).signum() > 1e-6
+    };
+    // Triangles whose centroid lies, a centimetre off their side, in N2 (crease copies at a
+    // thin partition's foot share positions with the other room's: the triangle tells them
+    // apart); covered triangles carry no light and are skipped.
+    let (mut seen, mut worst) = (0, (0.0f32, DVec3::ZERO));
+    for s in &r.surfaces {
+        let lit = s.covered_from.map_or(s.triangles.len(), |c| c as usize);
+        for t in &s.triangles[..lit] {
+            let p = t.map(|v| s.positions[v as usize]);
+            let n = (p[1] - p[0]).cross(p[2] - p[0]).normalize();
+            let ahead = (p[0] + p[1] + p[2]) / 3.0 + n * 0.01;
+            if !(within(ahead, room.lo, room.hi) || behind_leaf(ahead)) {
+                continue;
+            }
+            seen += 1;
+            for &v in t {
+                if s.illuminance[v as usize] > worst.0 {
+                    worst = (s.illuminance[v as usize], s.positions[v as usize]);
+                }
+            }
+        }
+    }
+    assert!(seen > 100, "only {seen} triangles face into N2");
+    assert_eq!(worst.0, 0.0, "N2 reads {} lx at {:?}", worst.0, worst.1);
+}

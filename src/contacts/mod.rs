@@ -12,7 +12,7 @@
 //! of T there is inside a solid (the floor under a cube's bottom: yes; the two faces of a slab
 //! drawn back to back: no), or when T closes a solid (just behind it is inside one) and nothing
 //! but backs is seen in front of it (the cube's bottom itself, looking below the floor). Covers
-//! of less than a quarter patch are dropped unless they cover their triangle whole.
+//! of less than a quarter patch are dropped unless they cover a quarter of their triangle or more.
 //!
 //! Where another surface meets T along a line (a [`Seam`]), T is cut along it, only over the
 //! meeting segment's length: the pieces on a side whose front is inside a solid are covered (a
@@ -222,18 +222,21 @@ pub fn find(scene: &Scene, gap: f64, occ: &Occluder) -> Contacts {
                 // What a surface covers of this triangle smaller than a quarter patch (a desk
                 // leg's foot on a floor) is left uncut: the mesh cannot show it, and cutting it
                 // costs patches. A triangle covered whole (the foot's own bottom, on the floor)
-                // needs no cut: it is kept, however small.
+                // needs no cut: it is kept, however small; so is a cover of a quarter of its
+                // triangle or more (a lintel against a 15 cm door jamb: left uncut, the jamb's
+                // patches reach into the seam and their receivers read the far side).
                 let covered_by = |by: u32, back: bool| -> f64 {
                     (c.iter().filter(|x: &&Cover| x.by == by && x.back == back))
                         .map(|x| x.area)
                         .sum()
                 };
-                let whole = (t.p[1] - t.p[0]).cross(t.p[2] - t.p[0]).length() / 2.0 * (1.0 - 1e-6);
+                let area = (t.p[1] - t.p[0]).cross(t.p[2] - t.p[0]).length() / 2.0;
+                let whole = area * (1.0 - 1e-6);
                 let keep: Vec<bool> = c
                     .iter()
                     .map(|x| {
                         let a = covered_by(x.by, x.back);
-                        a >= min_area || a >= whole
+                        a >= min_area || a >= whole || a >= area / 4.0
                     })
                     .collect();
                 let mut k = keep.iter();
