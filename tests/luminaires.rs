@@ -618,3 +618,89 @@ fn a_linear_fitting_in_a_closed_room_puts_all_its_flux_on_the_patches_and_none_i
     assert_eq!(s.closure, 1.0);
     assert!(energy.escaped_from_lights_lm > 0.0);
 }
+
+/// The soft shadow of a small opening (a 15 × 15 cm downlight, 2.5 m above the receivers: one
+/// near-field sub-source) cast by a straight edge running diagonally across it, so that near the
+/// penumbra's ends the edge cuts off one corner of the opening and leaves the centre and the
+/// other three alone. A horizontal sheet 0.5 m below the opening covers x ∓ z < 0 (+Y up);
+/// receivers facing up cross the penumbra. Against brute-force integration over the opening.
+/// Unsplit openings once cast hard shadows (the centre's ray alone: up to half the light wrong),
+/// and checking two opposite corners missed an edge cutting off one of the other two.
+#[test]
+fn soft_shadow_of_a_small_opening_matches_brute_force_whichever_corner_the_edge_cuts() {
+    let h = 0.075;
+    for sign in [1.0, -1.0] {
+        // The sheet covers the points where x + sign·z < 0.
+        let side = move |p: DVec3| p.x + sign * p.z;
+        let mut b = SceneBuilder::new();
+        let sheet = b.material("sheet", 0.0);
+        // The half plane x + sign·z < 0 at y = −0.5, as a large quad: along its edge, then away.
+        let along = DVec3::new(1.0, 0.0, -sign) * 30.0;
+        let away = DVec3::new(-1.0, 0.0, -sign) * 30.0;
+        let y = DVec3::new(0.0, -0.5, 0.0);
+        let half = [y - along, y + along, y + along + away, y - along + away];
+        b.quad("sheet", half, sheet);
+        let opening = Opening {
+            length: 2.0 * h,
+            width: 2.0 * h,
+            height: 0.0,
+            shape: OpeningShape::Rectangular,
+        };
+        let ies = cosine_source();
+        b.luminaire(
+            "downlight",
+            ies.as_bytes(),
+            Format::Ies,
+            DVec3::ZERO,
+            -DVec3::Y,
+            DVec3::Z,
+            1.0,
+            Some(opening),
+        );
+        let scene = b.build();
+        let occ = Occluder::build(&scene, OccluderOptions::default());
+        let source = Source::new(&scene, &scene.luminaires[0]);
+        let brute = |p: DVec3, shadowed: bool| {
+            let n = 400;
+            let mut e = 0.0;
+            for i in 0..n {
+                for j in 0..n {
+                    let q = DVec3::new(
+                        ((i as f64 + 0.5) / n as f64 * 2.0 - 1.0) * h,
+                        0.0,
+                        ((j as f64 + 0.5) / n as f64 * 2.0 - 1.0) * h,
+                    );
+                    let d = q - p;
+                    let s = p + d * ((-0.5 - p.y) / d.y);
+                    if !shadowed || side(s) >= 0.0 {
+                        let dist = d.length();
+                        e += source.intensity(-d / dist) / (n * n) as f64 * d.y / dist.powi(3);
+                    }
+                }
+            }
+            e
+        };
+        let (mut worst, mut lit) = (0.0f64, 0);
+        for k in 0..=32 {
+            // side(p) from −0.8 to 0.8 m: the penumbra spans about ±0.6 m of it.
+            let t = -0.8 + 0.05 * k as f64;
+            let p = DVec3::new(t / 2.0, -2.5, sign * t / 2.0);
+            let got = source.illuminance(&occ, p, DVec3::Y);
+            let (want, open) = (brute(p, true), brute(p, false));
+            eprintln!(
+                "small opening, sign {sign}, at {t:+.2}: got {got:.4} brute {want:.4} open {open:.4}"
+            );
+            worst = worst.max((got - want).abs() / open);
+            lit += (want > 0.02 * open && want < 0.98 * open) as usize;
+        }
+        eprintln!("oracle: soft-shadow/small-opening/{sign} measured {worst:.3e}");
+        assert!(
+            lit >= 12,
+            "sign {sign}: the line crosses the penumbra ({lit} points in it)"
+        );
+        assert!(
+            worst < 0.01,
+            "sign {sign}: worst soft-shadow error {worst} of the open light"
+        );
+    }
+}

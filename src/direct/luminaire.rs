@@ -195,7 +195,7 @@ impl<'a> Source<'a> {
     /// added to `out`: the sub-sources, their intensities and each one's shadow ray are shared
     /// (the ray leaves `p` off the first plane that faces the sub-source). `known`: what a
     /// group's query already proved of its visibility ([`super::groups`]). With `soft`, when
-    /// some sub-sources are seen and others hidden, or a corner of a split opening disagrees
+    /// some sub-sources are seen and others hidden, or a corner of the opening disagrees
     /// with them all, `p` lies in the luminaire's soft shadow: the opening is integrated again,
     /// down to [`PENUMBRA_REFINE`] times finer where the shadow edge crosses it, so the penumbra
     /// is not a staircase of a few steps. Without, one ray per sub-source (an estimate: meshing's
@@ -231,20 +231,20 @@ impl<'a> Source<'a> {
         }
     }
 
-    /// Whether, for an opening large enough to be split as seen from `p`, a ray to one of two
-    /// opposite corners (that lights one of the planes) says other than the sub-sources, all of
-    /// which were `seen` or all hidden: a shadow edge parallel to a row of sub-sources (the top
-    /// of a partition under a long fitting) crosses the opening without separating them.
+    /// Whether, for an opening of some size, a ray to one of its four corners (that lights
+    /// one of the planes) says other than the sub-sources, all of which were `seen` or all
+    /// hidden: a shadow edge parallel to a row of sub-sources (the top of a partition under a
+    /// long fitting) crosses the opening without separating them, and an opening too small to
+    /// split (a 15 cm downlight 2.5 m away, one sub-source) still casts a penumbra: a door
+    /// jamb's shadow through it is some 10 cm wide on the floor beyond, not a hard line.
     fn corners_disagree(&self, occ: &Occluder, p: DVec3, normals: &[DVec3], seen: bool) -> bool {
-        let longer = 2.0 * self.half[0].max(self.half[1]);
-        if longer <= NEAR_FIELD_RATIO * (self.position - p).length() {
+        if self.half[0].max(self.half[1]) <= 0.0 {
             return false;
         }
-        // Two opposite corners: an edge that misses every sub-source but cuts off a whole side of
-        // the opening (two adjacent corners) is caught; one cutting a single corner off moves
-        // little light.
-        let [a, _, c, _] = self.opening_corners();
-        [a, c]
+        // All four corners: a straight edge across the opening leaves corners on both sides of
+        // it, so one of them disagrees with the rest. Two opposite corners missed an edge that
+        // cuts off one of the other two: 3.7 lx read as 0 of 12 lx beside a door jamb.
+        self.opening_corners()
             .iter()
             .any(|&q| sight(occ, p, normals, q).is_some_and(|clear| clear != seen))
     }
