@@ -48,14 +48,20 @@ fn cosine_source() -> String {
 /// A 1.5 × 0.2 m rectangular opening with [`cosine_source`]'s profile at the origin, pointing
 /// down (−Y), its length along Z.
 fn place_linear(b: &mut SceneBuilder) {
+    place_opening(b, "linear", 1.5, 0.2);
+}
+
+/// A `length` × `width` m rectangular opening with [`cosine_source`]'s profile at the origin,
+/// pointing down (−Y), its length along Z.
+fn place_opening(b: &mut SceneBuilder, name: &str, length: f64, width: f64) {
     let opening = Opening {
-        length: 1.5,
-        width: 0.2,
+        length,
+        width,
         height: 0.0,
         shape: OpeningShape::Rectangular,
     };
     b.luminaire(
-        "linear",
+        name,
         cosine_source().as_bytes(),
         Format::Ies,
         DVec3::ZERO,
@@ -113,14 +119,25 @@ fn brute_opening(
     n: (usize, usize),
     seen: impl Fn(DVec3) -> bool,
 ) -> f64 {
+    brute_sized(source, p, n, (1.5, 0.2), seen)
+}
+
+/// [`brute_opening`] for a `(length, width)` m opening (length along Z).
+fn brute_sized(
+    source: &Source,
+    p: DVec3,
+    n: (usize, usize),
+    (length, width): (f64, f64),
+    seen: impl Fn(DVec3) -> bool,
+) -> f64 {
     let (nl, nw) = n;
     let mut e = 0.0;
     for i in 0..nl {
         for j in 0..nw {
             let q = DVec3::new(
-                (j as f64 + 0.5) / nw as f64 * 0.2 - 0.1,
+                ((j as f64 + 0.5) / nw as f64 - 0.5) * width,
                 0.0,
-                (i as f64 + 0.5) / nl as f64 * 1.5 - 0.75,
+                ((i as f64 + 0.5) / nl as f64 - 0.5) * length,
             );
             let d = q - p;
             let cos = DVec3::Y.dot(d);
@@ -640,45 +657,16 @@ fn soft_shadow_of_a_small_opening_matches_brute_force_whichever_corner_the_edge_
         let y = DVec3::new(0.0, -0.5, 0.0);
         let half = [y - along, y + along, y + along + away, y - along + away];
         b.quad("sheet", half, sheet);
-        let opening = Opening {
-            length: 2.0 * h,
-            width: 2.0 * h,
-            height: 0.0,
-            shape: OpeningShape::Rectangular,
-        };
-        let ies = cosine_source();
-        b.luminaire(
-            "downlight",
-            ies.as_bytes(),
-            Format::Ies,
-            DVec3::ZERO,
-            -DVec3::Y,
-            DVec3::Z,
-            1.0,
-            Some(opening),
-        );
+        place_opening(&mut b, "downlight", 2.0 * h, 2.0 * h);
         let scene = b.build();
         let occ = Occluder::build(&scene, OccluderOptions::default());
         let source = Source::new(&scene, &scene.luminaires[0]);
+        // Seen when the segment from p to q crosses the sheet's plane on its open side.
         let brute = |p: DVec3, shadowed: bool| {
-            let n = 400;
-            let mut e = 0.0;
-            for i in 0..n {
-                for j in 0..n {
-                    let q = DVec3::new(
-                        ((i as f64 + 0.5) / n as f64 * 2.0 - 1.0) * h,
-                        0.0,
-                        ((j as f64 + 0.5) / n as f64 * 2.0 - 1.0) * h,
-                    );
-                    let d = q - p;
-                    let s = p + d * ((-0.5 - p.y) / d.y);
-                    if !shadowed || side(s) >= 0.0 {
-                        let dist = d.length();
-                        e += source.intensity(-d / dist) / (n * n) as f64 * d.y / dist.powi(3);
-                    }
-                }
-            }
-            e
+            brute_sized(&source, p, (400, 400), (2.0 * h, 2.0 * h), |q: DVec3| {
+                let d = q - p;
+                !shadowed || side(p + d * ((-0.5 - p.y) / d.y)) >= 0.0
+            })
         };
         let (mut worst, mut lit) = (0.0f64, 0);
         for k in 0..=32 {

@@ -222,7 +222,7 @@ pub fn find(scene: &Scene, gap: f64, occ: &Occluder) -> Contacts {
                 // What a surface covers of this triangle smaller than a quarter patch (a desk
                 // leg's foot on a floor) is left uncut: the mesh cannot show it, and cutting it
                 // costs patches. A triangle covered whole (the foot's own bottom, on the floor)
-                // needs no cut: it is kept, however small; so is a cover of a quarter of its
+                // needs no cut: it is kept, however small, as is any cover of a quarter of its
                 // triangle or more (a lintel against a 15 cm door jamb: left uncut, the jamb's
                 // patches reach into the seam and their receivers read the far side).
                 let covered_by = |by: u32, back: bool| -> f64 {
@@ -230,13 +230,12 @@ pub fn find(scene: &Scene, gap: f64, occ: &Occluder) -> Contacts {
                         .map(|x| x.area)
                         .sum()
                 };
-                let area = (t.p[1] - t.p[0]).cross(t.p[2] - t.p[0]).length() / 2.0;
-                let whole = area * (1.0 - 1e-6);
+                let quarter = (t.p[1] - t.p[0]).cross(t.p[2] - t.p[0]).length() / 8.0;
                 let keep: Vec<bool> = c
                     .iter()
                     .map(|x| {
                         let a = covered_by(x.by, x.back);
-                        a >= min_area || a >= whole || a >= area / 4.0
+                        a >= min_area || a >= quarter
                     })
                     .collect();
                 let mut k = keep.iter();
