@@ -164,8 +164,9 @@ fn closed_rooms_read_zero_and_close_energy_however_the_floor_is_drawn() {
                     ));
                 }
             }
-            // Issue 55 asks 10⁻⁴ at every ρ; at ρ 0.9 the balancing leaves 2·10⁻⁴ (open).
-            if balance > if rho < 0.85 { 1e-4 } else { 5e-4 } {
+            // Measured about 10⁻⁹ at every ρ (1.7·10⁻⁴ at ρ 0.9 with thin partitions while the
+            // slab under the outer walls' corner was left uncovered).
+            if balance > 1e-4 {
                 failed.push(format!("{name}, ρ {rho}: balance error {balance:.2e}"));
             }
             // The lit room is the building's only closed room with light: Sumpner holds in it,

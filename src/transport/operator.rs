@@ -398,6 +398,20 @@ impl<'a> PatchOperator<'a> {
             }
             cols = column_sums(self);
         }
+        // Rows and columns cannot both reach targets whose area-weighted totals differ (a floor
+        // patch with a vertex pressed under a desk leg's foot gathers two thirds of what it
+        // sends): the columns decide whether light is kept, so a last plain column step makes
+        // them exact and the rows carry the inconsistency (about 10⁻⁸ on average).
+        if stats.iterations > 0 {
+            for j in 0..cols.len() {
+                if closed_column[j] && cols[j] > 0.0 {
+                    self.col[j] *= (target[j] / cols[j]).clamp(0.5, 2.0);
+                }
+            }
+            cols = column_sums(self);
+            stats.column_error_after = column_error(&cols);
+            stats.worst_column_after = worst(&cols);
+        }
         stats.row_error_after = row_error(&self.apply_scalar(&ones));
         stats
     }
