@@ -315,14 +315,15 @@ fn the_wall_at_a_shelfs_corners_reads_the_light_beside_it() {
 #[test]
 fn a_furnished_room_closes_energy() {
     // A desk on legs, a cabinet against a wall and a shelf on another. Issue 55 measured
-    // −0.53 % / −0.90 % (ρ 0.5 / 0.8) and asks 0.5 % and a balance of 10⁻⁴; measured now
-    // −0.32 % / −0.53 % and 3·10⁻¹⁰ (2.1·10⁻⁴ before the balancing ended on a column step):
-    // the Sumpner bound holds what is reached, the rest is open.
+    // −0.53 % / −0.90 % (ρ 0.5 / 0.8) and asks 0.5 % and a balance of 10⁻⁴. Measured now
+    // −0.25 % / −0.20 % and 5·10⁻¹⁰; before the desk's corner vertices (under its legs' tops,
+    // too small to cut along) stepped out from under them, −0.32 % / −0.53 %, and before the
+    // balancing ended on a column step, a balance of 2.1·10⁻⁴.
     let mut worst = [0.0; 2];
     for rho in [0.5, 0.8] {
         let room = contacts::furnished_room(rho);
         check_closed(&format!("furnished ρ {rho}"), &room, rho, &mut worst);
     }
     assert!(worst[0] <= 1e-4, "balance error {:.2e}", worst[0]);
-    assert!(worst[1] <= 0.006, "Σ(1 − ρ)·E·A off Φ by {:.2e}", worst[1]);
+    assert!(worst[1] <= 0.005, "Σ(1 − ρ)·E·A off Φ by {:.2e}", worst[1]);
 }

@@ -86,6 +86,9 @@ pub struct Seam {
 pub struct Contacts {
     /// Per scene surface, its covers ordered by triangle.
     pub covers: Vec<Vec<Cover>>,
+    /// Per scene surface, the covers too small to cut along (a desk leg's foot on a floor),
+    /// ordered by triangle: a receiver under one reads from beside it (`patches`).
+    pub uncut: Vec<Vec<Cover>>,
     /// Per scene surface, its seams ordered by triangle.
     pub seams: Vec<Vec<Seam>>,
     /// Per scene surface, the surface cut along its covers and seams (`None`: untouched).
@@ -205,7 +208,8 @@ pub fn find(scene: &Scene, gap: f64, occ: &Occluder) -> Contacts {
     // Covers below the patch scale (2 × the gap is h/2) are not cut along (seams: see
     // `Context::seam`).
     let min_area = (2.0 * gap).powi(2);
-    type Found = (Vec<(u32, Cover)>, Vec<(u32, Seam)>);
+    // Each cover with whether it is cut along (see `keep` below).
+    type Found = (Vec<(u32, Cover, bool)>, Vec<(u32, Seam)>);
     let found: Vec<Found> = tris
         .par_chunks(1024)
         .map(|chunk| {
@@ -238,9 +242,7 @@ pub fn find(scene: &Scene, gap: f64, occ: &Occluder) -> Contacts {
                         a >= min_area || a >= quarter
                     })
                     .collect();
-                let mut k = keep.iter();
-                c.retain(|_| *k.next().expect("one flag per cover"));
-                covers.extend(c.into_iter().map(|c| (t.surface, c)));
+                covers.extend(c.into_iter().zip(keep).map(|(c, k)| (t.surface, c, k)));
                 seams.extend(m.into_iter().map(|m| (t.surface, m)));
             }
             (covers, seams)
@@ -248,10 +250,14 @@ pub fn find(scene: &Scene, gap: f64, occ: &Occluder) -> Contacts {
         .collect();
     // Chunks come in triangle order and triangles in surface order: both stay sorted.
     let mut covers: Vec<Vec<Cover>> = vec![Vec::new(); scene.surfaces.len()];
+    let mut uncut: Vec<Vec<Cover>> = vec![Vec::new(); scene.surfaces.len()];
     let mut seams: Vec<Vec<Seam>> = vec![Vec::new(); scene.surfaces.len()];
     for (c, m) in found {
-        for (s, c) in c {
-            covers[s as usize].push(c);
+        for (s, c, kept) in c {
+            match kept {
+                true => covers[s as usize].push(c),
+                false => uncut[s as usize].push(c),
+            }
         }
         for (s, m) in m {
             seams[s as usize].push(m);
@@ -287,6 +293,7 @@ pub fn find(scene: &Scene, gap: f64, occ: &Occluder) -> Contacts {
         .collect();
     Contacts {
         covers,
+        uncut,
         seams,
         cuts,
         gap,

@@ -16,6 +16,7 @@
 
 pub mod adapt;
 pub mod refine;
+mod under;
 
 use crate::contacts::{Contacts, cut};
 use crate::scene::Scene;
@@ -228,6 +229,7 @@ pub fn build_cut(
                     double_sided: r.sides.len() == 2,
                     covered,
                     outline,
+                    under: under::covers(scene, contacts, s, side == Side::Back),
                 },
             );
         }
@@ -434,6 +436,8 @@ struct GroupInput<'a> {
     covered: Option<CoveredPart>,
     /// Per vertex (or empty): the gap of the contact whose outline it lies on (m).
     outline: &'a [Option<f64>],
+    /// The side's covers too small to cut along ([`under`]).
+    under: Vec<under::Under>,
 }
 
 /// Per vertex: Σ over the triangles around it of the unit direction from it to their centroids
@@ -531,7 +535,11 @@ fn add_group(mesh: &mut PatchMesh, g: GroupInput) {
             None => inward[i],
         };
         let tangent_in = (into - normal * into.dot(normal)).normalize_or_zero();
-        offset.push(tangent_in * nudge);
+        let nudged = tangent_in * nudge;
+        let p = g.positions[i];
+        offset.push(
+            under::step_out(&g.under, p, nudged, tangent_in, normal, local[i]).unwrap_or(nudged),
+        );
         mesh.receivers.push(Vertex {
             position: g.positions[i],
             normal,
