@@ -12,7 +12,8 @@
 //! Invariants: patches have area > 0; every patch's vertices are receivers of the same group;
 //! receiver normals have unit length and face the side's front; `Vertex::point` lies on the
 //! surface, nudged a hair (10⁻⁴ of the longest edge around it) into the adjacent patches so that a receiver at a room corner
-//! sees the neighbouring wall as the limit from inside the face, not edge-on.
+//! sees the neighbouring wall as the limit from inside the face, not edge-on (further on a
+//! contact's outline, and out from under a cover too small to cut along: [`under`]).
 
 pub mod adapt;
 pub mod refine;
