@@ -438,7 +438,7 @@ struct GroupInput<'a> {
     /// Per vertex (or empty): the gap of the contact whose outline it lies on (m).
     outline: &'a [Option<f64>],
     /// The side's covers too small to cut along ([`under`]).
-    under: Vec<under::Under>,
+    under: under::Covers,
 }
 
 /// Per vertex: Σ over the triangles around it of the unit direction from it to their centroids

@@ -9,7 +9,8 @@
 
 use crate::contacts::Contacts;
 use crate::scene::Scene;
-use glam::DVec3;
+use crate::visibility::boxes::BoxIndex;
+use glam::{DMat3, DVec3};
 
 /// One uncut cover's outline on the plane of the triangle it covers.
 pub struct Under {
@@ -23,13 +24,21 @@ pub struct Under {
     eps: f64,
 }
 
+/// One side's uncut covers, indexed by their bounds (a floor under a thousand chairs' casters
+/// asks a few of them per vertex, not all).
+#[derive(Default)]
+pub struct Covers {
+    under: Vec<Under>,
+    index: Option<BoxIndex>,
+}
+
 /// The uncut covers of surface `s` on its back (`back`) or front.
-pub fn covers(scene: &Scene, contacts: &Contacts, s: usize, back: bool) -> Vec<Under> {
+pub fn covers(scene: &Scene, contacts: &Contacts, s: usize, back: bool) -> Covers {
     let Some(uncut) = contacts.uncut.get(s) else {
-        return Vec::new();
+        return Covers::default();
     };
     let surface = &scene.surfaces[s];
-    uncut
+    let under: Vec<Under> = uncut
         .iter()
         .filter(|c| c.back == back)
         .filter_map(|c| {
@@ -43,10 +52,28 @@ pub fn covers(scene: &Scene, contacts: &Contacts, s: usize, back: bool) -> Vec<U
                 eps: contacts.tolerance,
             })
         })
-        .collect()
+        .collect();
+    let index =
+        (!under.is_empty()).then(|| BoxIndex::new(under.iter().map(Under::bounds).collect()));
+    Covers { under, index }
 }
 
 impl Under {
+    /// The outline's corners (where two edges' lines meet on the plane), boxed and padded.
+    fn bounds(&self) -> (DVec3, DVec3) {
+        let corner = |k: usize| {
+            let (a, b) = (self.edges[k], self.edges[(k + 1) % 3]);
+            let rows = DMat3::from_cols(a.0, b.0, self.normal).transpose();
+            rows.inverse() * DVec3::new(a.1, b.1, self.normal.dot(self.at))
+        };
+        let c = [corner(0), corner(1), corner(2)];
+        let pad = DVec3::splat(100.0 * self.eps);
+        (
+            c[0].min(c[1]).min(c[2]) - pad,
+            c[0].max(c[1]).max(c[2]) + pad,
+        )
+    }
+
     /// How far `x` can go along the unit `d` before it leaves the outline, when `x` is under it.
     fn exit(&self, x: DVec3, d: DVec3) -> Option<f64> {
         let inside = self.edges.iter().all(|(m, c)| m.dot(x) - c >= -self.eps);
@@ -65,16 +92,22 @@ impl Under {
 /// thousandth of `reach` past the outline; `None` when the point is under none of them or the
 /// way out is longer than half of `reach` (the longest edge around the vertex).
 pub fn step_out(
-    under: &[Under],
+    covers: &Covers,
     p: DVec3,
     nudge: DVec3,
     into: DVec3,
     normal: DVec3,
     reach: f64,
 ) -> Option<DVec3> {
-    if under.is_empty() {
+    let Some(index) = &covers.index else {
         return None;
-    }
+    };
+    let mut near = Vec::new();
+    let mut first_exit = |x: DVec3, d: DVec3| {
+        index.near(x, x, &mut near);
+        near.iter()
+            .find_map(|&k| covers.under[k as usize].exit(x, d))
+    };
     let d = match into.normalize_or_zero() {
         DVec3::ZERO => normal.any_orthonormal_vector(),
         d => d,
@@ -83,14 +116,14 @@ pub fn step_out(
     let mut moved = false;
     // Covers overlap (a leg's square foot is two triangles): leave each in turn.
     for _ in 0..8 {
-        let Some(t) = under.iter().find_map(|u| u.exit(x, d)) else {
+        let Some(t) = first_exit(x, d) else {
             break;
         };
         x += d * (t + 1e-3 * reach);
         moved = true;
     }
     let step = x - p;
-    let out = under.iter().all(|u| u.exit(x, d).is_none());
+    let out = first_exit(x, d).is_none();
     (moved && out && step.length() <= reach / 2.0).then_some(step)
 }
 
@@ -100,7 +133,7 @@ mod tests {
 
     /// A 5 cm square foot at the corner of a face in the plane y = 0 (normal +Y), as two
     /// triangles' outlines.
-    fn foot() -> Vec<Under> {
+    fn foot() -> Covers {
         let edges = |c: [DVec3; 3]| -> [(DVec3, f64); 3] {
             std::array::from_fn(|k| {
                 let (a, b) = (c[k], c[(k + 1) % 3]);
@@ -110,7 +143,7 @@ mod tests {
         };
         let v = |x: f64, z: f64| DVec3::new(x, 0.0, z);
         let (a, b, c, d) = (v(0.0, 0.0), v(0.0, 0.05), v(0.05, 0.05), v(0.05, 0.0));
-        [[a, b, c], [a, c, d]]
+        let under: Vec<Under> = [[a, b, c], [a, c, d]]
             .into_iter()
             .map(|t| Under {
                 edges: edges(t),
@@ -118,12 +151,19 @@ mod tests {
                 at: DVec3::ZERO,
                 eps: 1e-9,
             })
-            .collect()
+            .collect();
+        let bounds = under.iter().map(Under::bounds).collect();
+        Covers {
+            under,
+            index: Some(BoxIndex::new(bounds)),
+        }
     }
 
     #[test]
     fn a_corner_vertex_under_a_foot_steps_out_past_it_into_the_face() {
         let under = foot();
+        let (lo, hi) = under.under[0].bounds();
+        assert!(lo.distance(DVec3::ZERO) < 1e-6 && hi.distance(DVec3::new(0.05, 0.0, 0.05)) < 1e-6);
         // Both triangles' outlines wind so that m points inward.
         let inward = DVec3::new(1.0, 0.0, 1.0).normalize();
         let step = step_out(&under, DVec3::ZERO, inward * 1e-5, inward, DVec3::Y, 0.4)
