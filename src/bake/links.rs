@@ -72,6 +72,7 @@ fn gathered(i: &Inputs, subset: Option<&[u32]>) -> (Rows, Option<Part>) {
         occluder: i.occluder,
         tau: i.tau,
         split_leaves: false,
+        fronts_only: false,
         dark: dark.as_deref(),
         covered: covered.as_ref(),
     };

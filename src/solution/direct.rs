@@ -85,6 +85,7 @@ impl<'a> DirectLight<'a> {
             occluder: occ,
             tau: self.tau,
             split_leaves: true,
+            fronts_only: true,
             dark: None,
             covered: None,
         };

@@ -145,6 +145,7 @@ impl<'a> Solution<'a> {
             occluder: &self.occluder,
             tau: self.reflected.tau,
             split_leaves: false,
+            fronts_only: false,
             dark: self.reflected.dark.as_deref(),
             covered: covered.as_ref(),
         };

@@ -101,6 +101,7 @@ impl CoveredField {
             occluder,
             tau: tau * TAU_FACTOR,
             split_leaves: false,
+            fronts_only: false,
             dark: Some(&self.black),
             covered: None,
         }

@@ -95,6 +95,11 @@ pub struct Gatherer<'a> {
     /// fixed sample pattern: for direct light from emitting surfaces, whose shadows are as sharp
     /// as a luminaire's (a panel seen past a chair's back), not for the smooth reflected field.
     pub split_leaves: bool,
+    /// Only what faces the receiver is gathered: back faces and nodes turned away are skipped,
+    /// not measured (direct light from single-sided emitters, which send nothing backward and
+    /// whose coverage nobody reads: a ceiling beside a panel 1 cm below it traced 30 000 rays
+    /// for the panel's back).
+    pub fronts_only: bool,
     /// Per tree node, when some are: all its patches are black — they reflect nothing and emit
     /// nothing into the patch field, so their exitance is zero whatever the solve finds. Such a
     /// node gets no link, but what it covers is still measured as precisely as any other's,
@@ -198,8 +203,8 @@ impl Gatherer<'_> {
                 let patch_index = self.tree.order[node.start as usize] as usize;
                 let patch = &self.mesh.patches[patch_index];
                 let front = patch.normal.dot(p - node.centroid) > 0.0;
-                if !front && patch.double_sided {
-                    continue; // its twin, facing this way, is counted instead
+                if !front && (patch.double_sided || self.fronts_only) {
+                    continue; // its twin, facing this way, is counted instead (or nothing is)
                 }
                 let corners = patch.corners(&self.mesh.receivers);
                 if !lambert::rises_above(p, n, &corners) {
@@ -234,6 +239,9 @@ impl Gatherer<'_> {
                     out.push(Link::plain(i, weight));
                 }
                 continue;
+            }
+            if self.fronts_only && node.facing(p) == Some(false) {
+                continue; // turned away: nothing of it is gathered
             }
             if node.mixed {
                 // Patches from both sides of a wall: what one part shows says nothing of the
@@ -687,6 +695,7 @@ mod tests {
             occluder,
             tau: 0.3,
             split_leaves: false,
+            fronts_only: false,
             dark: None,
             covered: None,
         }

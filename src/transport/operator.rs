@@ -455,6 +455,7 @@ mod tests {
             occluder: &occluder,
             tau: 0.3,
             split_leaves: false,
+            fronts_only: false,
             dark: None,
             covered: None,
         };

@@ -692,6 +692,7 @@ mod tests {
             occluder: &b.occluder,
             tau: 0.3,
             split_leaves: false,
+            fronts_only: false,
             dark: None,
             covered: None,
         }
