@@ -17,7 +17,7 @@
 //! slot between two contacts) is measured first and counted as back faces
 //! (`transport::covered`): absorbed, not spread over the rest.
 
-use super::field::{ClusterSlots, NodeField};
+use super::field::{ClusterSlots, FieldValue, NodeField};
 use super::gather::{CLOSED, Gatherer, SharedRays};
 use super::link::{Leaf, Link};
 use super::packed::{FarLinks, Leaves, PackedRows};
@@ -291,8 +291,8 @@ impl ReceiverLinks {
         self.chunks.iter().map(|c| c.links()).sum()
     }
 
-    /// E at every receiver from a node-summarised exitance field.
-    pub fn apply(&self, field: &NodeField, out: &mut [DVec3]) {
+    /// E at every receiver from a node-summarised exitance field (RGB, or one channel).
+    pub fn apply<V: FieldValue>(&self, field: &NodeField<V>, out: &mut [V]) {
         let gather = |g: usize| {
             let row = self.row(g);
             field.gather_leaves(row.leaves) + field.gather(row.far.iter())
@@ -300,19 +300,19 @@ impl ReceiverLinks {
         let Some(b) = &self.blend else {
             return fill(out, gather);
         };
-        let mut at = vec![DVec3::ZERO; self.rows()];
+        let mut at = vec![V::ZERO; self.rows()];
         fill(&mut at, gather);
         fill(out, |r| {
             b.of(r)
                 .iter()
                 .map(|&(g, w)| at[g as usize] * w as f64)
-                .sum()
+                .fold(V::ZERO, |a, x| a + x)
         });
     }
 }
 
 /// `out[i] = value(i)`, in parallel over fixed chunks.
-fn fill(out: &mut [DVec3], value: impl Fn(usize) -> DVec3 + Sync) {
+fn fill<V: Send>(out: &mut [V], value: impl Fn(usize) -> V + Sync) {
     out.par_chunks_mut(256).enumerate().for_each(|(c, chunk)| {
         for (k, e) in chunk.iter_mut().enumerate() {
             *e = value(c * 256 + k);

@@ -15,7 +15,7 @@
 //! leaving open ones as computed. The values users see are gathered at receivers without these
 //! scalings; only the solver's energy bookkeeping uses them.
 
-use super::field::NodeField;
+use super::field::{FieldValue, NodeField};
 use super::link::moment_scale;
 use super::links::ReceiverLinks;
 use super::skeleton::Skeleton;
@@ -80,10 +80,10 @@ impl<'a> PatchOperator<'a> {
         self.gather_scaled(|p| b[p])
     }
 
-    /// Irradiance per receiver from the per-patch exitance `b(patch)`.
-    fn gather_scaled(&self, b: impl Fn(usize) -> DVec3) -> Vec<DVec3> {
+    /// Irradiance per receiver from the per-patch exitance `b(patch)` (RGB, or one channel).
+    fn gather_scaled<V: FieldValue>(&self, b: impl Fn(usize) -> V) -> Vec<V> {
         let field = NodeField::for_clusters(self.tree, self.mesh, b, &self.links.clusters);
-        let mut out = vec![DVec3::ZERO; self.mesh.receivers.len()];
+        let mut out = vec![V::ZERO; self.mesh.receivers.len()];
         self.links.apply(&field, &mut out);
         out
     }
@@ -108,10 +108,14 @@ impl<'a> PatchOperator<'a> {
             });
     }
 
-    /// Scalar version of `apply` (for the balancing).
+    /// One channel of `apply` (for the balancing: a third of the RGB field's work, the same
+    /// sums in the same order).
     fn apply_scalar(&self, b: &[f64]) -> Vec<f64> {
-        let v: Vec<DVec3> = b.iter().map(|x| DVec3::splat(*x)).collect();
-        self.apply(&v).iter().map(|e| e.x).collect()
+        let at = self.gather_scaled(|p| b[p] * self.col[p]);
+        (self.mesh.patches.par_iter())
+            .zip(&self.row)
+            .map(|(p, r)| p.v.iter().map(|&v| at[v as usize]).sum::<f64>() * (r / 3.0))
+            .collect()
     }
 
     /// zⱼ = Σᵢ yᵢ·G_ij·c_j·rᵢ (the transpose of `apply`, scalar).
