@@ -3,38 +3,11 @@
 # The shelf_on_wall fixture (src/fixtures/contacts.rs) as an input glTF: a 4 x 3 x 5 m room
 # (inward faces), a 1.4 m x 3 cm x 0.3 m plank against the wall z = 0, open at the back, and an
 # isotropic point light of 1000 lm (79.577 cd) at (2, 2.2, 2.5). Y up, metres.
-import json, struct, math, sys
+import os, sys
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from quad_room import box_quads, write
+
 quads = []
-def box_quads(lo, hi, inward, skip=()):
-    x0,y0,z0 = lo; x1,y1,z1 = hi
-    # faces: -x +x -y +y -z +z, each listed counter-clockwise seen from outside
-    f = [
-      [(x0,y0,z0),(x0,y0,z1),(x0,y1,z1),(x0,y1,z0)],
-      [(x1,y0,z0),(x1,y1,z0),(x1,y1,z1),(x1,y0,z1)],
-      [(x0,y0,z0),(x1,y0,z0),(x1,y0,z1),(x0,y0,z1)],
-      [(x0,y1,z0),(x0,y1,z1),(x1,y1,z1),(x1,y1,z0)],
-      [(x0,y0,z0),(x0,y1,z0),(x1,y1,z0),(x1,y0,z0)],
-      [(x0,y0,z1),(x1,y0,z1),(x1,y1,z1),(x0,y1,z1)],
-    ]
-    for k,q in enumerate(f):
-        if k in skip: continue
-        quads.append(q[::-1] if inward else q)
-box_quads((0,0,0),(4,3,5),True)
-box_quads((1.3,1.5,0),(2.7,1.53,0.3),False,skip=(4,))
-pos=[]; idx=[]
-for q in quads:
-    b=len(pos); pos+=q; idx+=[b,b+1,b+2,b,b+2,b+3]
-bp=b''.join(struct.pack('<3f',*p) for p in pos); bi=b''.join(struct.pack('<I',i) for i in idx)
-buf=bp+bi
-mn=[min(p[i] for p in pos) for i in range(3)]; mx=[max(p[i] for p in pos) for i in range(3)]
-doc={"asset":{"version":"2.0","generator":"luxbake bench shelf"},
- "extensionsUsed":["KHR_lights_punctual","LUXBAKE_material"],
- "extensions":{"KHR_lights_punctual":{"lights":[{"type":"point","intensity":1000/(4*math.pi),"name":"bulb"}]}},
- "scene":0,"scenes":[{"nodes":[0,1]}],
- "nodes":[{"mesh":0,"name":"room"},{"name":"bulb","translation":[2,2.2,2.5],"extensions":{"KHR_lights_punctual":{"light":0}}}],
- "materials":[{"name":"walls","pbrMetallicRoughness":{"baseColorFactor":[0.5,0.5,0.5,1]},"extensions":{"LUXBAKE_material":{"reflectance":[0.5,0.5,0.5]}}}],
- "meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1,"material":0}]}],
- "buffers":[{"byteLength":len(buf),"uri":"shelf.bin"}],
- "bufferViews":[{"buffer":0,"byteOffset":0,"byteLength":len(bp),"target":34962},{"buffer":0,"byteOffset":len(bp),"byteLength":len(bi),"target":34963}],
- "accessors":[{"bufferView":0,"componentType":5126,"count":len(pos),"type":"VEC3","min":mn,"max":mx},{"bufferView":1,"componentType":5125,"count":len(idx),"type":"SCALAR"}]}
-open(sys.argv[1]+'/shelf.bin','wb').write(buf); json.dump(doc,open(sys.argv[1]+'/shelf.gltf','w'),indent=1)
+box_quads(quads, (0,0,0), (4,3,5), True)
+box_quads(quads, (1.3,1.5,0), (2.7,1.53,0.3), False, skip=(4,))
+write(sys.argv[1], "shelf", quads, 1000, 0.5, (2, 2.2, 2.5))
