@@ -132,7 +132,7 @@ pub fn stage_many(
     let areas: Vec<f64> = mesh.patches.iter().map(|p| p.area).collect();
     let mut operator = PatchOperator::new(mesh, &skeleton, &links);
     let black = |p: usize| dark.is_some() && links::black(&rho, &base.exitance, p);
-    let balance = operator.balance(40, 1e-6, &black, open);
+    let balance = operator.balance(40, 1e-5, &black, open);
     let mut solved = Vec::with_capacity(rhs.len());
     for (lit, light_flux) in rhs {
         // Direct irradiance of each patch: punctual lights exactly (solid angle), emitting

@@ -70,7 +70,7 @@ impl Link {
     /// divided by it; the solver's transpose divides its sums per node).
     pub fn relative(&self) -> DVec3 {
         let exponent = (self.shape >> 27) as i32 - SHAPE_LOW;
-        let unit = 2f64.powi(exponent) / SHAPE_STEPS;
+        let unit = exp2(exponent) / SHAPE_STEPS;
         let component = |k: u32| (((self.shape >> (18 - 9 * k)) << 23) as i32 >> 23) as f64;
         DVec3::new(component(0), component(1), component(2)) * unit
     }
@@ -113,10 +113,17 @@ fn shape_bits(v: DVec3) -> u32 {
         return 0;
     }
     let exponent = ceil_log2(max).clamp(-SHAPE_LOW, SHAPE_HIGH);
-    let unit = 2f64.powi(exponent) / SHAPE_STEPS;
+    let unit = exp2(exponent) / SHAPE_STEPS;
     let bits =
         v.map(|x| ((x / unit).round().clamp(-SHAPE_STEPS, SHAPE_STEPS) as i32 as u32) & 0x1ff);
     (((exponent + SHAPE_LOW) as u32) << 27) | (bits[0] << 18) | (bits[1] << 9) | bits[2]
+}
+
+/// 2^e exactly, for e within the normal range (from its bits: `powi` is a library call on the
+/// solver's hot path, where every far-field link is read each iteration).
+fn exp2(e: i32) -> f64 {
+    debug_assert!((-1022..=1023).contains(&e));
+    f64::from_bits(((e + 1023) as u64) << 52)
 }
 
 /// ⌈log₂ x⌉ for a positive normal `x`, exactly (from its bits: no rounding of a logarithm).
@@ -142,6 +149,13 @@ mod tests {
     /// The gradient a far link applies, for its node of area `area`.
     fn decoded(l: &Link, area: f64) -> DVec3 {
         l.relative() * (l.coeff as f64 / moment_scale(area))
+    }
+
+    #[test]
+    fn exp2_is_powi_bit_for_bit_over_the_shapes_exponents() {
+        for e in -SHAPE_LOW - 2..=SHAPE_HIGH + 2 {
+            assert_eq!(exp2(e).to_bits(), 2f64.powi(e).to_bits(), "2^{e}");
+        }
     }
 
     /// A far link's gradient comes back within 0.7 % of its length at every scene scale (a node 1 mm
