@@ -97,10 +97,13 @@ impl Receivers for Vertices<'_> {
     }
 }
 
-/// Receivers per parallel chunk of [`map`].
+/// Receivers per parallel chunk of [`map`] at most, and the fewest chunks a set is cut into (a
+/// few hundred probes, each costing as much as thousands of vertices, were one chunk: one core).
 const CHUNK: usize = 256;
+const MIN_CHUNKS: usize = 64;
 
-/// `read` at every receiver of `set`, in order. Chunks of receivers run in parallel and each
+/// `read` at every receiver of `set`, in order. Chunks of receivers (at least [`MIN_CHUNKS`]
+/// when there are that many receivers) run in parallel and each
 /// receiver's value depends on it alone, so the result does not depend on the thread count;
 /// `progress` advances by a chunk's receivers as each finishes.
 pub fn map<T: Send>(
@@ -109,10 +112,11 @@ pub fn map<T: Send>(
     read: impl Fn(usize, &Receiver) -> T + Sync,
 ) -> Vec<T> {
     let n = set.len();
-    (0..n.div_ceil(CHUNK))
+    let chunk = n.div_ceil(MIN_CHUNKS).clamp(1, CHUNK);
+    (0..n.div_ceil(chunk))
         .into_par_iter()
         .flat_map_iter(|c| {
-            let range = c * CHUNK..(c * CHUNK + CHUNK).min(n);
+            let range = c * chunk..(c * chunk + chunk).min(n);
             let out: Vec<T> = range.clone().map(|i| read(i, &set.receiver(i))).collect();
             progress.advance(range.len() as u64);
             out
