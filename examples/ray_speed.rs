@@ -16,9 +16,7 @@ mod shared;
 
 use glam::DVec3;
 use luxbake::visibility::{Occluder, OccluderOptions};
-use obvhs::{
-    BvhBuildParams, cwbvh::builder::build_cwbvh_from_tris, ray::Ray, triangle::Triangle,
-};
+use obvhs::{BvhBuildParams, cwbvh::builder::build_cwbvh_from_tris, ray::Ray, triangle::Triangle};
 use rayon::prelude::*;
 use std::time::{Duration, Instant};
 
@@ -27,7 +25,9 @@ type Segment = (DVec3, DVec3, DVec3, DVec3);
 
 fn main() {
     let args: Vec<String> = std::env::args().collect();
-    let path = args.get(1).expect("usage: ray_speed SCENE.gltf [stride] [per]");
+    let path = args
+        .get(1)
+        .expect("usage: ray_speed SCENE.gltf [stride] [per]");
     let stride: usize = args.get(2).map_or(8, |s| s.parse().expect("stride"));
     let per: usize = args.get(3).map_or(256, |s| s.parse().expect("per"));
     let scene = shared::scene(path);
@@ -50,7 +50,10 @@ fn main() {
 
     let t = Instant::now();
     let occ = Occluder::build(&scene, OccluderOptions::default());
-    println!("engine: occluder built in {:.2} s", t.elapsed().as_secs_f64());
+    println!(
+        "engine: occluder built in {:.2} s",
+        t.elapsed().as_secs_f64()
+    );
     let t = Instant::now();
     let engine: Vec<bool> = (segments.par_iter())
         .map(|&(a, na, b, nb)| occ.clear(a, na, b, nb))
@@ -82,7 +85,9 @@ fn main() {
                 0.0,
                 (len - eps) as f32,
             );
-            bvh.ray_traverse_miss(ray, |r, id| world[bvh.primitive_indices[id] as usize].intersect(r))
+            bvh.ray_traverse_miss(ray, |r, id| {
+                world[bvh.primitive_indices[id] as usize].intersect(r)
+            })
         })
         .collect();
     report("obvhs (CwBvh, any hit)", t.elapsed(), &raw, &engine);

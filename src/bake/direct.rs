@@ -30,6 +30,20 @@ pub fn at_vertices(
     receivers::map(&vertices, progress, |_, r| lights.at(mesh, occ, r)[0])
 }
 
+/// [`at_vertices`] at the vertices `subset` (indices into the mesh's receivers), in its order:
+/// each value is the one `at_vertices` gives that vertex (a vertex's light depends on it alone),
+/// so a distributed bake's tasks can each light their own.
+pub fn at_some_vertices(
+    lights: &DirectLight,
+    mesh: &PatchMesh,
+    occ: &Occluder,
+    subset: &[u32],
+    progress: &dyn Progress,
+) -> Vec<DVec3> {
+    let vertices = receivers::VertexSubset(&mesh.receivers, subset);
+    receivers::map(&vertices, progress, |_, r| lights.at(mesh, occ, r)[0])
+}
+
 /// Direct flux of the lights and luminaires: into each patch's front (RGB), onto back faces
 /// (RGB), and per source (lm, photometric, front and back, as integrated).
 pub struct PatchFlux {

@@ -243,11 +243,19 @@ pub fn light(scene: &Scene, m: &mut Meshing, progress: &dyn Progress) -> Direct 
         direct::at_vertices(&meshed.lights, &meshed.mesh, occluder, progress)
     });
     m.run.rays(RayStage::DirectAtReceivers, occluder);
+    let flux = light_patches(scene, m);
+    Direct { vertex, flux }
+}
+
+/// The direct light into the patches alone (stage 2 of a distributed bake's plan: its tasks
+/// light their own vertices).
+pub fn light_patches(scene: &Scene, m: &mut Meshing) -> direct::PatchFlux {
+    let (meshed, occluder) = (&m.meshed, &m.occluder);
     let flux = m.run.time(Stage::Direct, || {
         direct::into_patches(scene, &meshed.lights, &meshed.mesh, occluder)
     });
     m.run.rays(RayStage::DirectIntoPatches, occluder);
-    Direct { vertex, flux }
+    flux
 }
 
 /// The stages after the links: solve, energy balance, summary (stages 4 and 5).

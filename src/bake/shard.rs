@@ -1,21 +1,24 @@
-//! A bake split across processes or machines: the links stage (every receiver's gather over
-//! the patch hierarchy, most of a large scene's time) runs as independent tasks.
+//! A bake split across processes or machines: the stages that grow with the receivers — the
+//! direct light at each and its gather over the patch hierarchy, most of a large scene's time —
+//! run as independent tasks.
 //!
-//! 1. [`plan`]: mesh the scene and light it; out comes a [`State`]: the mesh and the direct
-//!    light, fingerprints of the scene and the mesh, and the task list (contiguous ranges of
-//!    groups, so no task shares a gather with another).
+//! 1. [`plan`]: mesh the scene and light its patches; out comes a [`State`]: the mesh and the
+//!    direct flux into every patch (what every task's estimates read), fingerprints of the scene
+//!    and the mesh, and the task list (contiguous ranges of groups, so no task shares a gather
+//!    with another).
 //! 2. [`gather`]: one task, anywhere: the same scene file (its fingerprint must match the
-//!    state's), the mesh from the state (meshing runs once, in the plan); it gathers its
-//!    receivers' rows ([`TaskResult`]).
-//! 3. [`merge`]: the mesh and the direct light from the state, the rows from every task; it
-//!    finishes the bake as [`super::bake`] does.
+//!    state's), the mesh from the state (meshing runs once, in the plan); it lights its
+//!    receivers and gathers their rows ([`TaskResult`]).
+//! 3. [`merge`]: the mesh and the patches' light from the state, the receivers' light and rows
+//!    from every task; it finishes the bake as [`super::bake`] does.
 //!
 //! Invariant: the merged [`BakeResult`] equals the single-process bake's, whatever the task
 //! count, the order the tasks ran in and each process's thread count (rows are numbered
 //! as one process numbers them, `transport::sharing::assemble`; ray counts are summed).
 
 use super::run::{RayStage, Stage};
-use super::{Direct, PatchFlux, SavedMesh, complete, finish, light, links, mesh, restore};
+use super::{Direct, PatchFlux, SavedMesh, complete, direct, finish, light_patches, links};
+use super::{mesh, restore};
 use crate::error::{Error, Result};
 use crate::patches::PatchMesh;
 use crate::progress::Progress;
@@ -35,11 +38,9 @@ pub struct State {
     /// [`fingerprint`] of the mesh.
     pub fingerprint: u64,
     pub mesh: SavedMesh,
-    /// Direct illuminance at every receiver (lx, RGB).
-    pub vertex_direct: Vec<DVec3>,
     pub flux: PatchFlux,
-    /// Rays traced: meshing, the direct stage at receivers and into patches.
-    pub rays: [u64; 3],
+    /// Rays traced: meshing, the direct light into patches.
+    pub rays: [u64; 2],
     /// Per task, its range of groups `[start, end)`.
     pub tasks: Vec<(u32, u32)>,
 }
@@ -50,11 +51,15 @@ pub struct TaskResult {
     pub fingerprint: u64,
     /// Rays its gathers traced.
     pub rays: u64,
+    /// Direct illuminance at its receivers (lx, RGB; `part.receivers`' order), and the rays
+    /// that took.
+    pub direct: Vec<DVec3>,
+    pub direct_rays: u64,
     pub part: Part,
 }
 
-/// Mesh and light the scene; the receivers split into `tasks` tasks (at most one per group) of
-/// about equal receiver counts.
+/// Mesh the scene and light its patches; the receivers split into `tasks` tasks (at most one
+/// per group) of about equal receiver counts.
 pub fn plan(
     scene: &Scene,
     settings: &Settings,
@@ -62,13 +67,9 @@ pub fn plan(
     progress: &dyn Progress,
 ) -> Result<State> {
     let mut m = mesh(scene, settings, progress)?;
-    let direct = light(scene, &mut m, progress);
-    let rays = &m.run.rays;
-    let rays = [
-        rays.meshing,
-        rays.direct_at_receivers,
-        rays.direct_into_patches,
-    ];
+    progress.stage("direct light into patches", 0);
+    let flux = light_patches(scene, &mut m);
+    let rays = [m.run.rays.meshing, m.run.rays.direct_into_patches];
     // The mesh moves into the state: no copy of it.
     let mesh = m.meshed.into_saved();
     Ok(State {
@@ -77,13 +78,12 @@ pub fn plan(
         fingerprint: fingerprint(&mesh.mesh),
         tasks: split(&mesh.mesh, tasks.max(1)),
         mesh,
-        vertex_direct: direct.vertex,
-        flux: direct.flux,
+        flux,
         rays,
     })
 }
 
-/// Task `task` of `state`: its receivers' rows.
+/// Task `task` of `state`: its receivers' direct light and rows.
 pub fn gather(
     scene: &Scene,
     settings: &Settings,
@@ -105,22 +105,35 @@ pub fn gather(
     let subset: Vec<u32> = (0..receivers.len() as u32)
         .filter(|&r| (start..end).contains(&receivers[r as usize].group))
         .collect();
-    progress.stage("form factors", subset.len() as u64);
+    progress.stage("direct light", subset.len() as u64);
     let before = m.occluder.rays_traced();
+    let (meshed, occ) = (&m.meshed, &m.occluder);
+    let direct = direct::at_some_vertices(&meshed.lights, &meshed.mesh, occ, &subset, progress);
+    let direct_rays = occ.rays_traced() - before;
+    // The gathers' estimates read the direct light of this task's receivers only (nothing is
+    // shared across groups): the others' stay zero.
+    let mut vertex_direct = vec![DVec3::ZERO; receivers.len()];
+    for (&r, &e) in subset.iter().zip(&direct) {
+        vertex_direct[r as usize] = e;
+    }
+    progress.stage("form factors", subset.len() as u64);
+    let before = occ.rays_traced();
     let inputs = links::Inputs {
         scene,
         settings,
         tau: settings.params().tau,
-        meshed: &m.meshed,
-        occluder: &m.occluder,
-        vertex_direct: &state.vertex_direct,
+        meshed,
+        occluder: occ,
+        vertex_direct: &vertex_direct,
         light_flux: &state.flux.per_patch,
     };
     let (part, marking) = links::part(&inputs, &subset);
     Ok(TaskResult {
         task: task as u32,
         fingerprint: state.fingerprint,
-        rays: m.occluder.rays_traced() - before - marking,
+        rays: occ.rays_traced() - before - marking,
+        direct,
+        direct_rays,
         part,
     })
 }
@@ -149,14 +162,17 @@ pub fn merge(
             r.task, r.fingerprint, state.fingerprint
         )));
     }
-    // Meshing and the direct stage ran in the plan: their mesh, light and rays.
+    // Meshing and the patches' direct light ran in the plan, the receivers' in the tasks:
+    // their mesh, light and rays.
     let mut m = restore(scene, settings, state.mesh, state.rays[0], progress)?;
-    m.occluder.credit_rays(state.rays[1]);
+    let vertex = receivers_light(m.mesh().receivers.len(), &results)?;
+    m.occluder
+        .credit_rays(results.iter().map(|r| r.direct_rays).sum());
     m.run.rays(RayStage::DirectAtReceivers, &m.occluder);
-    m.occluder.credit_rays(state.rays[2]);
+    m.occluder.credit_rays(state.rays[1]);
     m.run.rays(RayStage::DirectIntoPatches, &m.occluder);
     let direct = Direct {
-        vertex: state.vertex_direct,
+        vertex,
         flux: state.flux,
     };
     m.occluder.credit_rays(results.iter().map(|r| r.rays).sum());
@@ -167,6 +183,35 @@ pub fn merge(
     m.run.rays(RayStage::Links, &m.occluder);
     let solved = complete(scene, settings, m, direct, rows, progress)?;
     Ok(finish(scene, settings, solved, progress))
+}
+
+/// The direct light at each of `n` receivers, from the tasks that lit them (each exactly once).
+fn receivers_light(n: usize, results: &[TaskResult]) -> Result<Vec<DVec3>> {
+    let mut out = vec![DVec3::ZERO; n];
+    let mut lit = vec![false; n];
+    for t in results {
+        let rs = &t.part.receivers;
+        let fits = rs.len() == t.direct.len()
+            && rs
+                .iter()
+                .all(|&r| (r as usize) < n && !std::mem::replace(&mut lit[r as usize], true));
+        if !fits {
+            return Err(Error::Settings(format!(
+                "task {}'s result does not fit the plan: its receivers and their light do not \
+                 match the mesh's",
+                t.task
+            )));
+        }
+        for (&r, &e) in rs.iter().zip(&t.direct) {
+            out[r as usize] = e;
+        }
+    }
+    match lit.iter().all(|l| *l) {
+        true => Ok(out),
+        false => Err(Error::Settings(
+            "the tasks' results leave some receivers unlit: they are not this plan's".into(),
+        )),
+    }
 }
 
 /// The settings as recorded in the output (threads aside: they do not change the result).
@@ -296,5 +341,32 @@ mod tests {
             assert_eq!(t.last().unwrap().1, groups);
             assert!(t.windows(2).all(|w| w[0].1 == w[1].0 && w[0].0 < w[0].1));
         }
+    }
+
+    /// Each task lights its own receivers with the single bake's values; the merge takes each
+    /// receiver's light from the one task that lit it, and refuses results that do not cover
+    /// the receivers once each.
+    #[test]
+    fn tasks_light_their_receivers_as_the_single_bake_does() {
+        let scene =
+            crate::fixtures::closed_box_with_balls(DVec3::new(4.0, 3.0, 5.0), 0.5, 0.5, 100.0);
+        let settings = Settings::default();
+        let silent = &crate::progress::Silent;
+        let mut m = mesh(&scene, &settings, silent).unwrap();
+        let single = super::super::light(&scene, &mut m, silent).vertex;
+        let state = || plan(&scene, &settings, 3, silent).unwrap();
+        let tasks = state().tasks.len();
+        let results: Vec<TaskResult> = (0..tasks)
+            .map(|k| gather(&scene, &settings, state(), k, silent).unwrap())
+            .collect();
+        let n = single.len();
+        assert_eq!(receivers_light(n, &results).unwrap(), single);
+        // A receiver lit twice (another task's first receiver claimed again), or one not lit.
+        let mut twice: Vec<TaskResult> = results;
+        let first = twice[0].part.receivers[0];
+        twice[1].part.receivers[0] = first;
+        assert!(receivers_light(n, &twice).is_err());
+        twice.truncate(1);
+        assert!(receivers_light(n, &twice).is_err());
     }
 }

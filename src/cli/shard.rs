@@ -34,7 +34,7 @@ pub fn plan(
     let plan = serde_json::json!({
         "version": 1,
         "tasks": state.tasks.len(),
-        "receivers": state.vertex_direct.len(),
+        "receivers": state.mesh.mesh.receivers.len(),
         "patches": state.flux.per_patch.len(),
     });
     write_atomic(&dir.join("plan.json"), format!("{plan:#}\n").as_bytes())?;

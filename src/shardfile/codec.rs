@@ -2,7 +2,7 @@
 
 use glam::DVec3;
 
-pub(super) const VERSION: u32 = 5;
+pub(super) const VERSION: u32 = 6;
 
 pub(super) struct Writer(pub(super) Vec<u8>);
 

@@ -26,7 +26,6 @@ pub fn state_bytes(s: &State) -> Vec<u8> {
     w.u64(s.scene);
     w.u64(s.fingerprint);
     mesh::write(&mut w, &s.mesh);
-    w.vec3s(&s.vertex_direct);
     w.vec3s(&s.flux.per_patch);
     w.vec3(s.flux.back);
     w.u64(s.flux.per_source.len() as u64);
@@ -51,22 +50,20 @@ pub fn read_state(bytes: &[u8]) -> Result<State, String> {
     let scene = r.u64()?;
     let fingerprint = r.u64()?;
     let mesh = mesh::read(&mut r)?;
-    let vertex_direct = r.vec3s()?;
     let per_patch = r.vec3s()?;
     let back = r.vec3()?;
     let sources = r.len(8)?;
     let per_source = (0..sources).map(|_| r.f64()).collect::<Result<_, _>>()?;
     let closure = (0..sources).map(|_| r.f64()).collect::<Result<_, _>>()?;
     let escaped = (0..sources).map(|_| r.f64()).collect::<Result<_, _>>()?;
-    let rays = [r.u64()?, r.u64()?, r.u64()?];
+    let rays = [r.u64()?, r.u64()?];
     let n = r.len(8)?;
     let tasks: Vec<(u32, u32)> = (0..n)
         .map(|_| Ok((r.u32()?, r.u32()?)))
         .collect::<Result<_, String>>()?;
     r.end()?;
     let m = &mesh.mesh;
-    let sound = vertex_direct.len() == m.receivers.len()
-        && per_patch.len() == m.patches.len()
+    let sound = per_patch.len() == m.patches.len()
         && tasks
             .iter()
             .all(|&(a, b)| a < b && b as usize <= m.groups.len());
@@ -78,7 +75,6 @@ pub fn read_state(bytes: &[u8]) -> Result<State, String> {
         scene,
         fingerprint,
         mesh,
-        vertex_direct,
         flux: PatchFlux {
             per_patch,
             back,
@@ -100,6 +96,8 @@ pub fn task_bytes(t: &TaskResult) -> Vec<u8> {
     w.u32(t.task);
     w.u64(t.fingerprint);
     w.u64(t.rays);
+    w.u64(t.direct_rays);
+    w.vec3s(&t.direct);
     w.0.push(p.links.has_dark() as u8);
     w.u64(p.picks.len() as u64);
     for level in &p.picks {
@@ -144,6 +142,8 @@ pub fn read_task(bytes: &[u8]) -> Result<TaskResult, String> {
     let task = r.u32()?;
     let fingerprint = r.u64()?;
     let rays = r.u64()?;
+    let direct_rays = r.u64()?;
+    let direct = r.vec3s()?;
     let dark = r.u8()? != 0;
     let levels = r.len(8)?;
     let picks: Vec<Vec<u32>> = (0..levels).map(|_| r.u32s()).collect::<Result<_, _>>()?;
@@ -198,6 +198,7 @@ pub fn read_task(bytes: &[u8]) -> Result<TaskResult, String> {
     let rows = links.rows();
     let sound = stats.len() == rows
         && at.len() == receivers.len() + 1
+        && direct.len() == receivers.len()
         && at.windows(2).all(|w| w[0] <= w[1])
         && at.last().is_some_and(|&e| e as usize == terms.len())
         && terms.iter().all(|&(g, _)| (g as usize) < rows);
@@ -208,6 +209,8 @@ pub fn read_task(bytes: &[u8]) -> Result<TaskResult, String> {
         task,
         fingerprint,
         rays,
+        direct,
+        direct_rays,
         part: Part {
             links,
             stats,

@@ -97,6 +97,19 @@ impl Receivers for Vertices<'_> {
     }
 }
 
+/// Some vertices of a patch mesh (indices into it), in the given order, as [`Vertices`] has them.
+pub struct VertexSubset<'a>(pub &'a [Vertex], pub &'a [u32]);
+
+impl Receivers for VertexSubset<'_> {
+    fn len(&self) -> usize {
+        self.1.len()
+    }
+
+    fn receiver(&self, i: usize) -> Receiver {
+        Vertices(self.0).receiver(self.1[i] as usize)
+    }
+}
+
 /// Receivers per parallel chunk of [`map`] at most, and the fewest chunks a set is cut into (a
 /// few hundred probes, each costing as much as thousands of vertices, were one chunk: one core).
 const CHUNK: usize = 256;
