@@ -96,6 +96,26 @@ thread_local! {
         const { std::cell::Cell::new((0, u32::MAX)) };
 }
 
+/// The world-space bounding box (m) of triangles in the occluder's mapped coordinates (`scale`
+/// BVH units a metre, centred on `center`), padded by 10⁻⁶ of the scene on every side as the
+/// BVH's boxes are; empty (lo > hi) for none.
+fn bounds_of<'t>(
+    tris: impl Iterator<Item = &'t Triangle>,
+    scale: f64,
+    center: DVec3,
+) -> (DVec3, DVec3) {
+    let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
+    for t in tris {
+        for v in [t.v0, t.v1, t.v2] {
+            let p = DVec3::new(v.x as f64, v.y as f64, v.z as f64);
+            lo = lo.min(p);
+            hi = hi.max(p);
+        }
+    }
+    let pad = DVec3::splat(2e-6 * BVH_DIAGONAL);
+    ((lo - pad) / scale + center, (hi + pad) / scale + center)
+}
+
 /// A BVH over a set of triangles in the occluder's mapped coordinates.
 #[derive(Default)]
 struct Tracer {
@@ -187,6 +207,10 @@ pub struct Occluder {
     /// True when no segment between points inside the shell can be blocked (an empty convex
     /// enclosure or a single plane): such queries skip tracing.
     pub convex_empty: bool,
+    /// The interior triangles' bounding box (world, m), padded: a segment between inner points
+    /// whose own box misses it is clear without tracing (the floor and walls of a room whose
+    /// only furniture hangs under its ceiling).
+    interior_box: (DVec3, DVec3),
     /// Scene bounding-box diagonal (m).
     pub diagonal: f64,
     rays: RayCount,
@@ -268,10 +292,12 @@ impl Occluder {
             }
         }
         let shell_present = shell.is_some();
+        let interior_box = bounds_of(interior.iter().map(|(_, t)| t), scale, center);
         let interior = Tracer::new(interior);
         Occluder {
             convex_empty: shell_present && interior.bvh.is_none(),
             interior,
+            interior_box,
             on_shell: Tracer::new(on_shell_tris),
             shell: shell.unwrap_or_default(),
             center,
@@ -398,6 +424,10 @@ impl Occluder {
         let len = dir.length();
         if len <= self.epsilon {
             return true;
+        }
+        let (lo, hi) = self.interior_box;
+        if inner && (from.max(to).cmplt(lo).any() || from.min(to).cmpgt(hi).any()) {
+            return true; // nothing that could block it lies within its box
         }
         self.rays.add();
         let ray = self.ray(from, dir / len, len - self.epsilon);
