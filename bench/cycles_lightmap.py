@@ -25,6 +25,9 @@ import os
 import subprocess
 import sys
 
+import struct
+import zlib
+
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -74,6 +77,34 @@ def errors(x, ref, mask):
     return {"rms": float(np.sqrt((rel ** 2).mean())), "p99": float(np.percentile(rel, 99)),
             "median": float(np.median(rel)), "over5": float((rel > 0.05).mean()),
             "sum": float(x[mask].sum() / ref[mask].sum() - 1.0)}
+
+
+def pictures(folder, lux, cycles, ref, mask):
+    """The per-texel relative error of luxbake default and of Cycles' highest sample count
+    against the reference, as atlases (3 × 3 pixels a texel, row 0 at the top): red brighter,
+    blue darker, saturated at ±5 %, grey outside the texels compared."""
+    for name, x in (("cycles-error-luxbake.png", lux), ("cycles-error-cycles.png", cycles)):
+        rel = np.where(mask, (x - ref) / np.where(mask, ref, 1.0), 0.0)
+        v = np.clip(rel / 0.05, -1.0, 1.0)
+        rgb = np.stack([np.where(v > 0, 1.0, 1.0 + v), 1.0 - np.abs(v),
+                        np.where(v < 0, 1.0, 1.0 - v)], axis=-1)
+        rgb[~mask] = 0.25
+        px = np.repeat(np.repeat((rgb * 255).astype(np.uint8), 3, 0), 3, 1)
+        write_png(os.path.join(folder, name), px)
+
+
+def write_png(path, px):
+    """An 8-bit RGB PNG of the H × W × 3 array `px`."""
+    h, w = px.shape[:2]
+    raw = b"".join(b"\x00" + px[y].tobytes() for y in range(h))
+
+    def chunk(kind, data):
+        crc = zlib.crc32(kind + data) & 0xFFFFFFFF
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", crc)
+
+    open(path, "wb").write(b"\x89PNG\r\n\x1a\n"
+                           + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 2, 0, 0, 0))
+                           + chunk(b"IDAT", zlib.compress(raw, 9)) + chunk(b"IEND", b""))
 
 
 def pct(x):
@@ -127,7 +158,7 @@ def main():
                       if "LUXBAKE_lightmap" in m.get("extensions", {})))
     base = {"threads": a.threads, "width": atlas["width"], "height": atlas["height"],
             "reflectance": rho, "emitters": {"panel": emit}}
-    runs = []
+    runs, top = [], None
     for k, s in enumerate(samples):
         seeds = [1, 2] if k == 0 else [1]
         vals = []
@@ -135,6 +166,7 @@ def main():
             print(f"Cycles {s} samples, seed {seed}", flush=True)
             t, v = cycles(lit, dict(base, samples=s, seed=seed), a.work, f"{s}-{seed}")
             vals.append(v)
+            top = v
             runs.append({"samples": s, "seed": seed, "seconds": t, **errors(v, ref, mask)})
         if len(vals) == 2:
             d = (vals[0][mask] - vals[1][mask]) / ref[mask]
@@ -146,6 +178,7 @@ def main():
             "atlas": [atlas["width"], atlas["height"]], "panelLuminance": emit,
             "threads": a.threads, "blender": bpy_version()}
     json.dump(data, open(os.path.join(a.work, "results.json"), "w"), indent=1)
+    pictures(os.path.dirname(a.out), lux["R"], top, ref, mask)
     write(a.out, data, binary)
 
 
@@ -211,6 +244,11 @@ def write(out, d, binary):
           f"{pct(top['rms'])} RMS per texel and {pct(top['sum'])} in the sum, where that run's "
           f"noise alone is {pct(noise)} (the seeds' at {s0} samples scaled by √(samples)): no "
           "difference beyond Cycles' noise.", ""]
+    L += ["Where the errors are (red: brighter than the reference, blue: darker, saturated at "
+          "±5 %; grey: not compared), luxbake default and Cycles at its highest sample count, "
+          "the atlas as written (row 0 at the top):", "",
+          "![luxbake default against the reference](cycles-error-luxbake.png)",
+          "![Cycles against the reference](cycles-error-cycles.png)", ""]
     cargo_example.write(out, L)
 
 
