@@ -176,7 +176,7 @@ def main():
                                **errors(lux["R"], ref, mask)},
             "reference": {"wall": m_ref["wall"]}, "cycles": runs, "texels": int(mask.sum()),
             "atlas": [atlas["width"], atlas["height"]], "panelLuminance": emit,
-            "threads": a.threads, "blender": bpy_version()}
+            "threads": a.threads, "blender": bpy_version(), "commit": commit()}
     json.dump(data, open(os.path.join(a.work, "results.json"), "w"), indent=1)
     pictures(os.path.dirname(a.out), lux["R"], top, ref, mask)
     write(a.out, data, binary)
@@ -195,6 +195,9 @@ def write(out, d, binary):
     t_lux, e_lux = lux["wall"], lux["rms"]
     L = cargo_example.header("Lightmaps against Blender Cycles (office-panels, 5 cm texels)",
                              "bench/cycles_lightmap.py", binary)
+    if "commit" in d:
+        L += [f"The runs: at commit {d['commit']}, with `bench/cycles_lightmap.py` (this file is "
+              "rewritten from their `results.json` by `--write-only`).", ""]
     L += [f"Atlas {d['atlas'][0]} × {d['atlas'][1]} texels; errors over the {d['texels']} "
           "interior texels of reflecting surfaces, per texel against the reference (luxbake "
           "`--quality high --lightmap-tolerance 0`, every texel gathered: "
@@ -250,6 +253,12 @@ def write(out, d, binary):
           "![luxbake default against the reference](cycles-error-luxbake.png)",
           "![Cycles against the reference](cycles-error-cycles.png)", ""]
     cargo_example.write(out, L)
+
+
+def commit():
+    p = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True,
+                       text=True)
+    return p.stdout.strip() or "?"
 
 
 def bpy_version():
