@@ -113,7 +113,12 @@ PANELS_REF_REPEATS = 16
 # Time limits (s): a run longer than this is stopped and reported as such (the harness must
 # finish in ~20 minutes; a 10^6-triangle bake five times over its 60 s target is a miss anyway).
 TIMEOUT_DEFAULT = 900
-TIMEOUT_OPENPLAN = {"small": 600, "medium": 150, "large": 150}
+# Issue 56's targets: default quality on the 2-core machine, each floor within 2 GiB; the limits
+# stop a bake just past its target, which decides it either way.
+FLOOR_TARGETS = {"small": 3.0, "medium": 30.0, "large": 300.0}
+FLOOR_MEMORY_MIB = 2048
+SPEEDUP_GOAL = 10
+TIMEOUT_OPENPLAN = {"small": 600, "medium": 150, "large": 330}
 
 
 def log(msg):
@@ -847,14 +852,16 @@ def count_triangles(path):
 def speedup(lux, rad_runs, key):
     """RADIANCE's time over luxbake's (wall, and CPU) for the cheapest RADIANCE run whose error
     (key) is no larger than luxbake's; lower bounds when no RADIANCE run of the sweep gets there.
-    Met when both ratios reach 20 (on a shared machine the two tools may not have had the same
-    share of the cores, which the CPU ratio does not depend on); not met when neither does."""
+    Met when both ratios reach SPEEDUP_GOAL (on a shared machine the two tools may not have had
+    the same share of the cores, which the CPU ratio does not depend on); not met when neither
+    does."""
     e = abs(lux["errors"][key])
     ok = [r for r in rad_runs if abs(r["errors"][key]) <= e]
     if ok:
         best = min(ok, key=lambda r: r["wall"])
         wall, cpu = best["wall"] / lux["wall"], best["cpu"] / lux["cpu"]
-        met = True if min(wall, cpu) >= 20 else False if max(wall, cpu) < 20 else None
+        goal = SPEEDUP_GOAL
+        met = True if min(wall, cpu) >= goal else False if max(wall, cpu) < goal else None
         return {"ratio": wall, "cpuRatio": cpu, "lowerBound": False, "radiance": best["tag"],
                 "met": met,
                 "text": f"{wall:.1f}× wall, {cpu:.1f}× CPU (RADIANCE {best['tag']}: "
@@ -865,7 +872,7 @@ def speedup(lux, rad_runs, key):
     wall, cpu = slowest["wall"] / lux["wall"], slowest["cpu"] / lux["cpu"]
     best_e = min(abs(r["errors"][key]) for r in rad_runs)
     return {"ratio": wall, "cpuRatio": cpu, "lowerBound": True, "radiance": None,
-            "met": True if min(wall, cpu) >= 20 else None,
+            "met": True if min(wall, cpu) >= SPEEDUP_GOAL else None,
             "text": f"> {wall:.1f}× wall, > {cpu:.1f}× CPU: no RADIANCE run reached luxbake "
                     f"{lux['tag']}'s {100 * e:.3f} % (RADIANCE's best {100 * best_e:.3f} %; "
                     f"slowest {slowest['tag']} {slowest['wall']:.1f} s; luxbake "
@@ -906,9 +913,9 @@ def targets(results):
     if o and rad and "errors" in o:
         for key, label in (("wpRms", "per-point RMS"), ("wpMeanErr", "mean")):
             s = speedup(o, rad["runs"], key)
-            rows.append([f"Office working plane ({label} error): luxbake default at least 20× "
-                         f"faster than RADIANCE at equal or better error", "≥ 20×",
-                         s["text"], s["met"]])
+            rows.append([f"Office working plane ({label} error): luxbake default at least "
+                         f"{SPEEDUP_GOAL}× faster than RADIANCE at equal or better error",
+                         f"≥ {SPEEDUP_GOAL}×", s["text"], s["met"]])
     op = find("office-panels", "default")
     if op and "errors" in op:
         e = op["errors"]
@@ -923,33 +930,33 @@ def targets(results):
                      f"{100 * e['wpIndirectErr']:+.3f} % (reference ± "
                      f"{100 * st.get('wpIndirectSeRel', float('nan')):.3f} %)",
                      abs(e["wpIndirectErr"]) <= 0.01])
-        for key, label in (("wpMeanErr", "mean"), ("wpIndirectErr", "inter-reflected part")):
+        for key, label in (("wpMeanErr", "mean"), ("wpRms", "per-point RMS"),
+                           ("wpIndirectErr", "inter-reflected part")):
             s = op["speedup"][key]
             rows.append([f"Office with Lambertian panels, working plane ({label} error): "
-                         "luxbake default at least 20× faster than RADIANCE at equal or better "
-                         "error", "≥ 20×", s["text"], s["met"]])
+                         f"luxbake default at least {SPEEDUP_GOAL}× faster than RADIANCE at "
+                         "equal or better error", f"≥ {SPEEDUP_GOAL}×", s["text"], s["met"]])
     elif "office-panels" in sc:
         rows.append(["Office with Lambertian panels: targets", "—",
                      "not measured (no RADIANCE reference or no default bake)", None])
     sc_rows = results.get("scaling") or []
-    large = [r for r in sc_rows if r["scene"] == "openplan-large"]
-    if large:
-        r = large[0]
+    for size, label in (("small", "10⁴"), ("medium", "10⁵"), ("large", "10⁶")):
+        r = next((r for r in sc_rows if r["scene"] == f"openplan-{size}"), None)
+        goal = FLOOR_TARGETS[size]
+        name = f"{label}-triangle floor, default quality: wall time and peak memory"
+        need = f"≤ {goal:.0f} s, ≤ {FLOOR_MEMORY_MIB // 1024} GiB"
+        if r is None:
+            why = ("not measured (`bake generate` not available)"
+                   if results.get("generatorMissing") else "not run (--quick or --scenes)")
+            rows.append([name, need, why, None])
+            continue
+        gib = f"{r['peakMiB'] / 1024:.2f} GiB"
         if r.get("timedOut"):
-            rows.append(["10⁶-triangle floor, default quality: wall time", "< 60 s",
-                         f"> {r['wall']:.0f} s (stopped)", False])
+            rows.append([name, need, f"> {r['wall']:.0f} s (stopped), {gib} until then",
+                         False if r["wall"] > goal else None])
         else:
-            rows.append(["10⁶-triangle floor, default quality: wall time", "< 60 s",
-                         f"{r['wall']:.1f} s", r["wall"] < 60])
-        rows.append(["10⁶-triangle floor, default quality: peak memory", "< 4 GiB",
-                     f"{r['peakMiB'] / 1024:.2f} GiB" + (" (until stopped)" if r.get("timedOut")
-                                                         else ""),
-                     (r["peakMiB"] < 4096) if not r.get("timedOut") else None])
-    else:
-        why = ("not measured (`bake generate` not available)" if results.get("generatorMissing")
-               else "not run (--quick or --scenes)")
-        rows.append(["10⁶-triangle floor: < 60 s and < 4 GiB at default quality", "< 60 s, < 4 GiB",
-                     why, None])
+            rows.append([name, need, f"{r['wall']:.1f} s, {gib}",
+                         r["wall"] <= goal and r["peakMiB"] <= FLOOR_MEMORY_MIB])
     done = [r for r in sc_rows if not r.get("timedOut") and r.get("returncode") == 0]
     stopped = [r for r in sc_rows if r.get("timedOut")]
     if len(done) == 1 and stopped:
@@ -1329,8 +1336,9 @@ def main():
                     help="comma-separated subset of office,office-panels,cie,cornell,openplan")
     ap.add_argument("--no-radiance", action="store_true", help="skip the RADIANCE comparison")
     ap.add_argument("--openplan-limit", type=float, default=0, metavar="SECONDS",
-                    help="time limit of the medium and large open-plan bakes (default 150 s: "
-                         "2.5 × the 10^6 target, to keep the harness within ~20 min)")
+                    help="time limit of the medium and large open-plan bakes (default 150 s "
+                         "and 330 s: past their targets of 30 s and 300 s, so the run decides "
+                         "them; the harness then takes about 15 min)")
     ap.add_argument("--openplan-sizes", default="", metavar="LIST",
                     help="comma-separated subset of small,medium,large (default: the plan's)")
     ap.add_argument("--openplan-errors", action="store_true",
