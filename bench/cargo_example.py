@@ -20,11 +20,22 @@ def build(example):
     print(f"cargo build --release --bin bake --example {example}", flush=True)
     subprocess.run(["cargo", "build", "--release", "--quiet", "--bin", "bake", "--example",
                     example], cwd=ROOT, check=True)
+    release = _release()
+    return os.path.join(release, "bake"), os.path.join(release, "examples", example)
+
+
+def build_bake():
+    """cargo build --release of `bake` alone (honours CARGO_TARGET_DIR); returns its path."""
+    subprocess.run(["cargo", "build", "--release", "--quiet", "--bin", "bake"], cwd=ROOT,
+                   check=True)
+    return os.path.join(_release(), "bake")
+
+
+def _release():
     target = os.environ.get("CARGO_TARGET_DIR") or os.path.join(ROOT, "target")
     if not os.path.isabs(target):
         target = os.path.join(ROOT, target)
-    release = os.path.join(target, "release")
-    return os.path.join(release, "bake"), os.path.join(release, "examples", example)
+    return os.path.join(target, "release")
 
 
 def header(title, command, bake):

@@ -121,11 +121,12 @@ def main():
                     help="rewrite --out from the work folder's results.json (no runs)")
     a = ap.parse_args()
     if a.write_only:
-        write(a.out, json.load(open(os.path.join(a.work, "results.json"))), build())
+        data = json.load(open(os.path.join(a.work, "results.json")))
+        write(a.out, data, cargo_example.build_bake())
         return
     samples = [int(s) for s in a.samples.split(",")]
     os.makedirs(a.work, exist_ok=True)
-    binary = build()
+    binary = cargo_example.build_bake()
     scene = os.path.join(a.work, "scene.gltf")
     text, info = scenes.office_panels_gltf(OFFICE)
     open(scene, "w").write(text)
@@ -181,13 +182,6 @@ def main():
     pictures(os.path.dirname(a.out), lux["R"], top, ref, mask)
     write(a.out, data, binary)
 
-
-def build():
-    subprocess.run(["cargo", "build", "--release", "--quiet", "--bin", "bake"], cwd=ROOT,
-                   check=True)
-    target = os.environ.get("CARGO_TARGET_DIR") or os.path.join(ROOT, "target")
-    return os.path.join(target if os.path.isabs(target) else os.path.join(ROOT, target),
-                        "release", "bake")
 
 
 def write(out, d, binary):

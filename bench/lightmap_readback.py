@@ -15,7 +15,6 @@ standard library only.
 import argparse
 import json
 import os
-import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -26,14 +25,6 @@ BENCH = cargo_example.BENCH
 ROOT = cargo_example.ROOT
 
 
-def build():
-    subprocess.run(["cargo", "build", "--release", "--quiet", "--bin", "bake"], cwd=ROOT,
-                   check=True)
-    target = os.environ.get("CARGO_TARGET_DIR") or os.path.join(ROOT, "target")
-    if not os.path.isabs(target):
-        target = os.path.join(ROOT, target)
-    return os.path.join(target, "release", "bake")
-
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -42,7 +33,7 @@ def main():
     ap.add_argument("--out",
                     default=os.path.join(BENCH, "results", "lightmaps", "readback.md"))
     a = ap.parse_args()
-    bake = build()
+    bake = cargo_example.build_bake()
     os.makedirs(a.work, exist_ok=True)
     office = os.path.join(ROOT, "samples", "office", "office.gltf")
     bakes = {"vertices": [], "5cm": ["--lightmaps"],

@@ -353,7 +353,7 @@ mod tests {
         let settings = Settings::default();
         let silent = &crate::progress::Silent;
         let mut m = mesh(&scene, &settings, silent).unwrap();
-        let single = super::super::light(&scene, &mut m, silent).vertex;
+        let single = crate::bake::light(&scene, &mut m, silent).vertex;
         let state = || plan(&scene, &settings, 3, silent).unwrap();
         let tasks = state().tasks.len();
         let results: Vec<TaskResult> = (0..tasks)

@@ -96,26 +96,6 @@ thread_local! {
         const { std::cell::Cell::new((0, u32::MAX)) };
 }
 
-/// The world-space bounding box (m) of triangles in the occluder's mapped coordinates (`scale`
-/// BVH units a metre, centred on `center`), padded by 10⁻⁶ of the scene on every side as the
-/// BVH's boxes are; empty (lo > hi) for none.
-fn bounds_of<'t>(
-    tris: impl Iterator<Item = &'t Triangle>,
-    scale: f64,
-    center: DVec3,
-) -> (DVec3, DVec3) {
-    let (mut lo, mut hi) = (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
-    for t in tris {
-        for v in [t.v0, t.v1, t.v2] {
-            let p = DVec3::new(v.x as f64, v.y as f64, v.z as f64);
-            lo = lo.min(p);
-            hi = hi.max(p);
-        }
-    }
-    let pad = DVec3::splat(2e-6 * BVH_DIAGONAL);
-    ((lo - pad) / scale + center, (hi + pad) / scale + center)
-}
-
 /// A BVH over a set of triangles in the occluder's mapped coordinates.
 #[derive(Default)]
 struct Tracer {
@@ -268,6 +248,8 @@ impl Occluder {
         let tol = 1e-7 * diagonal.max(1e-12);
         let f = |p: DVec3| as_vec3a((p - center) * scale);
         let (mut on_shell_tris, mut interior) = (Vec::new(), Vec::new());
+        let (mut box_lo, mut box_hi) =
+            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY));
         for (k, [a, b, c]) in tris.iter().enumerate() {
             let n = (*b - *a).cross(*c - *a);
             if n.length_squared() <= 0.0 {
@@ -288,11 +270,17 @@ impl Occluder {
             });
             match on_shell {
                 true => on_shell_tris.push(t),
-                false => interior.push(t),
+                false => {
+                    interior.push(t);
+                    box_lo = box_lo.min(a.min(*b).min(*c));
+                    box_hi = box_hi.max(a.max(*b).max(*c));
+                }
             }
         }
         let shell_present = shell.is_some();
-        let interior_box = bounds_of(interior.iter().map(|(_, t)| t), scale, center);
+        // Padded well past the BVH's own box padding (10⁻⁶ of the scene) and f32 rounding.
+        let pad = DVec3::splat(2e-6 * diagonal);
+        let interior_box = (box_lo - pad, box_hi + pad);
         let interior = Tracer::new(interior);
         Occluder {
             convex_empty: shell_present && interior.bvh.is_none(),
