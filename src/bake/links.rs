@@ -164,7 +164,7 @@ fn setup(
     // A scene that sends nothing on has no sources to wall off (and traces no ray).
     let before = occ.rays_traced();
     if !dark.as_ref().is_some_and(|d| d[0]) {
-        tree.mark_walled(mesh, occ, WALL_ROOM * meshed.patch_size());
+        tree.mark_walled(occ, WALL_ROOM * meshed.patch_size());
     }
     (tree, rho, dark, occ.rays_traced() - before)
 }

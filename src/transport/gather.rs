@@ -200,19 +200,19 @@ impl Gatherer<'_> {
             }
             let dist = (node.center - p).length();
             if node.is_leaf() {
+                let leaf = self.tree.leaf(node.start);
+                let front = leaf.normal.dot(p - node.centroid) > 0.0;
                 let patch_index = self.tree.order[node.start as usize] as usize;
-                let patch = &self.mesh.patches[patch_index];
-                let front = patch.normal.dot(p - node.centroid) > 0.0;
-                if !front && (patch.double_sided || self.fronts_only) {
+                if !front && (self.fronts_only || self.mesh.patches[patch_index].double_sided) {
                     continue; // its twin, facing this way, is counted instead (or nothing is)
                 }
-                let corners = patch.corners(&self.mesh.receivers);
+                let corners = leaf.corners;
                 if !lambert::rises_above(p, n, &corners) {
                     continue; // its form factor is zero
                 }
                 let weight =
                     if self.split_leaves && !seen.covers(front) && !self.occluder.convex_empty {
-                        super::lit::visible_form_factor(self.occluder, p, n, corners, patch.normal)
+                        super::lit::visible_form_factor(self.occluder, p, n, corners, leaf.normal)
                     } else {
                         // Visibility before the form factor: most leaves far from the receiver turn
                         // out hidden, and a hidden patch needs no form factor.
@@ -220,7 +220,7 @@ impl Gatherer<'_> {
                             1.0
                         } else {
                             let level = sample_level(node.radius, dist, self.tau);
-                            self.patch_visibility(p, n, i, patch_index, level, &mut shared)
+                            self.patch_visibility(p, n, i, leaf, level, &mut shared)
                         };
                         if vis <= 0.0 {
                             continue;
@@ -402,7 +402,7 @@ impl Gatherer<'_> {
         let fair = |(q, m): (DVec3, DVec3)| n.dot(q - p) > 0.0 && (backs || m.dot(p - q) > 0.0);
         // Representatives are read (from their patches' corners: scattered loads) only when a
         // test needs them.
-        let rep = |k: usize| self.tree.rep(self.mesh, i as usize, k);
+        let rep = |k: usize| self.tree.rep(i as usize, k);
         // Worth little (its form factor is below SMALL_NODE however its patches turn), like a
         // small one-sided far node: one ray to the patch at its area median decides.
         let near = (node.center - p).length() - node.radius;
@@ -499,20 +499,19 @@ impl Gatherer<'_> {
             if node.is_leaf() {
                 // Its centroid, else the highest of three points a quarter of the way in from
                 // its corners (a patch the plane cuts near one corner).
-                let patch = &self.mesh.patches[self.tree.order[node.start as usize] as usize];
+                let leaf = self.tree.leaf(node.start);
                 let c = node.centroid;
                 let height = |q: &DVec3| n.dot(*q - p);
                 let q = if height(&c) > 0.0 {
                     c
                 } else {
-                    let corners = patch.corners(&self.mesh.receivers);
-                    let inner = corners.map(|v| v + (c - v) * 0.25);
+                    let inner = leaf.corners.map(|v| v + (c - v) * 0.25);
                     inner
                         .into_iter()
                         .max_by(|a, b| height(a).total_cmp(&height(b)))?
                 };
-                if fair((q, patch.normal)) {
-                    return Some((q, patch.normal));
+                if fair((q, leaf.normal)) {
+                    return Some((q, leaf.normal));
                 }
                 continue;
             }
@@ -535,21 +534,20 @@ impl Gatherer<'_> {
         }
     }
 
-    /// Fraction of the fixed sample points on patch `patch_index` (leaf `i`) visible from `p`.
+    /// Fraction of the fixed sample points on leaf `i`'s patch (`leaf`) visible from `p`.
     fn patch_visibility(
         &self,
         p: DVec3,
         n: DVec3,
         i: u32,
-        patch_index: usize,
+        leaf: &super::tree::LeafGeom,
         level: u32,
         shared: &mut Option<&mut SharedRays>,
     ) -> f64 {
         if self.occluder.convex_empty {
             return 1.0;
         }
-        let patch = &self.mesh.patches[patch_index];
-        let corners = patch.corners(&self.mesh.receivers);
+        let corners = leaf.corners;
         let pts = crate::geom::samples::triangle_points(level);
         let visible = pts
             .iter()
@@ -557,7 +555,7 @@ impl Gatherer<'_> {
             .filter(|(s, b)| {
                 Self::ray(shared, (i, *s as u8), || {
                     let q = corners[0] * b[0] + corners[1] * b[1] + corners[2] * b[2];
-                    self.occluder.clear(p, n, q, patch.normal)
+                    self.occluder.clear(p, n, q, leaf.normal)
                 })
             })
             .count();
@@ -586,7 +584,7 @@ impl Gatherer<'_> {
             .iter()
             .filter(|&&k| {
                 Self::ray(shared, (i, CLUSTER_KEY + k as u8), || {
-                    let (q, m) = self.tree.rep(self.mesh, i as usize, k);
+                    let (q, m) = self.tree.rep(i as usize, k);
                     match patches.first_hit(p, n, q, m) {
                         None => true,
                         Some(hit) => own.contains(&rank[hit]),
@@ -614,7 +612,7 @@ impl Gatherer<'_> {
             .iter()
             .filter(|&&k| {
                 Self::ray(shared, (i, REP_KEY + k as u8), || {
-                    let (q, m) = self.tree.rep(self.mesh, i as usize, k);
+                    let (q, m) = self.tree.rep(i as usize, k);
                     self.occluder.clear(p, n, q, m)
                 })
             })
@@ -868,7 +866,7 @@ mod tests {
             let area = tree.nodes[i as usize].area;
             let near = (node.center - p).length() - node.radius;
             let small = area < SMALL_NODE * std::f64::consts::PI * near * near;
-            let reps_below = (0..3).all(|k| n.dot(tree.rep(&mesh, i as usize, k).0 - p) <= 0.0);
+            let reps_below = (0..3).all(|k| n.dot(tree.rep(i as usize, k).0 - p) <= 0.0);
             if on_panel && !node.is_leaf() && small && below < 0.0 && above > 0.0 && reps_below {
                 sights.push(gatherer.sight(p, n, i, node.facing(p), &mut None));
             }

@@ -215,10 +215,14 @@ pub struct PatchTree {
     pub order: Vec<u32>,
     /// Prefix sums of patch area in leaf order (`len = order.len() + 1`).
     pub area_prefix: Vec<f64>,
-    /// Per node: its patches at the area quantiles [`REP_QUANTILES`] (in leaf order), whose
-    /// centroids and normals ([`PatchTree::rep`]) are the shadow-ray targets that stand for the
-    /// node. Patch indices rather than points: 12 bytes a node instead of 144.
+    /// Per node: its patches at the area quantiles [`REP_QUANTILES`], by their positions in
+    /// leaf order, whose centroids and normals ([`PatchTree::rep`]) are the shadow-ray targets
+    /// that stand for the node. Positions rather than points: 12 bytes a node instead of 144.
     pub reps: Vec<[u32; 3]>,
+    /// Per position in leaf order: the patch's corners and normal, read by every leaf visit and
+    /// representative ray. A copy in traversal order (96 bytes a patch): read through the patch
+    /// and its three vertices, these scattered loads were a tenth of a floor's links stage.
+    pub leaf_geom: Vec<LeafGeom>,
     /// Per inner node ([`PatchTree::slot`]): its normal distribution (`geom::sh::Dist`: axis
     /// bins, the rest to order 2), for far receivers that see its patches from both sides (a
     /// chair across the room). A leaf's is its patch's, [`leaf_sh`].
@@ -244,6 +248,15 @@ pub struct PatchTree {
     pub slot: std::sync::Arc<[u32]>,
     /// Number of inner nodes (the length of per-inner-node arrays).
     pub inner_nodes: usize,
+}
+
+/// A patch's geometry as gathers read it ([`PatchTree::leaf_geom`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LeafGeom {
+    /// Its corners, counter-clockwise seen from the front (`Patch::corners`).
+    pub corners: [DVec3; 3],
+    /// Its unit normal.
+    pub normal: DVec3,
 }
 
 /// A BVH over every patch of a mesh, and each patch's position in a tree's leaf order
@@ -380,6 +393,7 @@ impl PatchTree {
             order,
             area_prefix: Vec::new(),
             reps: Vec::new(),
+            leaf_geom: Vec::new(),
             normal_sh: Vec::new(),
             inner_moments: Vec::new(),
             visible: Vec::new(),
@@ -418,6 +432,15 @@ impl PatchTree {
         self.reps = (0..self.nodes.len())
             .map(|i| REP_QUANTILES.map(|q| self.representative(i, q)))
             .collect();
+        self.leaf_geom = (self.order.iter())
+            .map(|&p| {
+                let patch = &mesh.patches[p as usize];
+                LeafGeom {
+                    corners: patch.corners(&mesh.receivers),
+                    normal: patch.normal,
+                }
+            })
+            .collect();
     }
 
     /// Mark the nodes whose patches lie in more than one zone (children before parents).
@@ -454,7 +477,7 @@ impl PatchTree {
     /// floor has thousands astride desk panels and chair feet, and marking them doubled its
     /// links. Curved clutter (chairs) is one
     /// object: not tested. Deterministic: fixed points, at most nine rays per inner node.
-    pub fn mark_walled(&mut self, mesh: &PatchMesh, occ: &Occluder, room: f64) {
+    pub fn mark_walled(&mut self, occ: &Occluder, room: f64) {
         // 0.45 of the way to the surface a point's normal meets (`room` when none).
         let lift = |p: DVec3, n: DVec3| {
             0.45 * (occ.closest(p + n * (4.0 * occ.epsilon), n)).map_or(room, |h| h.distance)
@@ -468,7 +491,7 @@ impl PatchTree {
                 }
                 let [l, r] = b.children.map(|k| k as usize);
                 (0..REP_QUANTILES.len()).all(|k| {
-                    let ((a, na), (c, nc)) = (self.rep(mesh, l, k), self.rep(mesh, r, k));
+                    let ((a, na), (c, nc)) = (self.rep(l, k), self.rep(r, k));
                     let (la, lc) = (lift(a, na), lift(c, nc));
                     let roomy = la.min(lc) >= 0.45 * room || a.distance(c) >= room;
                     roomy && !occ.clear(a + na * la, DVec3::ZERO, c + nc * lc, DVec3::ZERO)
@@ -493,10 +516,15 @@ impl PatchTree {
 
     /// Centroid and unit normal of node `i`'s representative `k` (at area quantile
     /// `REP_QUANTILES[k]`).
-    pub fn rep(&self, mesh: &PatchMesh, i: usize, k: usize) -> (DVec3, DVec3) {
-        let patch = &mesh.patches[self.reps[i][k] as usize];
-        let c = patch.corners(&mesh.receivers);
-        ((c[0] + c[1] + c[2]) / 3.0, patch.normal)
+    pub fn rep(&self, i: usize, k: usize) -> (DVec3, DVec3) {
+        let g = &self.leaf_geom[self.reps[i][k] as usize];
+        let c = g.corners;
+        ((c[0] + c[1] + c[2]) / 3.0, g.normal)
+    }
+
+    /// The patch at position `k` of leaf order's geometry.
+    pub fn leaf(&self, k: u32) -> &LeafGeom {
+        &self.leaf_geom[k as usize]
     }
 
     /// Inner node `i`'s area moments (panics on a leaf: leaves are never far-field sources).
@@ -529,7 +557,7 @@ impl PatchTree {
         }
     }
 
-    /// Node `i`'s patch at area quantile `q` (in leaf order).
+    /// The position in leaf order of node `i`'s patch at area quantile `q`.
     fn representative(&self, i: usize, q: f64) -> u32 {
         let node = &self.bounds[i];
         let (a0, a1) = (
@@ -541,7 +569,7 @@ impl PatchTree {
             .partition_point(|&a| a <= target)
             .saturating_sub(1)
             .min((node.end - node.start - 1) as usize);
-        self.order[node.start as usize + k]
+        node.start + k as u32
     }
 
     pub fn is_empty(&self) -> bool {
@@ -998,7 +1026,7 @@ mod tests {
                 .collect()
         };
         let before = both(&tree).len();
-        tree.mark_walled(&mesh, &occ, 1.0);
+        tree.mark_walled(&occ, 1.0);
         let after = both(&tree);
         assert!(before > 0, "the fixture has nodes astride the partition");
         assert!(
