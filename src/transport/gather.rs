@@ -38,7 +38,7 @@ use super::link::Link;
 use super::tree::{NodeBounds, PatchTree};
 use crate::geom::lambert;
 use crate::patches::PatchMesh;
-use crate::visibility::Occluder;
+use crate::visibility::{Blocker, Occluder};
 use glam::DVec3;
 use std::collections::HashMap;
 
@@ -460,10 +460,7 @@ impl Gatherer<'_> {
         for (k, (q, m)) in targets {
             let clear = match own_hits {
                 Some((patches, rank)) => Self::ray(shared, (i, CLUSTER_KEY + k), || {
-                    let own = node.start..node.end;
-                    patches
-                        .first_hit(p, n, q, m)
-                        .is_none_or(|hit| own.contains(&rank[hit]))
+                    own_first(patches, rank, (p, n), (q, m), node)
                 }),
                 None => Self::ray(shared, (i, REP_KEY + k), || self.occluder.clear(p, n, q, m)),
             };
@@ -579,16 +576,12 @@ impl Gatherer<'_> {
             return self.ray_visibility(p, n, i, &[0, 2], shared);
         };
         let node = &self.tree.bounds[i as usize];
-        let own = node.start..node.end;
         let visible = [0, 2]
             .iter()
             .filter(|&&k| {
                 Self::ray(shared, (i, CLUSTER_KEY + k as u8), || {
                     let (q, m) = self.tree.rep(i as usize, k);
-                    match patches.first_hit(p, n, q, m) {
-                        None => true,
-                        Some(hit) => own.contains(&rank[hit]),
-                    }
+                    own_first(patches, rank, (p, n), (q, m), node)
                 })
             })
             .count();
@@ -618,6 +611,23 @@ impl Gatherer<'_> {
             })
             .count();
         visible as f64 / at.len() as f64
+    }
+}
+
+/// Is the segment from `a` to `b` (points with their normals) clear but for node `node`'s own
+/// patches (`patches`: every patch as a ray target, `rank`: each one's position in leaf order),
+/// that is, is the first thing it meets, if anything, one of them?
+fn own_first(
+    patches: &Occluder,
+    rank: &[u32],
+    a: (DVec3, DVec3),
+    b: (DVec3, DVec3),
+    node: &NodeBounds,
+) -> bool {
+    match patches.first_hit_near(a, b, node.center, node.radius) {
+        None => true,
+        Some(Blocker::Before) => false,
+        Some(Blocker::At(hit)) => (node.start..node.end).contains(&rank[hit]),
     }
 }
 

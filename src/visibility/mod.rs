@@ -80,6 +80,15 @@ impl RayCount {
     }
 }
 
+/// What blocks a segment, as [`Occluder::first_hit_near`] tells it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Blocker {
+    /// Something before the segment enters the given sphere.
+    Before,
+    /// The nearest blocker, a triangle (index as given to the constructor).
+    At(usize),
+}
+
 /// A closest-hit answer.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Hit {
@@ -441,6 +450,57 @@ impl Occluder {
             .map(|h| h.triangle)
     }
 
+    /// [`Occluder::first_hit`]'s answer where only a blocker inside the sphere (`center`,
+    /// `radius`) needs naming: one met before the segment enters the sphere is
+    /// [`Blocker::Before`], found by an any-hit trace that stops at the first blocker, and only
+    /// the rest of the segment is searched for its nearest hit. For a cluster's rays, where the
+    /// cluster's own patches (all inside its sphere) do not count as blockers: most such rays
+    /// are blocked by something else long before the cluster, and searching their whole length
+    /// for the nearest hit cost more than any other kind of ray on the open-plan floors.
+    /// Whenever `first_hit` names a triangle inside the sphere's bounds this names the same
+    /// one; a triangle it names before the sphere is `Before` here.
+    pub fn first_hit_near(
+        &self,
+        (a, na): (DVec3, DVec3),
+        (b, nb): (DVec3, DVec3),
+        center: DVec3,
+        radius: f64,
+    ) -> Option<Blocker> {
+        let (from, to) = self.pulled_ends(a, na, b, nb);
+        let dir = to - from;
+        let len = dir.length();
+        if len <= self.epsilon {
+            return None;
+        }
+        let dir = dir / len;
+        let tmax = len - self.epsilon;
+        // Where the segment enters the sphere, less a margin far above the BVH's f32 rounding
+        // (so no triangle inside the sphere can be met before `split`), and `tmax` when it
+        // misses the sphere.
+        let margin = 1e-6 * self.diagonal;
+        let oc = from - center;
+        let (half_b, c) = (dir.dot(oc), oc.length_squared() - radius * radius);
+        let disc = half_b * half_b - c;
+        let enter = if disc > 0.0 { -half_b - disc.sqrt() } else { tmax };
+        let split = (enter - 2.0 * margin).min(tmax);
+        if split <= 2.0 * margin {
+            return self.first_hit(a, na, b, nb).map(Blocker::At);
+        }
+        self.rays.add();
+        if !self.miss_all(self.ray(from, dir, split)) {
+            return Some(Blocker::Before);
+        }
+        if split >= tmax {
+            return None;
+        }
+        // The rest, overlapping the first part by a margin: a hit the first part's f32 bound
+        // left out is found here.
+        let mut rest = self.ray(from, dir, tmax);
+        rest.tmin = ((split - margin) * self.scale) as f32;
+        self.nearest_of(|t| t.nearest(rest, intersect))
+            .map(|h| Blocker::At(h.triangle))
+    }
+
     /// Does a ray from point `a` (surface normal `na`) in direction `dir` leave the scene?
     pub fn escapes(&self, a: DVec3, na: DVec3, dir: DVec3) -> bool {
         let side = if na.dot(dir) >= 0.0 { 1.0 } else { -1.0 };
@@ -682,6 +742,66 @@ mod tests {
             blocked > total / 5 && blocked < total * 4 / 5,
             "{blocked} of {total}"
         );
+    }
+
+    #[test]
+    fn first_hit_near_names_what_first_hit_names_inside_the_sphere() {
+        // 600 small triangles in a 10 m cube; segments between random points; spheres around
+        // random groups of triangles (their corners' box, as a tree node's). Wherever first_hit
+        // names a triangle of the group, first_hit_near names the same; it says Before only
+        // when first_hit's triangle lies outside the group, and nothing only when first_hit
+        // finds nothing. At several scales, so the margins are checked where f32 is coarse.
+        for scale in [1e-3, 1.0, 1e3] {
+            let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+            let mut unit = move || {
+                seed = seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1);
+                (seed >> 11) as f64 / (1u64 << 53) as f64
+            };
+            let tris: Vec<[DVec3; 3]> = (0..600)
+                .map(|k| {
+                    let c = DVec3::new((k % 10) as f64, ((k / 10) % 10) as f64, (k / 100) as f64)
+                        + DVec3::new(unit(), unit(), unit()) * 0.5;
+                    let d = DVec3::new(0.8, 0.2, -0.4);
+                    [c, c + d, c + DVec3::new(-0.1, 0.7, 0.5)].map(|v| v * scale)
+                })
+                .collect();
+            let occ = Occluder::from_triangles(&tris, false);
+            let (mut inside, mut before, mut clear) = (0, 0, 0);
+            for _ in 0..3000 {
+                let first = (unit() * 590.0) as usize;
+                let group = first..first + 1 + (unit() * 8.0) as usize;
+                let (lo, hi) = tris[group.clone()].iter().flatten().fold(
+                    (DVec3::INFINITY, DVec3::NEG_INFINITY),
+                    |(lo, hi), v| (lo.min(*v), hi.max(*v)),
+                );
+                let (center, radius) = ((lo + hi) * 0.5, (hi - lo).length() * 0.5);
+                let from = DVec3::new(unit(), unit(), unit()) * 12.0 * scale;
+                // Through the group's middle to just past it, so it is often what is hit.
+                let from_far = (center - from).normalize_or_zero();
+                let to = center + (from_far + DVec3::new(unit(), unit(), unit()) * 0.2) * radius;
+                let full = occ.first_hit(from, DVec3::ZERO, to, DVec3::ZERO);
+                let near = occ.first_hit_near(
+                    (from, DVec3::ZERO),
+                    (to, DVec3::ZERO),
+                    center,
+                    radius,
+                );
+                match (full, near) {
+                    (None, None) => clear += 1,
+                    (Some(a), Some(Blocker::At(b))) => {
+                        assert_eq!(a, b);
+                        inside += usize::from(group.contains(&a));
+                    }
+                    (Some(a), Some(Blocker::Before)) => {
+                        assert!(!group.contains(&a), "{a} is in the sphere");
+                        before += 1;
+                    }
+                    other => panic!("first_hit and first_hit_near disagree: {other:?}"),
+                }
+            }
+            // Every kind of answer was met.
+            assert!(inside > 150 && before > 400 && clear > 400, "{inside} {before} {clear}");
+        }
     }
 
     #[test]
