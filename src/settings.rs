@@ -85,6 +85,17 @@ impl Quality {
             Quality::High => 0.0,
         }
     }
+
+    /// The direct-light budget (`direct::cut`, [`Settings::direct_budget`]): a group of
+    /// luminaires no proof settles takes its visibility from two rays when its light could be
+    /// at most this fraction of the direct light summed before it.
+    pub fn direct_budget(self) -> f64 {
+        match self {
+            Quality::Draft => 0.03,
+            Quality::Default => 0.01,
+            Quality::High => 0.003,
+        }
+    }
 }
 
 /// How baked illuminance maps to the display colour `COLOR_0`.
@@ -144,6 +155,9 @@ pub struct Settings {
     /// bounded clusters while the summed bound stays within this fraction of the direct light at
     /// the receiver; 0 sums every luminaire exactly.
     pub light_cut: f64,
+    /// The direct-light budget (`--direct-budget`, `--exact-direct` for 0); `None`: the
+    /// quality's ([`Quality::direct_budget`]).
+    pub direct_budget: Option<f64>,
 }
 
 /// What `--lightmaps` asks for.
@@ -202,6 +216,7 @@ impl Default for Settings {
             max_patches: None,
             max_probes: None,
             light_cut: 0.0,
+            direct_budget: None,
         }
     }
 }
@@ -214,6 +229,19 @@ impl Settings {
             p.tau = t;
         }
         p
+    }
+
+    /// The direct-light budget in force.
+    pub fn direct_budget(&self) -> f64 {
+        (self.direct_budget).unwrap_or(self.quality.direct_budget())
+    }
+
+    /// How direct light is summed: the light cut's fraction and the direct-light budget.
+    pub fn direct_cut(&self) -> crate::direct::cut::CutSettings {
+        crate::direct::cut::CutSettings {
+            fraction: self.light_cut,
+            budget: self.direct_budget(),
+        }
     }
 
     /// Check every value; the bake assumes a validated `Settings`.
@@ -243,6 +271,13 @@ impl Settings {
             return Err(Error::Settings(format!(
                 "--light-cut-fraction must be in [0, 0.1], got {}",
                 self.light_cut
+            )));
+        }
+        if let Some(b) = self.direct_budget
+            && !(b.is_finite() && (0.0..=0.1).contains(&b))
+        {
+            return Err(Error::Settings(format!(
+                "--direct-budget must be in [0, 0.1], got {b}"
             )));
         }
         if let Exposure::White { lux } = self.exposure

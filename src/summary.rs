@@ -76,6 +76,10 @@ pub struct SettingsRecord {
     /// The light cut's fraction (`--light-cut-fraction`; absent: 0, every luminaire summed).
     #[serde(default, skip_serializing_if = "is_zero")]
     pub light_cut: f64,
+    /// The direct-light budget as asked (`--direct-budget`, `--exact-direct`: 0; absent: the
+    /// quality's).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub direct_budget: Option<f64>,
 }
 
 fn is_zero(x: &f64) -> bool {
@@ -97,6 +101,7 @@ impl From<&Settings> for SettingsRecord {
             probe_glyphs: s.probe_glyphs,
             lightmaps: s.lightmaps,
             light_cut: s.light_cut,
+            direct_budget: s.direct_budget,
         }
     }
 }

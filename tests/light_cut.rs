@@ -44,6 +44,9 @@ impl<T: Target> Target for Counting<'_, T> {
         }] += 1;
         self.inner.exact(k, known, out)
     }
+    fn sees(&self, n: DVec3, q: DVec3, nq: DVec3) -> bool {
+        self.inner.sees(n, q, nq)
+    }
     fn geometry(&self, s: &Source, out: &mut [f64]) {
         self.inner.geometry(s, out)
     }

@@ -378,11 +378,13 @@ fn grouped_luminaires_give_the_inverse_square_sum() {
         }
         place_cosine_luminaires(&mut b, &lamps);
         let scene = b.build();
-        // Exactly (the default), and with the light cut at f = 1 %: then every vertex is within
-        // its stated bound, f of the full sum (`direct::cut`), besides the 10⁻⁵ above.
-        for cut in [0.0, 0.01] {
+        // Exactly (`--exact-direct`), with the light cut at f = 1 %, and with the direct-light
+        // budget at b = 1 % (the default): every vertex is within its stated bound, f or b of
+        // the full sum (`direct::cut`), besides the 10⁻⁵ above.
+        for (cut, budget) in [(0.0, 0.0), (0.01, 0.0), (0.0, 0.01)] {
             let settings = Settings {
                 light_cut: cut,
+                direct_budget: Some(budget),
                 ..Default::default()
             };
             let r = bake(&scene, &settings, &Silent).unwrap();
@@ -397,16 +399,18 @@ fn grouped_luminaires_give_the_inverse_square_sum() {
                     .sum();
                 worst = worst.max(rel(floor.illuminance[v] as f64, want));
             }
-            let key = match (screen, cut > 0.0) {
-                (false, false) => "open",
-                (true, false) => "screen",
-                (false, true) => "open-cut",
-                (true, true) => "screen-cut",
+            let key = match (screen, cut > 0.0, budget > 0.0) {
+                (false, false, false) => "open",
+                (true, false, false) => "screen",
+                (false, true, _) => "open-cut",
+                (true, true, _) => "screen-cut",
+                (false, false, true) => "open-budget",
+                (true, false, true) => "screen-budget",
             };
             eprintln!("oracle: grouped/{key} measured {worst:.3e}");
             assert!(
-                worst < cut + 1e-5,
-                "screen {screen}, cut {cut}: worst {worst}"
+                worst < cut + budget + 1e-5,
+                "screen {screen}, cut {cut}, budget {budget}: worst {worst}"
             );
         }
     }
@@ -443,17 +447,34 @@ fn grouped_luminaires_across_a_slanted_table_edge() {
     b.quad("table top", corners, black);
     place_cosine_luminaires(&mut b, &lamps);
     let scene = b.build();
+    // Exactly (`--exact-direct`: grouping alone, which is exact), then with the direct-light
+    // budget at the default b = 1 %, which must keep every vertex within b of tracing each
+    // luminaire.
+    for budget in [0.0, 0.01] {
+        slanted_edge_at(&scene, &lamps, budget, under_top);
+    }
+}
+
+/// [`grouped_luminaires_across_a_slanted_table_edge`] at direct-light budget `budget`.
+fn slanted_edge_at(
+    scene: &luxbake::scene::Scene,
+    lamps: &[DVec3],
+    budget: f64,
+    under_top: impl Fn(DVec3, DVec3) -> bool,
+) {
+    let h = 3.0;
     let settings = Settings {
         patch_size: Some(0.25),
+        direct_budget: Some(budget),
         ..Default::default()
     };
-    let solved = luxbake::bake::solve(&scene, &settings, &Silent).unwrap();
+    let solved = luxbake::bake::solve(scene, &settings, &Silent).unwrap();
     let solution = &solved.solution;
-    let occ = Occluder::build(&scene, OccluderOptions::default());
+    let occ = Occluder::build(scene, OccluderOptions::default());
     let sources: Vec<Source> = scene
         .luminaires
         .iter()
-        .map(|l| Source::new(&scene, l))
+        .map(|l| Source::new(scene, l))
         .collect();
     let floor = solution.mesh().groups[0].receivers.clone();
     let (mut traced_err, mut analytic_err, mut oracle_err) = (Vec::new(), Vec::new(), Vec::new());
@@ -490,11 +511,19 @@ fn grouped_luminaires_across_a_slanted_table_edge() {
     let (a_worst, a_p99, a_1, a_10, _) = stats(&mut analytic_err);
     let (o_worst, o_p99, ..) = stats(&mut oracle_err);
     eprintln!(
-        "slanted table edge, {n} vertices ({dim} below 0.1 lx): against tracing each luminaire \
+        "slanted table edge, budget {budget}, {n} vertices ({dim} below 0.1 lx): against tracing each luminaire \
          worst {t_worst:.2e} p99 {t_p99:.2e} ({t_1} over 1 %, {t_10} over 10 %); against the \
          inverse-square sum worst {a_worst:.2e} p99 {a_p99:.2e} ({a_1} over 1 %, {a_10} over \
          10 %); tracing each against the sum worst {o_worst:.2e} p99 {o_p99:.2e}"
     );
+    if budget > 0.0 {
+        eprintln!("oracle: grouped/slanted-budget measured {t_worst:.3e}");
+        assert!(
+            t_worst <= budget + 1e-9,
+            "the budget moved a vertex by {t_worst} (p99 {t_p99})"
+        );
+        return;
+    }
     eprintln!("oracle: grouped/slanted-traced measured {t_worst:.3e}");
     eprintln!("oracle: grouped/slanted measured {a_worst:.3e}");
     assert!(

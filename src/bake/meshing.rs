@@ -18,7 +18,7 @@
 //! a quarter of it. `--uniform-patches` turns it off (the harness measures both).
 
 use crate::contacts::{self, Contacts};
-use crate::direct::cut::Cut;
+use crate::direct::cut::{Cut, CutSettings};
 use crate::direct::targets::AtPoint;
 use crate::direct::{bounds::ProfileBounds, emitters, sources::DirectSource};
 use crate::patches::{self, PatchMesh, adapt::Adapt};
@@ -80,7 +80,7 @@ pub fn stage<'a>(
     let contacts = contacts::find(scene, contact_gap(h), occluder);
     let (mut mesh, adaptive) = mesh(scene, settings, h, occluder, &bounds, &contacts);
     mesh.zone = zones::of(&mesh);
-    let cut = settings.light_cut;
+    let cut = settings.direct_cut();
     let (emitted, exitance, lights) = light(scene, &mesh, &bounds, (tau_direct, cut), |_| true);
     let contacts = ContactsRecord {
         gap_m: contacts.gap,
@@ -131,7 +131,7 @@ pub fn restore<'a>(
     tau_direct: f64,
 ) -> Meshed<'a> {
     let bounds = ProfileBounds::new(scene);
-    let cut = settings.light_cut;
+    let cut = settings.direct_cut();
     let mut mesh = saved.mesh;
     mesh.zone = zones::of(&mesh);
     let lit = light(scene, &mesh, &bounds, (tau_direct, cut), |_| true);
@@ -149,12 +149,17 @@ pub fn restore<'a>(
 /// `base`'s mesh lit by the sources of `scene` instead: a scene with the same surfaces and
 /// materials whose sources differ (`bake fit` lights one mesh by one group of sources at a
 /// time). Punctual lights of zero intensity are left out (they would cost rays for nothing).
-/// `light_cut`: the light cut's fraction (`direct::cut`).
-pub fn relight<'a>(base: &Meshed, scene: &'a Scene, tau_direct: f64, light_cut: f64) -> Meshed<'a> {
+/// `cut`: the light cut's fraction and the direct-light budget (`direct::cut`).
+pub fn relight<'a>(
+    base: &Meshed,
+    scene: &'a Scene,
+    tau_direct: f64,
+    cut: CutSettings,
+) -> Meshed<'a> {
     let mesh = base.mesh.clone();
     let bounds = ProfileBounds::new(scene);
     let lit = |s: &DirectSource| !matches!(s, DirectSource::Punctual(l) if l.intensity == 0.0);
-    let (emitted, exitance, lights) = light(scene, &mesh, &bounds, (tau_direct, light_cut), lit);
+    let (emitted, exitance, lights) = light(scene, &mesh, &bounds, (tau_direct, cut), lit);
     Meshed {
         mesh,
         adaptive: base.adaptive.clone(),
@@ -166,19 +171,19 @@ pub fn relight<'a>(base: &Meshed, scene: &'a Scene, tau_direct: f64, light_cut: 
 }
 
 /// What each patch of `mesh` emits (all of it, and its Lambertian part) and the direct sources
-/// on it that `keep` takes (`(tau_direct, light_cut)`: as for [`DirectLight::new`]).
+/// on it that `keep` takes (`(tau_direct, cut)`: as for [`DirectLight::new`]).
 fn light<'a>(
     scene: &'a Scene,
     mesh: &PatchMesh,
     bounds: &ProfileBounds,
-    (tau_direct, light_cut): (f64, f64),
+    (tau_direct, cut): (f64, CutSettings),
     keep: impl Fn(&DirectSource) -> bool,
 ) -> (Vec<DVec3>, Vec<DVec3>, DirectLight<'a>) {
     let emitted = emitters::patch_exitance(scene, mesh);
     let exitance = emitters::diffuse_part(scene, mesh, &emitted);
     let mut sources = DirectSource::all(scene, mesh, &emitted, bounds);
     sources.retain(|s| keep(s));
-    let lights = DirectLight::new(sources, mesh, &exitance, tau_direct, light_cut);
+    let lights = DirectLight::new(sources, mesh, &exitance, tau_direct, cut);
     (emitted, exitance, lights)
 }
 
@@ -206,7 +211,8 @@ fn mesh(
     // light from downlights, yet its inter-reflected light drops to zero under the fitting: a
     // coarse patch with a covered corner would take a third of the light it receives away.
     let groups = DirectSource::groups(&sources);
-    let cut = Cut::new(&sources, &groups, settings.light_cut);
+    let settled = settings.direct_cut();
+    let cut = Cut::new(&sources, &groups, settled.fraction).with_budget(settled.budget);
     let direct = |p: DVec3, n: DVec3| -> f64 {
         let starts = [p + n * occluder.epsilon];
         let settle = |lo: DVec3, hi: DVec3, _n: DVec3| occluder.settle(&starts, lo, hi);

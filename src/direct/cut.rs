@@ -23,6 +23,7 @@ use super::groups::{Groups, Known};
 use super::luminaire::Source;
 use super::sources::DirectSource;
 use glam::DVec3;
+use std::cell::RefCell;
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
@@ -36,6 +37,9 @@ pub trait Target {
     /// Sum source `k` exactly (`known`: its visibility, as [`Groups::visit`] gives it), adding
     /// its light (photometric) on each plane to `out`.
     fn exact(&mut self, k: usize, known: Known, out: &mut [f64]);
+    /// Is the shadow ray from the target (pulled off the side facing along `n`) to point `q`
+    /// (normal `nq`) clear?
+    fn sees(&self, n: DVec3, q: DVec3, nq: DVec3) -> bool;
     /// Luminaire `s`'s geometry (what its unscaled intensity is multiplied by) added to `out`.
     fn geometry(&self, s: &Source, out: &mut [f64]);
     /// The cone holding every direction from the box `[lo, hi]` to the target: unit axis (away
@@ -50,6 +54,16 @@ pub struct Cut {
     /// Per node of the groups: a member whose kind every member shares, or `None`.
     kind: Vec<Option<u32>>,
     fraction: f64,
+    /// The direct-light budget b ([`Cut::with_budget`]); 0: every group's visibility traced.
+    budget: f64,
+}
+
+/// How the direct light is summed at receivers and into patches: the light cut's fraction f
+/// and the direct-light budget b ([`Cut::with_budget`]). Both 0: every luminaire exactly.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct CutSettings {
+    pub fraction: f64,
+    pub budget: f64,
 }
 
 /// A cluster in the cut.
@@ -96,7 +110,28 @@ impl Cut {
                 .then_some(members[0])
             })
             .collect();
-        Cut { kind, fraction }
+        Cut {
+            kind,
+            fraction,
+            budget: 0.0,
+        }
+    }
+
+    /// This cut with the direct-light budget `b`: a far group of luminaires whose light, with
+    /// that of the groups estimated before it, could be at most b × the light summed without
+    /// them on every plane (every source not in such a group comes first) takes its visibility
+    /// from two shadow rays, to its first and last members' openings, when they agree, instead
+    /// of a proof or its members' own rays (see [`Cut::estimate`]; where a proof would settle
+    /// it, the rays give the same answer). A target's direct light is then within b of what
+    /// budget 0 gives, in luminance. 0: nothing is estimated.
+    pub fn with_budget(mut self, b: f64) -> Self {
+        self.budget = b;
+        self
+    }
+
+    /// The direct-light budget.
+    pub fn budget(&self) -> f64 {
+        self.budget
     }
 
     /// Visit every source from `at` as [`Groups::visit`] does (`normals`, `settle`: as there),
@@ -114,12 +149,24 @@ impl Cut {
         let front = &normals[..t.cluster_planes().min(normals.len())];
         let on = self.fraction > 0.0;
         let mut sets = Vec::new();
-        let mut exact = vec![0.0; m];
+        let exact = RefCell::new(vec![0.0; m]);
         let mut each = vec![0.0; m];
-        groups.visit_with(
+        let t = RefCell::new(t);
+        // Per plane, the bound on the light of the groups estimated so far.
+        let mut spent = vec![0.0; m];
+        let mut estimate = |i: u32, n: DVec3| {
+            let target = &**t.borrow();
+            self.estimate(sources, groups, (i, n), &exact.borrow(), &mut spent, target)
+        };
+        let estimate: Option<&mut dyn FnMut(u32, DVec3) -> Option<bool>> = match self.budget > 0.0 {
+            true => Some(&mut estimate),
+            false => None,
+        };
+        groups.visit_estimated(
             at,
             normals,
             settle,
+            estimate,
             |node, n| {
                 let take = on && front.contains(&n);
                 if take {
@@ -129,15 +176,71 @@ impl Cut {
             },
             |k, known| {
                 each.fill(0.0);
-                t.exact(k, known, &mut each);
-                for (e, x) in exact.iter_mut().zip(&each) {
+                t.borrow_mut().exact(k, known, &mut each);
+                for (e, x) in exact.borrow_mut().iter_mut().zip(&each) {
                     *e += x;
                 }
             },
         );
         if !sets.is_empty() {
-            self.refine(sources, groups, &sets, exact, t);
+            self.refine(sources, groups, &sets, exact.into_inner(), t.into_inner());
         }
+    }
+
+    /// The budget's answer for group `i` (its box in front of the plane with normal `n`), given
+    /// the light summed so far per plane (`exact`) and the bound on the groups estimated before
+    /// (`spent`, which an answer adds to). Its bound U (each member's geometry × its profile's
+    /// largest intensity over the cone from the group's box toward the target) must keep
+    /// spent + U ≤ b × (exact − spent) on every plane, so that all the estimates of a target
+    /// together are off by at most b × the light summed without them, which is at most b × its
+    /// full direct light. Then `Some(seen)` when the rays to its first and last members'
+    /// opening centres agree; otherwise `None`.
+    fn estimate(
+        &self,
+        sources: &[DirectSource],
+        groups: &Groups,
+        (i, n): (u32, DVec3),
+        exact: &[f64],
+        spent: &mut [f64],
+        t: &impl Target,
+    ) -> Option<bool> {
+        let lum = |k: u32| match &sources[k as usize] {
+            DirectSource::Luminaire(s) => Some(s),
+            _ => None,
+        };
+        let (lo_box, hi_box, members, _) = groups.node(i);
+        let (axis, radius) = t.cone(lo_box, hi_box)?;
+        // Each member's geometry times its profile's largest intensity over the cone.
+        let m = exact.len();
+        let (mut most, mut g) = (vec![0.0; m], vec![0.0; m]);
+        for &k in members {
+            let s = lum(k)?;
+            let (_, top) = s.profile_range(axis, radius);
+            if !top.is_finite() {
+                return None;
+            }
+            g.fill(0.0);
+            t.geometry(s, &mut g);
+            for (u, g) in most.iter_mut().zip(&g) {
+                *u += top * g;
+            }
+        }
+        let within = |pl: usize| most[pl] + spent[pl] <= self.budget * (exact[pl] - spent[pl]);
+        if !(0..m).all(within) {
+            return None;
+        }
+        let sees = |k: u32| {
+            let s = lum(k).expect("a group's members are luminaires");
+            t.sees(n, s.position, s.world_from_photometric.z_axis)
+        };
+        let seen = sees(*members.first()?);
+        if seen != sees(*members.last()?) {
+            return None;
+        }
+        for (s, u) in spent.iter_mut().zip(&most) {
+            *s += u;
+        }
+        Some(seen)
     }
 
     fn refine(

@@ -68,6 +68,9 @@ impl Target for AtPoint<'_, '_> {
         self.sources[k].illuminance_faces(self.occ, self.p, self.normals, out, how);
         self.add(k, out);
     }
+    fn sees(&self, n: DVec3, q: DVec3, nq: DVec3) -> bool {
+        self.occ.clear(self.p, n, q, nq)
+    }
     fn geometry(&self, s: &Source, out: &mut [f64]) {
         s.geometry_faces(self.p, self.normals, out);
     }
@@ -112,6 +115,9 @@ impl Target for IntoPatch<'_, '_> {
         // A double-sided patch's back is its twin, which takes that light as front.
         self.row[k] = (front, if self.double_sided { 0.0 } else { back });
         out[0] += front;
+    }
+    fn sees(&self, n: DVec3, q: DVec3, nq: DVec3) -> bool {
+        self.occ.clear(self.c, n, q, nq)
     }
     fn geometry(&self, s: &Source, out: &mut [f64]) {
         out[0] += s.geometry_patch(&self.corners);

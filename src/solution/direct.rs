@@ -8,7 +8,7 @@
 //! for every receiver after it.
 
 use super::receivers::Receiver;
-use crate::direct::cut::Cut;
+use crate::direct::cut::{Cut, CutSettings};
 use crate::direct::targets::AtPoint;
 use crate::direct::{groups::Groups, sources::DirectSource};
 use crate::patches::PatchMesh;
@@ -22,7 +22,8 @@ pub struct DirectLight<'a> {
     pub sources: Vec<DirectSource<'a>>,
     /// The luminaires among `sources`, grouped for shared visibility.
     pub groups: Groups,
-    /// The light cut over `groups` (`direct::cut`; fraction 0: every luminaire summed).
+    /// The light cut over `groups` (`direct::cut`; fraction 0: every luminaire summed), with
+    /// the direct-light budget (0: every group's visibility traced or proved).
     pub cut: Cut,
     /// The Lambertian emitting patches, and their exitance summarised on it.
     emitter_tree: PatchTree,
@@ -33,13 +34,13 @@ pub struct DirectLight<'a> {
 
 impl<'a> DirectLight<'a> {
     /// `exitance`: the Lambertian exitance of every patch of `mesh` (lm/m², RGB; zero for patches
-    /// that emit none); `light_cut`: the light cut's fraction.
+    /// that emit none); `cut`: the light cut's fraction and the direct-light budget.
     pub fn new(
         sources: Vec<DirectSource<'a>>,
         mesh: &PatchMesh,
         exitance: &[DVec3],
         tau: f64,
-        light_cut: f64,
+        cut: CutSettings,
     ) -> Self {
         let emitting: Vec<u32> = (0..mesh.patches.len() as u32)
             .filter(|&p| exitance[p as usize] != DVec3::ZERO)
@@ -48,7 +49,7 @@ impl<'a> DirectLight<'a> {
         let emitters = NodeField::new(&emitter_tree, mesh, exitance);
         let groups = DirectSource::groups(&sources);
         DirectLight {
-            cut: Cut::new(&sources, &groups, light_cut),
+            cut: Cut::new(&sources, &groups, cut.fraction).with_budget(cut.budget),
             groups,
             sources,
             emitter_tree,

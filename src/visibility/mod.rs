@@ -481,7 +481,11 @@ impl Occluder {
         let oc = from - center;
         let (half_b, c) = (dir.dot(oc), oc.length_squared() - radius * radius);
         let disc = half_b * half_b - c;
-        let enter = if disc > 0.0 { -half_b - disc.sqrt() } else { tmax };
+        let enter = if disc > 0.0 {
+            -half_b - disc.sqrt()
+        } else {
+            tmax
+        };
         let split = (enter - 2.0 * margin).min(tmax);
         if split <= 2.0 * margin {
             return self.first_hit(a, na, b, nb).map(Blocker::At);
@@ -770,22 +774,20 @@ mod tests {
             for _ in 0..3000 {
                 let first = (unit() * 590.0) as usize;
                 let group = first..first + 1 + (unit() * 8.0) as usize;
-                let (lo, hi) = tris[group.clone()].iter().flatten().fold(
-                    (DVec3::INFINITY, DVec3::NEG_INFINITY),
-                    |(lo, hi), v| (lo.min(*v), hi.max(*v)),
-                );
+                let (lo, hi) = tris[group.clone()]
+                    .iter()
+                    .flatten()
+                    .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), v| {
+                        (lo.min(*v), hi.max(*v))
+                    });
                 let (center, radius) = ((lo + hi) * 0.5, (hi - lo).length() * 0.5);
                 let from = DVec3::new(unit(), unit(), unit()) * 12.0 * scale;
                 // Through the group's middle to just past it, so it is often what is hit.
                 let from_far = (center - from).normalize_or_zero();
                 let to = center + (from_far + DVec3::new(unit(), unit(), unit()) * 0.2) * radius;
                 let full = occ.first_hit(from, DVec3::ZERO, to, DVec3::ZERO);
-                let near = occ.first_hit_near(
-                    (from, DVec3::ZERO),
-                    (to, DVec3::ZERO),
-                    center,
-                    radius,
-                );
+                let near =
+                    occ.first_hit_near((from, DVec3::ZERO), (to, DVec3::ZERO), center, radius);
                 match (full, near) {
                     (None, None) => clear += 1,
                     (Some(a), Some(Blocker::At(b))) => {
@@ -800,7 +802,10 @@ mod tests {
                 }
             }
             // Every kind of answer was met.
-            assert!(inside > 150 && before > 400 && clear > 400, "{inside} {before} {clear}");
+            assert!(
+                inside > 150 && before > 400 && clear > 400,
+                "{inside} {before} {clear}"
+            );
         }
     }
 
