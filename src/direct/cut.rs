@@ -129,11 +129,6 @@ impl Cut {
         self
     }
 
-    /// The direct-light budget.
-    pub fn budget(&self) -> f64 {
-        self.budget
-    }
-
     /// Visit every source from `at` as [`Groups::visit`] does (`normals`, `settle`: as there),
     /// summing through `t`: exactly, or in clusters within the bound.
     pub fn run(
@@ -154,9 +149,13 @@ impl Cut {
         let t = RefCell::new(t);
         // Per plane, the bound on the light of the groups estimated so far.
         let mut spent = vec![0.0; m];
+        // Only on the planes the bound is kept on (a patch's front: what reaches its back is
+        // not summed in `exact`).
         let mut estimate = |i: u32, n: DVec3| {
             let target = &**t.borrow();
-            self.estimate(sources, groups, (i, n), &exact.borrow(), &mut spent, target)
+            front.contains(&n).then(|| {
+                self.estimate(sources, groups, (i, n), &exact.borrow(), &mut spent, target)
+            })?
         };
         let estimate: Option<&mut dyn FnMut(u32, DVec3) -> Option<bool>> = match self.budget > 0.0 {
             true => Some(&mut estimate),
