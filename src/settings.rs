@@ -236,14 +236,6 @@ impl Settings {
         (self.direct_budget).unwrap_or(self.quality.direct_budget())
     }
 
-    /// How direct light is summed: the light cut's fraction and the direct-light budget.
-    pub fn direct_cut(&self) -> crate::direct::cut::CutSettings {
-        crate::direct::cut::CutSettings {
-            fraction: self.light_cut,
-            budget: self.direct_budget(),
-        }
-    }
-
     /// Check every value; the bake assumes a validated `Settings`.
     pub fn validate(&self) -> Result<()> {
         if let Some(t) = self.receiver_tolerance

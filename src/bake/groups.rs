@@ -56,7 +56,12 @@ pub fn bake_groups(
     let mut lit = Vec::with_capacity(groups.len());
     for scene in groups {
         progress.stage("direct light", n);
-        let meshed = meshing::relight(&base, scene, params.tau_direct, settings.direct_cut());
+        let meshed = meshing::relight(
+            &base,
+            scene,
+            params.tau_direct,
+            meshing::cut_settings(settings),
+        );
         let vertex_direct = run.time(Stage::Direct, || {
             direct::at_vertices(&meshed.lights, &meshed.mesh, &occluder, progress)
         });

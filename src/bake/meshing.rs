@@ -80,7 +80,7 @@ pub fn stage<'a>(
     let contacts = contacts::find(scene, contact_gap(h), occluder);
     let (mut mesh, adaptive) = mesh(scene, settings, h, occluder, &bounds, &contacts);
     mesh.zone = zones::of(&mesh);
-    let cut = settings.direct_cut();
+    let cut = cut_settings(settings);
     let (emitted, exitance, lights) = light(scene, &mesh, &bounds, (tau_direct, cut), |_| true);
     let contacts = ContactsRecord {
         gap_m: contacts.gap,
@@ -96,6 +96,15 @@ pub fn stage<'a>(
         emitted,
         exitance,
         lights,
+    }
+}
+
+/// How `settings` has direct light summed: the light cut's fraction and the direct-light
+/// budget.
+pub fn cut_settings(settings: &Settings) -> CutSettings {
+    CutSettings {
+        fraction: settings.light_cut,
+        budget: settings.direct_budget(),
     }
 }
 
@@ -131,7 +140,7 @@ pub fn restore<'a>(
     tau_direct: f64,
 ) -> Meshed<'a> {
     let bounds = ProfileBounds::new(scene);
-    let cut = settings.direct_cut();
+    let cut = cut_settings(settings);
     let mut mesh = saved.mesh;
     mesh.zone = zones::of(&mesh);
     let lit = light(scene, &mesh, &bounds, (tau_direct, cut), |_| true);
@@ -211,7 +220,7 @@ fn mesh(
     // light from downlights, yet its inter-reflected light drops to zero under the fitting: a
     // coarse patch with a covered corner would take a third of the light it receives away.
     let groups = DirectSource::groups(&sources);
-    let settled = settings.direct_cut();
+    let settled = cut_settings(settings);
     let cut = Cut::new(&sources, &groups, settled.fraction).with_budget(settled.budget);
     let direct = |p: DVec3, n: DVec3| -> f64 {
         let starts = [p + n * occluder.epsilon];
