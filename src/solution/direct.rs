@@ -1,6 +1,7 @@
 //! Direct light at any receiver, computed at the receiver itself (never interpolated from
 //! patches): lights and luminaires by the inverse-square cosine law with shadow rays (luminaires
-//! split into sub-sources near their openings, far groups of them settled by two rays),
+//! split into sub-sources near their openings, far groups of them proved seen or hidden, or
+//! within the direct-light budget given two rays' answer: `direct::cut`),
 //! Lambertian emitting surfaces through the [`Gatherer`] on the tree of emitting patches.
 //!
 //! Input: the direct sources, the emitting patches and their exitance. Output: a [`DirectLight`]
