@@ -213,6 +213,12 @@ fn invalid_settings() {
         (&["--exposure", "foo"], &["--exposure", "foo"]),
         (&["--exposure=-5"], &["--exposure"]),
         (&["--threads", "0"], &["--threads"]),
+        (&["--direct-budget", "0.5"], &["--direct-budget", "0.5"]),
+        (&["--direct-budget", "-0.1"], &["--direct-budget", "-0.1"]),
+        (
+            &["--exact-direct", "--direct-budget", "0.01"],
+            &["--exact-direct", "--direct-budget"],
+        ),
     ] {
         let run = bake_draft_into(&path, &out, args);
         assert_refused(&run, &out, needles);
