@@ -400,8 +400,7 @@ impl Gatherer<'_> {
         // count as blockers (a curved node); otherwise its own front would hide it.
         let backs = facing.is_some() || own_hits.is_some();
         let fair = |(q, m): (DVec3, DVec3)| n.dot(q - p) > 0.0 && (backs || m.dot(p - q) > 0.0);
-        // Representatives are read (from their patches' corners: scattered loads) only when a
-        // test needs them.
+        // Representatives are read only when a test needs them.
         let rep = |k: usize| self.tree.rep(i as usize, k);
         // Worth little (its form factor is below SMALL_NODE however its patches turn), like a
         // small one-sided far node: one ray to the patch at its area median decides.
