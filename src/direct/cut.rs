@@ -96,10 +96,7 @@ impl Ord for Item {
 impl Cut {
     /// `fraction`: the bound f (0: no cut).
     pub fn new(sources: &[DirectSource], groups: &Groups, fraction: f64) -> Self {
-        let lum = |k: u32| match &sources[k as usize] {
-            DirectSource::Luminaire(s) => Some(s),
-            _ => None,
-        };
+        let lum = |k: u32| luminaire(sources, k);
         let kind = (0..groups.len() as u32)
             .map(|i| {
                 let (_, _, members, _) = groups.node(i);
@@ -203,10 +200,7 @@ impl Cut {
         spent: &mut [f64],
         t: &impl Target,
     ) -> Option<bool> {
-        let lum = |k: u32| match &sources[k as usize] {
-            DirectSource::Luminaire(s) => Some(s),
-            _ => None,
-        };
+        let lum = |k: u32| luminaire(sources, k);
         let (lo_box, hi_box, members, _) = groups.node(i);
         let (axis, radius) = t.cone(lo_box, hi_box)?;
         // Each member's geometry times its profile's largest intensity over the cone.
@@ -371,6 +365,14 @@ impl State {
                 *l += x;
             }
         }
+    }
+}
+
+/// Source `k` when it is a luminaire.
+fn luminaire<'s, 'a>(sources: &'s [DirectSource<'a>], k: u32) -> Option<&'s Source<'a>> {
+    match &sources[k as usize] {
+        DirectSource::Luminaire(s) => Some(s),
+        _ => None,
     }
 }
 

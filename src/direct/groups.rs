@@ -215,20 +215,19 @@ impl Groups {
             return;
         }
         let mut stack = vec![0u32];
-        let Some(estimate) = estimate.as_mut() else {
-            self.walk(&mut stack, p, normals, &settle, None, &mut cluster, &mut f);
-            return;
-        };
-        let mut aside: Vec<(u32, DVec3)> = Vec::new();
+        let mut aside = estimate.is_some().then(Vec::new);
         self.walk(
             &mut stack,
             p,
             normals,
             &settle,
-            Some(&mut aside),
+            aside.as_mut(),
             &mut cluster,
             &mut f,
         );
+        let (Some(estimate), Some(mut aside)) = (estimate.as_mut(), aside) else {
+            return;
+        };
         // The groups set aside, in the order met; a declined one that no proof settles has its
         // halves visited at once, their own groups joining the end of the line.
         let mut next = 0;
@@ -237,25 +236,22 @@ impl Groups {
             let node = &self.nodes[i as usize];
             if let Some(seen) = estimate(i, n).or_else(|| settle(node.lo, node.hi, n)) {
                 self.settled(i, n, seen, &mut cluster, &mut f);
-                continue;
+            } else if node.children[0] == LEAF {
+                self.members(i)
+                    .iter()
+                    .for_each(|&k| f(k as usize, Known::Trace));
+            } else {
+                stack.extend([node.children[1], node.children[0]]);
+                let aside = Some(&mut aside);
+                self.walk(&mut stack, p, normals, &settle, aside, &mut cluster, &mut f);
             }
-            if node.children[0] == LEAF {
-                for &k in &self.order[node.start as usize..node.end as usize] {
-                    f(k as usize, Known::Trace);
-                }
-                continue;
-            }
-            stack.extend([node.children[1], node.children[0]]);
-            self.walk(
-                &mut stack,
-                p,
-                normals,
-                &settle,
-                Some(&mut aside),
-                &mut cluster,
-                &mut f,
-            );
         }
+    }
+
+    /// Group `i`'s members (source indices).
+    fn members(&self, i: u32) -> &[u32] {
+        let node = &self.nodes[i as usize];
+        &self.order[node.start as usize..node.end as usize]
     }
 
     /// Members of group `i` visited as `seen` or hidden (a seen one offered to `cluster`).
@@ -271,10 +267,7 @@ impl Groups {
             return;
         }
         let known = if seen { Known::Seen } else { Known::Hidden };
-        let node = &self.nodes[i as usize];
-        for &k in &self.order[node.start as usize..node.end as usize] {
-            f(k as usize, known);
-        }
+        self.members(i).iter().for_each(|&k| f(k as usize, known));
     }
 
     /// Visit the subtrees on `stack` ([`Groups::visit_with`]'s traversal); groups that could be
@@ -292,7 +285,6 @@ impl Groups {
     ) {
         while let Some(i) = stack.pop() {
             let node = &self.nodes[i as usize];
-            let members = &self.order[node.start as usize..node.end as usize];
             let (centre, half) = ((node.lo + node.hi) * 0.5, (node.hi - node.lo) * 0.5);
             // A plane the whole box lies in front of.
             let plane = normals
@@ -311,9 +303,9 @@ impl Groups {
                 }
             }
             if node.children[0] == LEAF {
-                for &k in members {
-                    f(k as usize, Known::Trace);
-                }
+                self.members(i)
+                    .iter()
+                    .for_each(|&k| f(k as usize, Known::Trace));
             } else {
                 stack.push(node.children[1]);
                 stack.push(node.children[0]);
