@@ -179,6 +179,19 @@ pub struct Material {
 }
 
 impl Material {
+    /// The linear RGB a viewer multiplies the baked display value (COLOR_0, a display texture)
+    /// by: the base colour; for an emitting material, its emission colour scaled to a largest
+    /// channel of 1, so a source shows at its own luminance instead of reflectance × it.
+    pub fn display_base(&self) -> DVec3 {
+        match &self.emission {
+            Some(e) => e.color / e.color.max_element().max(1e-12),
+            None => {
+                let [r, g, b, _] = self.display.base_color_factor;
+                DVec3::new(r, g, b)
+            }
+        }
+    }
+
     /// The material used for primitives that have none (glTF's default material: white, ρ from
     /// baseColor 1 would be ≥ 1, so we use a documented neutral 0.5).
     pub fn default_material() -> Self {

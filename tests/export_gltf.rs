@@ -387,3 +387,38 @@ fn failed_writes_leave_nothing_behind() {
         .collect();
     assert_eq!(names, ["room.gltf"], "left behind: {names:?}");
 }
+
+/// An emitting material is written unlit over its emission colour (white), so viewers show the
+/// source bright; baking the output anew still reads the input's reflectance, emission and
+/// base colour from `extras.luxbake.original` (here a core-glTF emitter: `emissiveFactor` ×
+/// `KHR_materials_emissive_strength`, reflectance from `baseColorFactor`).
+#[test]
+fn an_emitter_shows_its_emission_colour_and_reads_back_as_its_input() {
+    let dir = support::scratch("emitter-display-base");
+    let mut mini = support::cli::Mini::new();
+    mini.json["extensionsUsed"] = json!(["KHR_materials_emissive_strength"]);
+    mini.json["materials"][1] = json!({"name": "core emitter",
+        "pbrMetallicRoughness": {"baseColorFactor": [0.3, 0.2, 0.1, 1.0], "metallicFactor": 0.0},
+        "emissiveFactor": [1.0, 0.5, 0.25],
+        "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 400.0}}});
+    let input = mini.write_gltf(&dir, "in.gltf", None);
+    let output = dir.join("lit.gltf");
+    let run = support::cli::bake_draft(&input, &output, &[] as &[&str]);
+    assert!(run.ok(), "{run:?}");
+    let doc: Value = serde_json::from_slice(&std::fs::read(&output).unwrap()).unwrap();
+    let m = &doc["materials"][1];
+    assert_eq!(m["pbrMetallicRoughness"]["baseColorFactor"], json!([1.0, 0.5, 0.25, 1.0]));
+    assert_eq!(
+        m["extras"]["luxbake"]["original"]["baseColorFactor"],
+        json!([0.3, 0.2, 0.1, 1.0])
+    );
+    let (a, b) = (
+        luxbake::import::load(&input, &Default::default()).unwrap(),
+        luxbake::import::load(&output, &Default::default()).unwrap(),
+    );
+    let (a, b) = (&a.materials[1], &b.materials[1]);
+    assert_eq!(a.reflectance, b.reflectance);
+    assert_eq!(a.emission, b.emission);
+    assert!(b.emission.is_some());
+    assert_eq!(a.display.base_color_factor, b.display.base_color_factor);
+}

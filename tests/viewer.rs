@@ -198,3 +198,94 @@ fn three_js_shows_the_lightmapped_bake_as_bake_view_display() {
         assert_close("lightmaps", stats);
     }
 }
+
+/// The brightest thing in a room must not be the darkest to a viewer (issue 57): a panel
+/// emitting 3 000 cd/m² with reflectance 0.1 (and base colour 0.1), 0.5 × 0.5 m, 1 m above a
+/// floor, seen from below at 0.8 m (+Y up), fills the middle of the image. Every pixel inside
+/// its outline (a 10 % margin kept off the edges) must be at least 0.95 of white (linear;
+/// sRGB byte ≥ 249), in `bake view --display` and in three.js, vertex and lightmapped bakes.
+/// Before the display base, the panel showed at 0.1 (its base colour) × 1.
+#[test]
+fn an_emitting_panel_shows_white_in_three_js_and_bake_view_display() {
+    let mut mini = cli::Mini::new();
+    mini.json["materials"][1] = serde_json::json!({"name": "window",
+        "pbrMetallicRoughness": {"baseColorFactor": [0.1, 0.1, 0.1, 1.0], "metallicFactor": 0.0},
+        "extensions": {"LUXBAKE_material": {"reflectance": 0.1, "emission": {"luminance": 3000.0}}}});
+    let three = tools::have_three();
+    for (variant, extra) in [("vertex", &[][..]), ("lightmaps", &["--lightmaps"][..])] {
+        let dir = scratch(&format!("viewer-emitter-{variant}"));
+        let scene = mini.write_gltf(&dir, "panel.gltf", None);
+        let lit = dir.join("lit.gltf");
+        let run = cli::bake_draft(&scene, &lit, extra);
+        assert!(run.ok(), "{run:?}");
+        let (eye, target, up, fov, size) = ("0,0.2,0", "0,1,0", "0,0,1", "40", "200x200");
+        let view = dir.join("view.png");
+        let run = cli::bake([
+            "view",
+            lit.to_str().unwrap(),
+            "-o",
+            dir.join("view.exr").to_str().unwrap(),
+            "--eye",
+            eye,
+            "--target",
+            target,
+            "--up",
+            up,
+            "--fov",
+            fov,
+            "--size",
+            size,
+            "--display",
+            view.to_str().unwrap(),
+        ]);
+        assert!(run.ok(), "{run:?}");
+        let mut images = vec![("bake view --display", view)];
+        if three {
+            let png = dir.join("three.png");
+            let args = [
+                "--eye", eye, "--target", target, "--up", up, "--fov", fov, "--size", size,
+            ];
+            tools::render_three_with(&lit, &png, &args);
+            images.push(("three.js", png));
+        }
+        // The panel's half-width over the view's half-height at 0.8 m: 0.25 / (0.8·tan 20°).
+        let half = 0.25 / (0.8 * 20f64.to_radians().tan());
+        for (who, png) in images {
+            let pixels = read_png_sized(&png, 200, 200);
+            let inner = (0.9 * half * 100.0) as usize;
+            let mut darkest = 255u8;
+            for y in 100 - inner..100 + inner {
+                for x in 100 - inner..100 + inner {
+                    let p = &pixels[3 * (y * 200 + x)..3 * (y * 200 + x) + 3];
+                    darkest = darkest.min(*p.iter().min().unwrap());
+                }
+            }
+            assert!(
+                darkest >= 249,
+                "{variant}, {who}: darkest panel pixel {darkest}/255 < 249"
+            );
+        }
+    }
+}
+
+/// 8-bit RGB pixels of a `width` × `height` PNG, row 0 at the top.
+fn read_png_sized(path: &Path, width: u32, height: u32) -> Vec<u8> {
+    let file = std::fs::File::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let mut reader = png::Decoder::new(std::io::BufReader::new(file))
+        .read_info()
+        .unwrap();
+    let mut pixels = vec![0; reader.output_buffer_size().unwrap()];
+    let info = reader.next_frame(&mut pixels).unwrap();
+    assert_eq!(
+        (info.width, info.height),
+        (width, height),
+        "{}",
+        path.display()
+    );
+    pixels.truncate(info.buffer_size());
+    match info.color_type {
+        png::ColorType::Rgb => pixels,
+        png::ColorType::Rgba => pixels.chunks(4).flat_map(|p| [p[0], p[1], p[2]]).collect(),
+        other => panic!("{}: colour type {other:?}", path.display()),
+    }
+}

@@ -2,8 +2,10 @@
 //! baseColor × COLOR_0, so COLOR_0 carries the illumination, tone-mapped into [0, 1]:
 //! COLOR_0 = shoulder(k·E_rgb), with k the exposure scale (k = 1/E_white). The shoulder is linear
 //! up to 0.8 and then eases to 1 (continuous slope), so bright areas keep some gradation.
-//! Emitting surfaces show their own luminance: their colour uses the illuminance that would make
-//! a surface of their base colour as bright, k·π·L/ρ_display.
+//! Emitting surfaces show their own luminance: the output gives them a display base of their
+//! emission colour (largest channel 1, `Material::display_base`) instead of their reflectance,
+//! and their colour uses the illuminance that would make a surface of that base as bright,
+//! k·π·L/Y(base). So a source brighter than the exposure's white shows white (or its colour).
 //!
 //! Auto exposure: the area-weighted 95th percentile of illuminance over non-emitting receivers
 //! maps to 0.8.
@@ -65,12 +67,7 @@ fn percentile_illuminance(s: &Solution, q: f64) -> f64 {
 /// The display colour at a receiver with illuminance `e` and exitance `m` (both RGB).
 pub fn color(e: DVec3, m: DVec3, material: &Material, k: f64) -> [f32; 3] {
     let value = if material.emission.is_some() {
-        let base = DVec3::new(
-            material.display.base_color_factor[0],
-            material.display.base_color_factor[1],
-            material.display.base_color_factor[2],
-        );
-        m / luma(base).max(0.05)
+        m / luma(material.display_base()).max(0.05)
     } else {
         e
     };

@@ -8,7 +8,8 @@
 //! material's name, and records `extras.luxbake.variantOf` (the scene material's index).
 //! - With unlit (default) the display reaches every viewer through emission, whatever its
 //!   lights: base colour black (alpha kept), metallic 0, roughness 1, no other texture,
-//!   `emissiveFactor` = base colour, `emissiveTexture` = the display on `TEXCOORD_1`; not
+//!   `emissiveFactor` = the display base (`Material::display_base`: the base colour, an
+//!   emitter's emission colour), `emissiveTexture` = the display on `TEXCOORD_1`; not
 //!   `KHR_materials_unlit`, which the validator warns about beside any other extension. What
 //!   was changed is kept in `extras.luxbake.original`, and `LUXBAKE_material` states the
 //!   photometry explicitly (reflectance, emission) so baking the output anew reads the input's.
@@ -122,7 +123,8 @@ fn emissive(out: &mut Value, m: &Material, texture: usize) {
     let pbr = out["pbrMetallicRoughness"]
         .as_object_mut()
         .expect("pbrMetallicRoughness object");
-    let [r, g, b, a] = m.display.base_color_factor;
+    let a = m.display.base_color_factor[3];
+    let [r, g, b] = m.display_base().to_array();
     for key in [
         "baseColorFactor",
         "baseColorTexture",

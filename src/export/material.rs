@@ -8,7 +8,9 @@
 //! `extras.luxbake.original`, because the validator warns about any extension beside unlit), its
 //! `emission.profile` set to the output index of the emission's profile. With `unlit` (default) a material gets
 //! `KHR_materials_unlit`, the spec's fallback metallic 0 / roughness 1, emissive zeroed and
-//! `KHR_materials_emissive_strength` dropped (it is forbidden with unlit); a material baked with a
+//! `KHR_materials_emissive_strength` dropped (it is forbidden with unlit), an emitting material's
+//! base colour its emission colour scaled to a largest channel of 1 (`Material::display_base`:
+//! COLOR_0 then shows its luminance) and its base colour texture dropped; a material baked with a
 //! back side is written single-sided (each face has its own primitive). Every changed value is
 //! kept in `extras.luxbake.original`; `extras.luxbake` also records the reflectance used.
 
@@ -83,9 +85,19 @@ fn material(m: &Material, back_baked: bool, options: &ExportOptions, profiles: &
     if let Some(name) = &m.name {
         out.insert("name".into(), json!(name));
     }
+    // Unlit, an emitting material shows COLOR_0 over its emission colour (white for white
+    // light), not over its reflectance: a source must not look darker than what it lights.
+    let shows_emission = options.unlit && m.emission.is_some();
+    let base_color = match shows_emission {
+        true => {
+            let [r, g, b] = m.display_base().to_array();
+            [r, g, b, d.base_color_factor[3]]
+        }
+        false => d.base_color_factor,
+    };
     let mut pbr = Map::new();
-    pbr.insert("baseColorFactor".into(), json!(d.base_color_factor));
-    if let Some(t) = &d.base_color_texture {
+    pbr.insert("baseColorFactor".into(), json!(base_color));
+    if let Some(t) = d.base_color_texture.as_ref().filter(|_| !shows_emission) {
         pbr.insert("baseColorTexture".into(), texture_info(t, None));
     }
     pbr.insert("metallicFactor".into(), json!(metallic));
@@ -142,6 +154,9 @@ fn material(m: &Material, back_baked: bool, options: &ExportOptions, profiles: &
     let mut original = Map::new();
     if options.unlit {
         original.insert("baseColorFactor".into(), json!(d.base_color_factor));
+        if let Some(t) = d.base_color_texture.as_ref().filter(|_| shows_emission) {
+            original.insert("baseColorTexture".into(), texture_info(t, None));
+        }
         original.insert("metallicFactor".into(), json!(d.metallic_factor));
         original.insert("roughnessFactor".into(), json!(d.roughness_factor));
         original.insert("emissiveFactor".into(), json!(d.emissive_factor));

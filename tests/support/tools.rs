@@ -231,10 +231,16 @@ pub fn have_three() -> bool {
 /// Render `gltf` as three.js's GLTFLoader shows it, from its camera node `camera`, into the PNG
 /// `out` (8-bit RGB, `size` = `WxH`).
 pub fn render_three(gltf: &Path, out: &Path, camera: &str, size: &str) {
+    render_three_with(gltf, out, &["--camera", camera, "--size", size]);
+}
+
+/// Render `gltf` as [`render_three`] does, with `render.mjs`'s own view options (`--eye`,
+/// `--target`, `--up`, `--fov`, `--size`).
+pub fn render_three_with(gltf: &Path, out: &Path, view: &[&str]) {
     let run = Command::new("node")
         .arg(repo().join("bench/render/render.mjs"))
         .args([gltf, out])
-        .args(["--camera", camera, "--size", size])
+        .args(view)
         .output()
         .expect("cannot run node");
     assert!(

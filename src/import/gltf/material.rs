@@ -92,8 +92,10 @@ fn material(
         None => {
             let [r, g, b, _] = display.base_color_factor;
             let mut color = DVec3::new(r, g, b);
-            if let Some(t) = &m.pbr_metallic_roughness().base_color_texture() {
-                let image = t.texture().source().index();
+            let source =
+                |t: &TextureRef| raw::number(raw, &format!("/textures/{}/source", t.texture));
+            if let Some(image) = display.base_color_texture.as_ref().and_then(source) {
+                let image = image as usize;
                 let mean = match means.get(&image) {
                     Some(&mean) => mean,
                     None => {
@@ -227,12 +229,39 @@ fn display(m: &::gltf::Material, raw: &Value, at: &str, ext: Option<Value>) -> D
             scale: 1.0,
         })
     };
+    // A luxbake output made unlit keeps the material's own values here (see `export::material`).
+    let original = format!("{at}/extras/luxbake/original");
+    let kept = |path: String, key: &str| match raw::cloned(raw, &format!("{original}/{key}")) {
+        Some(_) => format!("{original}/{key}"),
+        None => path,
+    };
+    let base_color_texture = match raw::cloned(raw, &format!("{original}/baseColorTexture")) {
+        Some(info) => (info["index"].as_u64())
+            .filter(|t| raw::cloned(raw, &format!("/textures/{t}")).is_some())
+            .map(|t| TextureRef {
+                texture: t as usize,
+                tex_coord: info["texCoord"].as_u64().unwrap_or(0) as u32,
+                scale: 1.0,
+            }),
+        None => texture(pbr.base_color_texture()),
+    };
     DisplayMaterial {
-        base_color_factor: raw::numbers(raw, &format!("{pbr_at}/baseColorFactor"))
-            .unwrap_or([1.0; 4]),
-        base_color_texture: texture(pbr.base_color_texture()),
-        metallic_factor: raw::number_or(raw, &format!("{pbr_at}/metallicFactor"), 1.0),
-        roughness_factor: raw::number_or(raw, &format!("{pbr_at}/roughnessFactor"), 1.0),
+        base_color_factor: raw::numbers(
+            raw,
+            &kept(format!("{pbr_at}/baseColorFactor"), "baseColorFactor"),
+        )
+        .unwrap_or([1.0; 4]),
+        base_color_texture,
+        metallic_factor: raw::number_or(
+            raw,
+            &kept(format!("{pbr_at}/metallicFactor"), "metallicFactor"),
+            1.0,
+        ),
+        roughness_factor: raw::number_or(
+            raw,
+            &kept(format!("{pbr_at}/roughnessFactor"), "roughnessFactor"),
+            1.0,
+        ),
         metallic_roughness_texture: texture(pbr.metallic_roughness_texture()),
         normal_texture: m.normal_texture().map(|t| TextureRef {
             texture: t.texture().index(),
@@ -245,10 +274,14 @@ fn display(m: &::gltf::Material, raw: &Value, at: &str, ext: Option<Value>) -> D
             scale: raw::number_or(raw, &format!("{at}/occlusionTexture/strength"), 1.0),
         }),
         emissive_texture: texture(m.emissive_texture()),
-        emissive_factor: raw::numbers(raw, &format!("{at}/emissiveFactor")).unwrap_or([0.0; 3]),
+        emissive_factor: raw::numbers(raw, &kept(format!("{at}/emissiveFactor"), "emissiveFactor"))
+            .unwrap_or([0.0; 3]),
         emissive_strength: raw::number(
             raw,
-            &format!("{at}/extensions/KHR_materials_emissive_strength/emissiveStrength"),
+            &kept(
+                format!("{at}/extensions/KHR_materials_emissive_strength/emissiveStrength"),
+                "emissiveStrength",
+            ),
         ),
         alpha_mode: match m.alpha_mode() {
             ::gltf::material::AlphaMode::Opaque => AlphaMode::Opaque,
