@@ -61,6 +61,7 @@ fn main() {
             surfaces: vec![surface],
             probes: Vec::new(),
             lightmaps: None,
+            openings: Vec::new(),
             summary: Default::default(),
             timings: Default::default(),
         };

@@ -85,6 +85,22 @@ impl Atlas {
     }
 }
 
+/// A luminaire's luminous opening drawn for viewers: never a receiver, an occluder or an input
+/// surface (the importer skips it), so it shows the fitting lit in any glTF viewer.
+#[derive(Debug, Clone, PartialEq)]
+pub struct OpeningMesh {
+    /// Which luminaire (index into `Scene::luminaires`).
+    pub luminaire: usize,
+    /// World-space positions (m, +Y up) and unit normals; three vertices a triangle, each face
+    /// its own vertices.
+    pub positions: Vec<DVec3>,
+    pub normals: Vec<DVec3>,
+    /// The luminance each vertex's face shows along its normal (Y, cd/m²).
+    pub luminance: Vec<f32>,
+    /// Display colour, in [0, 1] (over a white base, as `COLOR_0`).
+    pub color: Vec<[f32; 3]>,
+}
+
 /// Everything the bake produced.
 #[derive(Debug, Clone)]
 pub struct BakeResult {
@@ -94,6 +110,8 @@ pub struct BakeResult {
     pub probes: Vec<crate::probes::ProbeResult>,
     /// The lightmap atlases (`--lightmaps`).
     pub lightmaps: Option<Lightmaps>,
+    /// The luminaires' luminous openings as display-only meshes (`bake::openings`).
+    pub openings: Vec<OpeningMesh>,
     /// The run summary; written as the output scene's `extras.luxbake` and by `--summary-json`.
     pub summary: RunSummary,
     /// Wall-clock seconds per stage (not part of `summary` unless asked for: they differ run to
@@ -133,6 +151,7 @@ impl BakeResult {
             surfaces,
             probes: Vec::new(),
             lightmaps: None,
+            openings: Vec::new(),
             summary: RunSummary::default(),
             timings: StageSeconds::default(),
         }

@@ -407,7 +407,10 @@ fn an_emitter_shows_its_emission_colour_and_reads_back_as_its_input() {
     assert!(run.ok(), "{run:?}");
     let doc: Value = serde_json::from_slice(&std::fs::read(&output).unwrap()).unwrap();
     let m = &doc["materials"][1];
-    assert_eq!(m["pbrMetallicRoughness"]["baseColorFactor"], json!([1.0, 0.5, 0.25, 1.0]));
+    assert_eq!(
+        m["pbrMetallicRoughness"]["baseColorFactor"],
+        json!([1.0, 0.5, 0.25, 1.0])
+    );
     assert_eq!(
         m["extras"]["luxbake"]["original"]["baseColorFactor"],
         json!([0.3, 0.2, 0.1, 1.0])

@@ -74,6 +74,14 @@ pub fn color(e: DVec3, m: DVec3, material: &Material, k: f64) -> [f32; 3] {
     (value * k).to_array().map(|x| shoulder(x) as f32)
 }
 
+/// The display colour of a surface showing luminance `l` (RGB, cd/m²) over a white base: the
+/// colour a surface of reflectance 1 under illuminance π·L shows, shoulder(k·π·L).
+pub fn luminance_color(l: DVec3, k: f64) -> [f32; 3] {
+    (l * std::f64::consts::PI * k)
+        .to_array()
+        .map(|x| shoulder(x) as f32)
+}
+
 fn shoulder(x: f64) -> f64 {
     if x.is_nan() || x <= 0.0 {
         0.0

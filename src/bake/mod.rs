@@ -24,6 +24,7 @@ mod energy;
 mod groups;
 mod links;
 mod meshing;
+mod openings;
 mod output;
 pub mod probes;
 mod run;
@@ -103,10 +104,12 @@ fn finish(
     if settings.record_timings {
         summary.timings_seconds = Some(run.seconds);
     }
+    let openings = run.time(Stage::Output, || openings::meshes(scene, scale));
     BakeResult {
         surfaces,
         probes,
         lightmaps,
+        openings,
         summary,
         timings: run.seconds,
     }

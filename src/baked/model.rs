@@ -21,6 +21,9 @@ pub struct BakedOutput {
     /// The baked primitives (those with `_ILLUMINANCE`), in output order: nodes by index, each
     /// node's surfaces in order, front side then back side.
     pub primitives: Vec<Primitive>,
+    /// Primitives drawn for viewers only (nodes with `extras.luxbake.displayOnly`: the
+    /// luminaires' luminous openings), in node order.
+    pub shown: Vec<Shown>,
     /// Every probe node (a node with `extras.luxbake.faces`), in node order.
     pub probes: Vec<ProbeNode>,
     /// The working-plane probes, when the bake measured at least one.
@@ -72,6 +75,18 @@ pub struct Look {
     pub emissive_texture: Option<(usize, u32)>,
     /// `KHR_materials_unlit`.
     pub unlit: bool,
+}
+
+/// A primitive drawn for viewers only, in world space (m, +Y up): what a glTF viewer shows of
+/// it is `base` × `COLOR_0`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Shown {
+    pub positions: Vec<DVec3>,
+    /// Counter-clockwise seen from the front, in world space.
+    pub triangles: Vec<[u32; 3]>,
+    pub color: Vec<[f32; 3]>,
+    /// The material's `baseColorFactor` (RGB).
+    pub base: [f64; 3],
 }
 
 /// One baked primitive in world space (m, +Y up); values per vertex.

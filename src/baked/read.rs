@@ -10,6 +10,8 @@
 //!   to the stored `f32` positions), triangles wound counter-clockwise in world space,
 //!   `_ILLUMINANCE`, `_ILLUMINANCE_DIRECT`, `_LUMINANCE`, and where its covered part starts
 //!   (`extras.luxbake.coveredFrom`, absent in older outputs: nothing covered);
+//! - the primitives of nodes drawn for viewers only (`extras.luxbake.displayOnly`: luminous
+//!   openings) with COLOR_0, as [`Shown`]: world positions, triangles, COLOR_0, base colour;
 //! - every node's `extras.power_W` and `LUXBAKE_luminaire.maintenanceFactor` (luminaires);
 //! - every probe node of the scene (a node whose `extras.luxbake.faces` is an object): its
 //!   position (`extras.luxbake.probe.position`, else the node's world origin) and its six
@@ -29,7 +31,7 @@
 use super::lightmaps::{self, Layouts};
 use super::model::{
     BakedOutput, LightmapUse, Look, MaterialInfo, NodeInfo, PlaneInput, PlanePoint, Primitive,
-    ProbeNode, parents,
+    ProbeNode, Shown, parents,
 };
 use super::texels::{Scratch, rasterise};
 use crate::export::{ExportOptions, Prepared};
@@ -115,11 +117,20 @@ fn from_file(file: &mut GltfFile, memory: Option<&Lightmaps>) -> Result<BakedOut
     let probes = probe_nodes(file)?;
     let points = working_plane(file)?;
     let mut primitives = Vec::new();
+    let mut shown = Vec::new();
     let mut scratch: Vec<Scratch> = (layouts.lightmaps.iter())
         .map(|l| Scratch::new(l.width, l.height))
         .collect();
     for i in file.scene_nodes() {
         let world = nodes[i].world_from_local;
+        let display_only = (nodes[i].extras.as_ref())
+            .is_some_and(|e| e["luxbake"]["displayOnly"] == Value::Bool(true));
+        if display_only {
+            for p in file.primitives(i) {
+                shown.extend(shown_primitive(&json, &p, world)?);
+            }
+            continue;
+        }
         for p in file.primitives(i) {
             if let Some(prim) = primitive(file, &p, i, world, &layouts, &mut scratch)? {
                 if reflectances.get(prim.material).copied().flatten().is_none() {
@@ -152,6 +163,7 @@ fn from_file(file: &mut GltfFile, memory: Option<&Lightmaps>) -> Result<BakedOut
         nodes: node_infos,
         materials,
         primitives,
+        shown,
         probes,
         working_plane: (!points.is_empty()).then_some(PlaneInput { points }),
         lightmaps: layouts.lightmaps,
@@ -244,6 +256,33 @@ fn reflectance(v: &Value) -> Option<DVec3> {
 
 /// A baked primitive, or `None` when it has no `_ILLUMINANCE` or is not made of triangles.
 /// `layouts`: the lightmaps and each material's; `scratch`: one per lightmap.
+/// A display-only primitive with COLOR_0 (others are skipped).
+fn shown_primitive(json: &Value, p: &GltfPrimitive, world: DMat4) -> Result<Option<Shown>> {
+    if !p.has("COLOR_0") || !p.is_triangles() {
+        return Ok(None);
+    }
+    p.vertex_count()?;
+    let positions: Vec<DVec3> = (p.positions()?.into_iter())
+        .map(|q| world.transform_point3(q))
+        .collect();
+    let mut triangles = p.triangles()?;
+    if world.determinant() < 0.0 {
+        for t in &mut triangles {
+            t.swap(1, 2);
+        }
+    }
+    let base = match p.material() {
+        Some(m) => look(&json["materials"][m]).base_color,
+        None => [1.0; 4],
+    };
+    Ok(Some(Shown {
+        positions,
+        triangles,
+        color: colors(p)?,
+        base: [base[0], base[1], base[2]],
+    }))
+}
+
 fn primitive(
     file: &GltfFile,
     p: &GltfPrimitive,

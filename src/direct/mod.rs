@@ -8,6 +8,7 @@ pub mod enclosed;
 pub mod flux;
 pub mod groups;
 pub mod luminaire;
+pub mod opening;
 pub mod penumbra;
 pub mod profiled;
 pub mod punctual;

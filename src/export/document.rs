@@ -11,7 +11,9 @@
 //! know, such as `EXT_lights_ies` and `LUXBAKE_luminaire`).
 
 use super::lightmap_material::Variants;
-use super::{ExportOptions, buffer::Binary, lightmaps, luminaires, material, mesh, nodes, probes};
+use super::{
+    ExportOptions, buffer::Binary, lightmaps, luminaires, material, mesh, nodes, openings, probes,
+};
 use crate::{Result, result::BakeResult, scene::Scene};
 use serde_json::{Map, Value, json};
 use std::collections::{BTreeMap, BTreeSet};
@@ -86,6 +88,19 @@ fn assemble(
             scene: &mut scenes[0],
         },
     )?;
+    if baked {
+        openings::add(
+            scene,
+            &result.openings,
+            &mut binary,
+            openings::Arrays {
+                nodes: &mut nodes,
+                meshes: &mut mesh_json,
+                materials: &mut materials,
+                scene: &mut scenes[0],
+            },
+        );
+    }
     let lights = nodes::lights(scene);
     let (bin, views, accessors) = binary.finish();
 

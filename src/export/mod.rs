@@ -32,6 +32,7 @@ mod luminaires;
 mod material;
 mod mesh;
 mod nodes;
+mod openings;
 mod probes;
 pub mod summary;
 mod target;

@@ -54,7 +54,10 @@ pub(crate) fn load(ctx: &mut Ctx, bytes: &[u8]) -> Result<Scene> {
                 format!("/nodes/{i}: skinning is ignored; meshes are baked in their bind pose"),
             );
         }
-        if let Some(mesh) = node.mesh() {
+        // Meshes a luxbake output drew for viewers only (luminous openings) are not geometry.
+        let display_only = raw::cloned(&raw, &format!("/nodes/{i}/extras/luxbake/displayOnly"))
+            .is_some_and(|v| v == Value::Bool(true));
+        if let Some(mesh) = node.mesh().filter(|_| !display_only) {
             let placement = mesh::Placement {
                 node: i,
                 world_from_local: world,

@@ -145,9 +145,16 @@ fn sample(
         what,
         luminance,
         illuminance: hit.map_or(f64::NAN, |h| surfaces.illuminance(&h)),
-        display: match (display, &hit) {
-            (true, Some(h)) => surfaces.display(h).map(srgb_encode),
-            _ => DVec3::ZERO,
+        display: match display {
+            true => {
+                let reach = hit.map_or(f64::INFINITY, |h| h.distance);
+                match (surfaces.shown_display(origin, dir, reach), &hit) {
+                    (Some(c), _) => c.map(srgb_encode),
+                    (None, Some(h)) => surfaces.display(h).map(srgb_encode),
+                    (None, None) => DVec3::ZERO,
+                }
+            }
+            false => DVec3::ZERO,
         },
     }
 }

@@ -17,6 +17,9 @@
 //!   ones emissiveFactor ⊙ the display texture (sRGB texels decoded to linear, then bilinear, as
 //!   a GPU's sRGB texture filters). Base colour textures are not drawn.
 //!
+//! - Display-only primitives (luminous openings): base colour × interpolated COLOR_0, in the
+//!   display only, where nearer than every surface.
+//!
 //! Back faces are culled ([`Occluder::closest_front`]): a double-sided surface is baked as two
 //! primitives wound opposite ways, so each side shows its own values.
 
@@ -84,6 +87,10 @@ pub struct Surfaces<'a> {
     /// Per texture index of the output: its decoded display texture, where a lightmapped
     /// material shows one.
     textures: Vec<Option<DisplayTexture>>,
+    /// The display-only primitives (luminous openings): (primitive, triangle) of each triangle
+    /// of their BVH, which the display alone sees.
+    shown_ids: Vec<(u32, u32)>,
+    shown: Option<Occluder>,
 }
 
 impl<'a> Surfaces<'a> {
@@ -105,13 +112,43 @@ impl<'a> Surfaces<'a> {
                 None => vertex_luminance(p, baked.materials[p.material].reflectance_rgb),
             })
             .collect();
+        let mut shown_ids = Vec::new();
+        let mut shown_tris = Vec::new();
+        for (p, prim) in baked.shown.iter().enumerate() {
+            for (t, tri) in prim.triangles.iter().enumerate() {
+                shown_ids.push((p as u32, t as u32));
+                shown_tris.push(tri.map(|v| prim.positions[v as usize]));
+            }
+        }
         Surfaces {
             baked,
             ids,
             occluder: Occluder::from_triangles(&tris, false),
             vertex_rgb,
             textures,
+            shown_ids,
+            shown: (!shown_tris.is_empty()).then(|| Occluder::from_triangles(&shown_tris, false)),
         }
+    }
+
+    /// What a viewer shows of the nearest display-only primitive's front face along the unit
+    /// `dir` from `origin` no farther than `reach`: base colour × interpolated COLOR_0.
+    pub fn shown_display(&self, origin: DVec3, dir: DVec3, reach: f64) -> Option<DVec3> {
+        let h = self.shown.as_ref()?.closest_front(origin, dir)?;
+        if h.distance > reach {
+            return None;
+        }
+        let (p, t) = self.shown_ids[h.triangle];
+        let prim = &self.baked.shown[p as usize];
+        let tri = prim.triangles[t as usize];
+        let w = weights(
+            &tri.map(|v| prim.positions[v as usize]),
+            origin + dir * h.distance,
+        );
+        let color: DVec3 = (0..3)
+            .map(|k| DVec3::from_array(prim.color[tri[k] as usize].map(f64::from)) * w[k])
+            .sum();
+        Some(DVec3::from_array(prim.base) * color)
     }
 
     /// The BVH's distance tolerance (m): 10⁻⁵ of the scene's diagonal.

@@ -220,6 +220,7 @@ pub fn scene() -> (Scene, BakeResult) {
             baked(1, &surfaces[1], Side::Back, 20.0, 0.5),
         ],
         lightmaps: None,
+        openings: Vec::new(),
         summary: RunSummary {
             counts: Counts {
                 patches: 12,
