@@ -5,6 +5,7 @@ pub mod bake;
 pub mod design;
 pub mod diff;
 pub mod fit;
+pub mod formats;
 pub mod generate;
 pub mod luminaire;
 pub mod memory;

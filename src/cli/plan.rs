@@ -80,16 +80,7 @@ pub fn run(a: &PlanArgs) -> Result<()> {
     };
     plan::check(&options)?;
     luxbake::export::check_files(&[&a.file], &[&a.output])?;
-    let ext = (a.output.extension().and_then(|e| e.to_str()))
-        .map(str::to_ascii_lowercase)
-        .unwrap_or_default();
-    if ext != "svg" && ext != "png" {
-        return Err(Error::Settings(format!(
-            "-o {}: a plan is written as .svg or .png",
-            a.output.display()
-        ))
-        .into());
-    }
+    let ext = super::formats::extension(&a.output, "-o", &["svg", "png"], "a plan")?;
     let input = luxbake::baked::read(&a.file)?;
     let plan = plan::build(&input, &options)?;
     let bytes = if ext == "svg" {

@@ -2,7 +2,8 @@
 //! [--targets FILE] [--border M] [-o FILE]`: the lighting report of a finished bake, read back
 //! from its output. The same text as `bake … --report` printed at bake time (both go through
 //! [`render`]). `html`: the designer's report document (`luxbake::sheet`), with the isolux plan
-//! and the camera nodes' false-colour views. `-o`: written atomically instead of printed.
+//! and the camera nodes' false-colour views. `-o`: written atomically instead of printed; without
+//! `--format` its extension names the format, and an extension naming none (or another) is refused.
 
 use anyhow::Result;
 use clap::{Args, ValueEnum};
@@ -18,9 +19,10 @@ use std::path::{Path, PathBuf};
 pub struct ReportArgs {
     /// A glTF written by bake (.gltf or .glb).
     file: PathBuf,
-    /// Output format (html: the designer's report document, self-contained).
-    #[arg(long, value_enum, default_value_t = ReportFormat::Table)]
-    format: ReportFormat,
+    /// Output format (html: the designer's report document, self-contained) [default: from
+    /// the -o file's extension (.txt, .md, .csv, .json, .html), else table].
+    #[arg(long, value_enum)]
+    format: Option<ReportFormat>,
     /// Surface sections: by node, by material, or both.
     #[arg(long, value_enum, default_value_t = ByArg::Both)]
     by: ByArg,
@@ -106,11 +108,12 @@ pub fn run(args: &ReportArgs) -> Result<()> {
         ))
         .into());
     }
+    let format = format_of(args.format, args.output.as_deref())?;
     if let Some(out) = &args.output {
         luxbake::export::check_files(&[&args.file], &[out])?;
     }
     let input = luxbake::baked::read(&args.file)?;
-    let text = match args.format {
+    let text = match format {
         ReportFormat::Table => render(&input, &options, FormatArg::Table)?,
         ReportFormat::Markdown => render(&input, &options, FormatArg::Markdown)?,
         ReportFormat::Csv => render(&input, &options, FormatArg::Csv)?,
@@ -134,4 +137,33 @@ pub fn run(args: &ReportArgs) -> Result<()> {
         None => print!("{text}"),
     }
     Ok(())
+}
+
+/// The report's format: `--format` when given, else the one the `-o` file's extension names,
+/// else a table. An `-o` extension that names no report format, or another one than
+/// `--format`, is refused.
+fn format_of(given: Option<ReportFormat>, output: Option<&Path>) -> Result<ReportFormat> {
+    let Some(out) = output else {
+        return Ok(given.unwrap_or(ReportFormat::Table));
+    };
+    let what = "a report (.txt: table, .md, .csv, .json, .html)";
+    let ext = super::formats::extension(out, "-o", &["txt", "md", "csv", "json", "html"], what)?;
+    let named = match ext.as_str() {
+        "md" => ReportFormat::Markdown,
+        "csv" => ReportFormat::Csv,
+        "json" => ReportFormat::Json,
+        "html" => ReportFormat::Html,
+        _ => ReportFormat::Table,
+    };
+    match given {
+        Some(g) if std::mem::discriminant(&g) != std::mem::discriminant(&named) => {
+            Err(Error::Settings(format!(
+                "-o {}: --format {} does not match the file's extension (.{ext})",
+                out.display(),
+                format!("{g:?}").to_lowercase()
+            ))
+            .into())
+        }
+        _ => Ok(named),
+    }
 }

@@ -1,8 +1,10 @@
-//! `bake view LIT.gltf|.glb -o VIEW.exr [--camera NAME | --eye X,Y,Z --target X,Y,Z [--up X,Y,Z]
+//! `bake view LIT.gltf|.glb -o VIEW.exr|VIEW.png [--camera NAME | --eye X,Y,Z --target X,Y,Z [--up X,Y,Z]
 //! --fov DEG] [--size WxH] [--near M] [--samples N] [--threads N] [--png OUT.png]
 //! [--false-colour OUT.png [--quantity luminance|illuminance] [--scale auto|LO:HI] [--log]
 //! [--steps N] [--contours]] [--display OUT.png]`: a luminance image of a finished bake.
 //!
+//! Each output's format follows its extension (`-o`: .exr luminance or .png tone mapped; the
+//! pictures: .png), else the run is refused before any work (`super::formats`).
 //! Every output path is checked against the files the bake is made of before any work; all
 //! outputs are written together at the end (atomically). A camera that seems to be inside a
 //! solid is a warning on stderr.
@@ -22,8 +24,9 @@ use std::path::{Path, PathBuf};
 pub struct ViewArgs {
     /// A glTF written by bake (.gltf or .glb).
     file: PathBuf,
-    /// The EXR to write (R, G, B and luminance in cd/m²).
-    #[arg(short, long, value_name = "VIEW.exr")]
+    /// The image to write, its format by its extension: .exr (R, G, B and luminance in cd/m²)
+    /// or .png (tone mapped for the adapted eye, as --png).
+    #[arg(short, long, value_name = "VIEW.exr|VIEW.png")]
     output: PathBuf,
     /// A glTF camera node of the file, by name (perspective).
     #[arg(long, value_name = "NAME", conflicts_with_all = ["eye", "target", "up", "fov"])]
@@ -203,6 +206,22 @@ pub fn run(args: &ViewArgs) -> Result<()> {
     if args.scale != "auto" {
         colour_scale(args, &[])?;
     }
+    let main = super::formats::extension(
+        &args.output,
+        "-o",
+        &["exr", "png"],
+        "a view (.exr: luminance in cd/m²; .png: tone mapped as --png)",
+    )?;
+    let pngs = [
+        ("--png", &args.png),
+        ("--false-colour", &args.false_colour),
+        ("--display", &args.display),
+    ];
+    for (flag, path) in pngs {
+        if let Some(path) = path {
+            super::formats::extension(path, flag, &["png"], "this picture")?;
+        }
+    }
     let outputs: Vec<&Path> = [
         Some(&args.output),
         args.png.as_ref(),
@@ -267,13 +286,16 @@ pub fn run(args: &ViewArgs) -> Result<()> {
         ],
     })
     .map_err(|m| Error::output(&args.output, m))?;
-    let mut files: Vec<(&Path, Vec<u8>)> = vec![(&args.output, exr)];
     let png = |path: &Path, img: &Rgb8Image| -> Result<Vec<u8>> {
         Ok(export::display::png_rgb8(img).map_err(|m| Error::output(path, m))?)
     };
+    let tone_mapped = || tonemap::histogram_adjustment(&rgb, w, h, camera.yfov.to_degrees());
+    let mut files: Vec<(&Path, Vec<u8>)> = match main.as_str() {
+        "png" => vec![(&args.output, png(&args.output, &tone_mapped().image)?)],
+        _ => vec![(&args.output, exr)],
+    };
     if let Some(path) = &args.png {
-        let mapped = tonemap::histogram_adjustment(&rgb, w, h, camera.yfov.to_degrees());
-        files.push((path, png(path, &mapped.image)?));
+        files.push((path, png(path, &tone_mapped().image)?));
     }
     if let Some(path) = &args.false_colour {
         let (values, unit): (Vec<f64>, &str) = match args.quantity {

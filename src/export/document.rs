@@ -76,18 +76,6 @@ fn assemble(
     let mut nodes = nodes::nodes(scene, &meshes.node_mesh, &profiles.node_extensions(scene));
     let mut scenes = vec![nodes::scene(scene, baked.then_some(&result.summary))];
     let mut mesh_json = meshes.json;
-    probes::add(
-        scene,
-        &result.probes,
-        options.probe_glyphs,
-        &mut binary,
-        probes::Arrays {
-            nodes: &mut nodes,
-            meshes: &mut mesh_json,
-            materials: &mut materials,
-            scene: &mut scenes[0],
-        },
-    )?;
     if baked {
         openings::add(
             scene,
@@ -101,6 +89,18 @@ fn assemble(
             },
         );
     }
+    probes::add(
+        scene,
+        &result.probes,
+        options.probe_glyphs,
+        &mut binary,
+        probes::Arrays {
+            nodes: &mut nodes,
+            meshes: &mut mesh_json,
+            materials: &mut materials,
+            scene: &mut scenes[0],
+        },
+    )?;
     let lights = nodes::lights(scene);
     let (bin, views, accessors) = binary.finish();
 

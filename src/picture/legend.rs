@@ -5,7 +5,9 @@
 //! (w + strip) × max(h, the legend's least height): the values in the scale's colours (no
 //! data dark grey), with contours the band-edge pixels black on light colours and white on
 //! dark ones; right of it on white, the unit (and "log" when logarithmic) at the top, the
-//! colour bar (top = hi) with a tick and a label at each level. Invariants: text size grows
+//! colour bar (top = hi) with a tick at each level and a label at each the scale labels (every
+//! level when linear; 1, 2, 5 × 10^k when logarithmic), "≥ hi" / "≤ lo" where values lie
+//! beyond the range (an automatic range leaves the extremes out). Invariants: text size grows
 //! with the image (scale ⌊h / 240⌋, 1 … 4); the bar has at least one text line per band, so
 //! labels never overlap (the image grows taller than h when it must); deterministic.
 
@@ -76,7 +78,15 @@ pub fn legend(scale: &ColourScale, unit: &str, h: u32) -> Rgb8Image {
     let bar_w = 14 * s;
     let tick = 4 * s;
     let levels = scale.levels();
-    let labels: Vec<String> = levels.iter().map(|&v| scale.label(v)).collect();
+    let last = levels.len() - 1;
+    let labels: Vec<String> = (levels.iter().enumerate())
+        .map(|(k, &v)| match (k, scale.labelled(v)) {
+            (_, false) => String::new(),
+            (0, true) if scale.open_low => format!("≤ {}", scale.label(v)),
+            (k, true) if k == last && scale.open_high => format!("≥ {}", scale.label(v)),
+            _ => scale.label(v),
+        })
+        .collect();
     let title_lines: Vec<&str> = if scale.log {
         vec![unit, "log"]
     } else {

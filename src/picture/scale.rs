@@ -15,6 +15,12 @@ pub struct ColourScale {
     pub hi: f64,
     pub log: bool,
     pub steps: u32,
+    /// Tick intervals of a smooth scale (`steps` 0): its levels, legend ticks and contours.
+    pub ticks: u32,
+    /// Some values lie below `lo` / above `hi` (an automatic range leaves the extremes out):
+    /// the legend labels that end "≤ lo" / "≥ hi".
+    pub open_low: bool,
+    pub open_high: bool,
 }
 
 /// Palette control points (position, sRGB), evenly spaced.
@@ -33,58 +39,66 @@ const PALETTE: [[u8; 3]; 9] = [
 /// Decades a logarithmic automatic range spans at most below its top.
 const MAX_DECADES: i32 = 6;
 
+/// The share of the values an automatic range leaves out at each end (nearest-rank
+/// percentiles 2 and 98): light sources, a few hot pixels or a dark corner do not set it.
+pub const ROBUST: f64 = 0.02;
+
 impl ColourScale {
-    /// A round range covering the finite values: linear lo = 0 and hi = bands × the smallest
-    /// round band width (1, 1.25, 1.5, 2, 2.5, 3, 4, 5, 6, 7.5 or 8 × 10^k) that covers the maximum,
-    /// so every band edge is a short number (1 when no value is positive); log: whole decades
-    /// from the one at or below the smallest positive value to the one at or above the largest,
-    /// at most 6 decades (values further below are clamped to the bottom colour), with `steps`
-    /// (when not 0) rounded to a whole number of bands per decade; 1 … 10 when no value is
-    /// positive.
+    /// A round range over the finite values' 2nd–98th percentiles ([`ROBUST`]); values beyond
+    /// it take the end colours and the legend says so (`open_low`, `open_high`).
+    /// Linear: band edges at whole multiples of a 1-2-5 step (1, 2 or 5 × 10^k), lo the
+    /// multiple at or below the 2nd percentile, hi the first at or above the 98th, so the range
+    /// overshoots each percentile by less than a band: `steps` bands when given (the smallest
+    /// step for which they reach the 98th percentile), else as many as the smallest step that
+    /// needs at most 8 gives. Log: whole decades from the one at or below the 2nd percentile of
+    /// the positive values to the one at or above their 98th, at most 6, with `steps` (when not
+    /// 0) rounded to a whole number of bands per decade. Nothing positive: 0 … 1 (log 1 … 10).
     pub fn auto(values: &[f64], log: bool, steps: u32) -> ColourScale {
-        let finite = values.iter().copied().filter(|v| v.is_finite());
-        let max = finite.clone().fold(f64::NEG_INFINITY, f64::max);
-        if !log {
-            // Round band edges: hi = bands × a round step, the smallest covering the maximum.
-            let bands = if steps == 0 { 8 } else { steps };
-            let hi = if max > 0.0 {
-                f64::from(bands) * round_step(max / f64::from(bands))
-            } else {
-                1.0
-            };
-            return ColourScale {
-                lo: 0.0,
-                hi,
-                log,
-                steps,
-            };
-        }
-        let min_pos = finite.filter(|&v| v > 0.0).fold(f64::INFINITY, f64::min);
-        if !(min_pos.is_finite() && max > 0.0) {
-            return ColourScale {
-                lo: 1.0,
-                hi: 10.0,
-                log,
-                steps,
-            };
-        }
-        let top = decade_ceil(max);
-        let mut bottom = decade_floor(min_pos).max(top - MAX_DECADES);
-        if bottom >= top {
-            bottom = top - 1;
-        }
-        // Bands a whole number per decade, so every decade is a band edge.
-        let decades = (top - bottom) as u32;
-        let steps = match steps {
-            0 => 0,
-            n => decades * ((f64::from(n) / f64::from(decades)).round() as u32).max(1),
+        let mut finite: Vec<f64> = (values.iter().copied())
+            .filter(|v| v.is_finite() && (!log || *v > 0.0))
+            .collect();
+        finite.sort_by(f64::total_cmp);
+        let Some((&min, &max)) = finite.first().zip(finite.last()) else {
+            return ColourScale::empty(log, steps);
         };
+        let at =
+            |q: f64| finite[((q * finite.len() as f64).ceil() as usize).clamp(1, finite.len()) - 1];
+        let (p_lo, p_hi) = (at(ROBUST), at(1.0 - ROBUST));
+        let mut scale = match log {
+            false if p_hi > 0.0 => linear(p_lo, p_hi, steps),
+            false => return ColourScale::empty(log, steps),
+            true => logarithmic(p_lo, p_hi, steps),
+        };
+        scale.open_low = min < scale.lo;
+        scale.open_high = max > scale.hi;
+        scale
+    }
+
+    /// The scale when no value can set one: 0 … 1, or 1 … 10 when logarithmic.
+    fn empty(log: bool, steps: u32) -> ColourScale {
+        let (lo, hi) = if log { (1.0, 10.0) } else { (0.0, 1.0) };
         ColourScale {
-            lo: pow10(bottom),
-            hi: pow10(top),
+            lo,
+            hi,
             log,
             steps,
+            ticks: if log { 1 } else { 5 },
+            open_low: false,
+            open_high: false,
         }
+    }
+
+    /// Whether the legend labels the level `v`: every level of a linear scale; on a
+    /// logarithmic one only 1, 2 and 5 × 10^k (whole decades, and their halves and fifths).
+    pub fn labelled(&self, v: f64) -> bool {
+        if !self.log {
+            return true;
+        }
+        let k = v.log10().floor();
+        let m = v / 10f64.powf(k);
+        [1.0, 2.0, 5.0, 10.0]
+            .iter()
+            .any(|r| (m - r).abs() < 1e-6 * r)
     }
 
     /// A scale over [lo, hi]; Err(message) when lo >= hi, either is not finite, or log with
@@ -101,7 +115,15 @@ impl ColourScale {
                 "a logarithmic scale needs a positive low end, not {lo}"
             ));
         }
-        Ok(ColourScale { lo, hi, log, steps })
+        Ok(ColourScale {
+            lo,
+            hi,
+            log,
+            steps,
+            ticks: 8,
+            open_low: false,
+            open_high: false,
+        })
     }
 
     /// Where `v` lies on the scale: 0 at lo, 1 at hi (in log10 when logarithmic), clamped; NaN
@@ -134,9 +156,13 @@ impl ColourScale {
         ((self.position(v) * f64::from(n)).floor() as u32).min(n - 1)
     }
 
-    /// The number of bands `levels` and `band` use: `steps`, or 8 when smooth.
+    /// The number of bands `levels` and `band` use: `steps`, or `ticks` when smooth.
     pub fn bands(&self) -> u32 {
-        if self.steps == 0 { 8 } else { self.steps }
+        if self.steps == 0 {
+            self.ticks.max(1)
+        } else {
+            self.steps
+        }
     }
 
     /// The colour of `v`: the smooth palette, or with `steps` > 0 the colour at the middle of
@@ -217,12 +243,62 @@ pub fn round_up(v: f64) -> f64 {
     pow10(k + 2)
 }
 
-/// The smallest 1, 1.25, 1.5, 2, 2.5, 3, 4, 5, 6, 7.5 or 8 × 10^k ≥ v (v > 0): a band width whose
-/// multiples print short.
-fn round_step(v: f64) -> f64 {
+/// The linear automatic scale over [p_lo, p_hi] (p_hi > 0; see [`ColourScale::auto`]).
+fn linear(p_lo: f64, p_hi: f64, steps: u32) -> ColourScale {
+    let most = if steps == 0 { 8 } else { steps };
+    // A flat field still gets a range a fifth of its value wide.
+    let spread = (p_hi - p_lo).max(0.2 * p_hi);
+    let mut step = step125(spread / f64::from(most));
+    let mut lo = (p_lo / step).floor() * step;
+    // lo moved down a band at most: a step or two larger reaches p_hi.
+    while lo + f64::from(most) * step < p_hi * (1.0 - 1e-12) {
+        step = step125(step * 1.5);
+        lo = (p_lo / step).floor() * step;
+    }
+    let bands = match steps {
+        0 => (((p_hi - lo) / step) * (1.0 - 1e-12)).ceil().max(1.0) as u32,
+        n => n,
+    };
+    ColourScale {
+        lo: clean(lo),
+        hi: clean(lo + f64::from(bands) * step),
+        log: false,
+        steps,
+        ticks: bands,
+        open_low: false,
+        open_high: false,
+    }
+}
+
+/// The logarithmic automatic scale over [p_lo, p_hi] (both > 0; see [`ColourScale::auto`]).
+fn logarithmic(p_lo: f64, p_hi: f64, steps: u32) -> ColourScale {
+    let top = decade_ceil(p_hi);
+    let mut bottom = decade_floor(p_lo).max(top - MAX_DECADES);
+    if bottom >= top {
+        bottom = top - 1;
+    }
+    // Bands a whole number per decade, so every decade is a band edge.
+    let decades = (top - bottom) as u32;
+    let steps = match steps {
+        0 => 0,
+        n => decades * ((f64::from(n) / f64::from(decades)).round() as u32).max(1),
+    };
+    ColourScale {
+        lo: pow10(bottom),
+        hi: pow10(top),
+        log: true,
+        steps,
+        ticks: decades,
+        open_low: false,
+        open_high: false,
+    }
+}
+
+/// The smallest 1, 2 or 5 × 10^k ≥ v (v > 0), robust to rounding (1000 stays 1000).
+fn step125(v: f64) -> f64 {
     let k = v.log10().floor() as i32;
     for e in [k - 1, k, k + 1] {
-        for m in [1.0, 1.25, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0, 7.5, 8.0] {
+        for m in [1.0, 2.0, 5.0] {
             let c = if e >= 0 { m * pow10(e) } else { m / pow10(-e) };
             if c >= v * (1.0 - 1e-12) {
                 return c;
@@ -230,6 +306,19 @@ fn round_step(v: f64) -> f64 {
         }
     }
     pow10(k + 2)
+}
+
+/// `v` rounded to 12 significant digits: multiples of a decimal step print as they read.
+fn clean(v: f64) -> f64 {
+    if v == 0.0 || !v.is_finite() {
+        return v;
+    }
+    let k = 11 - v.abs().log10().floor() as i32;
+    if k >= 0 {
+        (v * pow10(k)).round() / pow10(k)
+    } else {
+        (v / pow10(-k)).round() * pow10(-k)
+    }
 }
 
 /// 10^k, correctly rounded for negative k too (1 / 10^−k: 0.1, not 0.1000…02).
@@ -267,34 +356,84 @@ fn decade_floor(v: f64) -> i32 {
 mod tests {
     use super::*;
 
+    /// Nearest-rank percentile q of `v` (finite values).
+    fn percentile(v: &[f64], q: f64) -> f64 {
+        let mut v: Vec<f64> = v.iter().copied().filter(|x| x.is_finite()).collect();
+        v.sort_by(f64::total_cmp);
+        v[((q * v.len() as f64).ceil() as usize).clamp(1, v.len()) - 1]
+    }
+
+    fn is_125(step: f64) -> bool {
+        let m = step / 10f64.powf(step.log10().floor());
+        [1.0, 2.0, 5.0, 10.0].iter().any(|r| (m - r).abs() < 1e-9)
+    }
+
     #[test]
-    fn auto_linear_rounds_up() {
-        let s = |m: f64| ColourScale::auto(&[0.001, m, f64::NAN], false, 8);
-        assert_eq!((s(870.0).lo, s(870.0).hi), (0.0, 1000.0));
-        assert_eq!(s(1000.0).hi, 1000.0);
-        assert_eq!(s(1001.0).hi, 1200.0);
-        assert_eq!(s(2100.0).hi, 2400.0);
-        assert_eq!(s(3.2).hi, 3.2);
-        assert_eq!(s(0.0121).hi, 0.016);
-        // every band edge a short number
-        for m in [0.37, 12.0, 498.0, 870.0, 1234.5, 7777.0] {
-            for l in s(m).levels() {
+    fn auto_linear_spans_the_robust_range_in_1_2_5_steps() {
+        // A room (120 … 870 lx) with a few hot spots (a luminaire's opening, 5·10⁴) and dark
+        // corners; the same shifted, scaled and flat.
+        let room: Vec<f64> = (0..1000)
+            .map(|i| match i % 100 {
+                0 => 5e4,
+                1 => 0.5,
+                k => 120.0 + 750.0 * (f64::from(k) / 99.0).powi(2),
+            })
+            .collect();
+        let shifted: Vec<f64> = room.iter().map(|v| v * 1e-3 + 7.0).collect();
+        let flat = vec![500.0; 50];
+        for (name, values) in [("room", &room), ("shifted", &shifted), ("flat", &flat)] {
+            for steps in [0, 5, 8, 12] {
+                let s = ColourScale::auto(values, false, steps);
+                let step = (s.hi - s.lo) / f64::from(s.bands());
+                let (p2, p98) = (percentile(values, 0.02), percentile(values, 0.98));
+                assert!(is_125(step), "{name} {steps}: step {step}");
                 assert!(
-                    label(l)
-                        .trim_start_matches('0')
-                        .trim_start_matches('.')
-                        .len()
-                        <= 4,
-                    "{l}"
+                    s.lo <= p2 && p2 < s.lo + step,
+                    "{name} {steps}: {s:?} p2 {p2}"
                 );
                 assert!(
-                    (label(l).parse::<f64>().unwrap() - l).abs() <= 1e-9 * s(m).hi,
-                    "{l}"
+                    p98 <= s.hi * (1.0 + 1e-12),
+                    "{name} {steps}: {s:?} p98 {p98}"
                 );
+                if steps == 0 {
+                    // (a flat field: one band above its value)
+                    assert!(s.hi - step < p98 || p98 == s.lo, "{name}: {s:?} p98 {p98}");
+                    assert!(s.bands() <= 8);
+                }
+                for l in s.levels() {
+                    let k = l / step;
+                    assert!((k - k.round()).abs() < 1e-6, "{name} {steps}: level {l}");
+                    assert_eq!(
+                        label(l).parse::<f64>().unwrap(),
+                        l,
+                        "{name}: {l} prints as it is"
+                    );
+                }
             }
         }
+        let s = ColourScale::auto(&room, false, 0);
+        assert!(
+            s.open_high && s.open_low,
+            "the hot spots and dark corners lie beyond it"
+        );
+        assert_eq!((s.lo, s.hi), (100.0, 900.0));
+        assert!(!ColourScale::auto(&flat, false, 0).open_high);
         assert_eq!(ColourScale::auto(&[], false, 8).hi, 1.0);
         assert_eq!(ColourScale::auto(&[-3.0, 0.0], false, 8).hi, 1.0);
+    }
+
+    #[test]
+    fn log_scales_label_1_2_5_levels_only() {
+        let s = ColourScale::fixed(1.0, 1e3, true, 9).unwrap();
+        let labelled: Vec<bool> = s.levels().iter().map(|&v| s.labelled(v)).collect();
+        // edges 1, 2.15, 4.64, 10, 21.5, …: the decades only
+        assert_eq!(labelled.iter().filter(|&&b| b).count(), 4);
+        assert!(s.labelled(200.0) && s.labelled(5e-3) && !s.labelled(300.0));
+        assert!(
+            ColourScale::fixed(0.0, 7.0, false, 7)
+                .unwrap()
+                .labelled(3.0)
+        );
     }
 
     #[test]
