@@ -3,6 +3,8 @@
 //! as PNG through `export::display::png_rgb8` into a temporary folder (or into
 //! `$LUXBAKE_PICTURE_DIR` when set, to look at them).
 
+mod support;
+
 use luxbake::export::display::png_rgb8;
 use luxbake::picture::contours::isolines;
 use luxbake::picture::legend::false_colour;
@@ -335,4 +337,45 @@ fn font_sheet() {
         draw_text(&mut img, 4, 4 + 32 * k as i64, line, hh, [0; 3]);
     }
     save(&img, "font.png");
+}
+
+/// Issue 57's acceptance: on samples/office (draft bake, camera `camera_interior`, 300 × 200)
+/// the automatic illuminance range of the false-colour view spans the room's 2nd–98th
+/// percentile within one band at each end, and every level is a whole multiple of a 1-2-5
+/// step (so every tick label is one: 0, 100, 200 … not 23.7 or 4 217). Before, the bright
+/// spot of the picture set it (0 … 2 500 lx, the room in two bands).
+#[test]
+fn the_office_illuminance_scale_spans_its_2nd_to_98th_percentile_in_1_2_5_steps() {
+    let dir = support::scratch("picture-office-scale");
+    let lit = dir.join("lit.gltf");
+    let office = support::cli::repo_file("samples/office/office.gltf");
+    let run = support::cli::bake_draft(&office, &lit, &[] as &[&str]);
+    assert!(run.ok(), "{run:?}");
+    let baked = luxbake::baked::read(&lit).unwrap();
+    let scene = luxbake::import::load(&lit, &Default::default()).unwrap();
+    let camera = luxbake::view::named_camera(&baked, "camera_interior", Some((300, 200)), None)
+        .unwrap();
+    let view = luxbake::view::render(&baked, &scene, &camera, &Default::default()).unwrap();
+    let mut e: Vec<f64> = (view.illuminance().iter())
+        .map(|&x| f64::from(x))
+        .filter(|x| x.is_finite())
+        .collect();
+    let s = ColourScale::auto(&e, false, 0);
+    e.sort_by(f64::total_cmp);
+    let at = |q: f64| e[((q * e.len() as f64).ceil() as usize).clamp(1, e.len()) - 1];
+    let (p2, p98) = (at(0.02), at(0.98));
+    let step = (s.hi - s.lo) / f64::from(s.bands());
+    let mantissa = step / 10f64.powf(step.log10().floor());
+    assert!(
+        [1.0, 2.0, 5.0, 10.0].iter().any(|m| (mantissa - m).abs() < 1e-9),
+        "{s:?}"
+    );
+    assert!(s.lo <= p2 && p2 < s.lo + step, "{s:?}: 2nd percentile {p2} lx");
+    assert!(s.hi - step < p98 && p98 <= s.hi, "{s:?}: 98th percentile {p98} lx");
+    for level in s.levels() {
+        let k = level / step;
+        assert!((k - k.round()).abs() < 1e-9, "{level} lx");
+    }
+    assert!(s.open_high, "the picture's spot lies above the range");
+    eprintln!("office illuminance scale {s:?}, percentiles 2/98: {p2} / {p98} lx");
 }

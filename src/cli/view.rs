@@ -131,17 +131,9 @@ fn size(s: &str) -> Result<(u32, u32)> {
 /// The false-colour scale of `values`.
 fn colour_scale(args: &ViewArgs, values: &[f64]) -> Result<ColourScale> {
     if args.scale == "auto" {
-        let positive: Vec<f64> = match args.log {
-            true => {
-                // From the 1st percentile of the lit pixels up: a few pixels that see almost
-                // nothing (a luminaire's back, a grazing edge) would stretch the scale by decades.
-                let mut lit: Vec<f64> = values.iter().copied().filter(|v| *v > 0.0).collect();
-                lit.sort_by(f64::total_cmp);
-                lit.split_off(lit.len() / 100)
-            }
-            false => values.iter().copied().filter(|v| v.is_finite()).collect(),
-        };
-        return Ok(ColourScale::auto(&positive, args.log, args.steps));
+        // The 2nd–98th percentiles set it: a few pixels that see almost nothing (a
+        // luminaire's back, a grazing edge) or the sources themselves do not stretch it.
+        return Ok(ColourScale::auto(values, args.log, args.steps));
     }
     let bad = |m: String| usage(format!("--scale {}: {m}", args.scale));
     let (lo, hi) = args

@@ -37,9 +37,11 @@ pub struct ViewFigure {
 }
 
 /// A false-colour luminance view (log scale, 12 bands with their edges drawn) from each camera
-/// node, `width` px wide (the camera's aspect ratio), 4 rays a pixel.
+/// node, `width` px wide (the camera's aspect ratio), 4 rays a pixel, all on one scale: the
+/// automatic range over every view's pixels together, so one colour reads one luminance in
+/// every figure of the report.
 pub fn views(input: &BakedOutput, scene: &Scene, width: u32) -> Result<Vec<ViewFigure>> {
-    let mut out = Vec::new();
+    let mut rendered = Vec::new();
     for node in &input.cameras {
         let name = node
             .name
@@ -52,12 +54,14 @@ pub fn views(input: &BakedOutput, scene: &Scene, width: u32) -> Result<Vec<ViewF
         let camera = Camera::from_node(node, Some((width, height.max(1))), None)?;
         let v = view::render(input, scene, &camera, &ViewOptions::default())?;
         let values: Vec<f64> = v.luminance().iter().map(|&y| y as f64).collect();
-        // From the 1st percentile of the lit pixels up (as `bake view --log`): a few pixels that
-        // see almost nothing would stretch the scale by decades.
-        let mut lit: Vec<f64> = values.iter().copied().filter(|v| *v > 0.0).collect();
-        lit.sort_by(f64::total_cmp);
-        let lit = lit.split_off(lit.len() / 100);
-        let scale = ColourScale::auto(&lit, true, 12);
+        rendered.push((name, camera, values));
+    }
+    let all: Vec<f64> = (rendered.iter())
+        .flat_map(|(_, _, v)| v.iter().copied())
+        .collect();
+    let scale = ColourScale::auto(&all, true, 12);
+    let mut out = Vec::new();
+    for (name, camera, values) in rendered {
         let img = legend::false_colour(&values, camera.width, camera.height, &scale, "cd/m²", true);
         let png = crate::export::display::png_rgb8(&img)
             .map_err(|m| Error::output(&input.file, format!("view {name}: {m}")))?;
