@@ -353,8 +353,8 @@ fn the_office_illuminance_scale_spans_its_2nd_to_98th_percentile_in_1_2_5_steps(
     assert!(run.ok(), "{run:?}");
     let baked = luxbake::baked::read(&lit).unwrap();
     let scene = luxbake::import::load(&lit, &Default::default()).unwrap();
-    let camera = luxbake::view::named_camera(&baked, "camera_interior", Some((300, 200)), None)
-        .unwrap();
+    let camera =
+        luxbake::view::named_camera(&baked, "camera_interior", Some((300, 200)), None).unwrap();
     let view = luxbake::view::render(&baked, &scene, &camera, &Default::default()).unwrap();
     let mut e: Vec<f64> = (view.illuminance().iter())
         .map(|&x| f64::from(x))
@@ -367,11 +367,19 @@ fn the_office_illuminance_scale_spans_its_2nd_to_98th_percentile_in_1_2_5_steps(
     let step = (s.hi - s.lo) / f64::from(s.bands());
     let mantissa = step / 10f64.powf(step.log10().floor());
     assert!(
-        [1.0, 2.0, 5.0, 10.0].iter().any(|m| (mantissa - m).abs() < 1e-9),
+        [1.0, 2.0, 5.0, 10.0]
+            .iter()
+            .any(|m| (mantissa - m).abs() < 1e-9),
         "{s:?}"
     );
-    assert!(s.lo <= p2 && p2 < s.lo + step, "{s:?}: 2nd percentile {p2} lx");
-    assert!(s.hi - step < p98 && p98 <= s.hi, "{s:?}: 98th percentile {p98} lx");
+    assert!(
+        s.lo <= p2 && p2 < s.lo + step,
+        "{s:?}: 2nd percentile {p2} lx"
+    );
+    assert!(
+        s.hi - step < p98 && p98 <= s.hi,
+        "{s:?}: 98th percentile {p98} lx"
+    );
     for level in s.levels() {
         let k = level / step;
         assert!((k - k.round()).abs() < 1e-9, "{level} lx");

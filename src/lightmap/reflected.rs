@@ -6,8 +6,10 @@
 //! gathers made.
 //!
 //! Each triangle starts as one linear piece with its vertices' values (the solve's own gathers;
-//! a vertex on a contact's outline, whose solve value is read off the outline, is gathered at
-//! the vertex itself). A piece holding at least [`MIN_CHECKED`] texels is checked by one gather
+//! a vertex on a contact's outline, whose solve value is read off the outline, is gathered half
+//! a texel inside, toward where the solve read: a texel's worth of surface, not the outline's
+//! foot, where any step hides a quarter of the sphere). A piece holding at least [`MIN_CHECKED`] texels, or any triangle with a corner on an
+//! outline, is checked by one gather
 //! at its centroid: where the linear value misses it by more than the tolerance (a fraction of
 //! the total illuminance there), the piece is split into four at its edge midpoints, each
 //! midpoint gathered, and the pieces checked in turn; a failing piece of few texels is gathered
@@ -57,6 +59,9 @@ struct Piece {
     values: [DVec3; 3],
     texels: Vec<Local>,
     depth: usize,
+    /// A corner is on a contact's outline, where the light changes fastest: checked however
+    /// few texels the piece holds.
+    outline: bool,
 }
 
 /// Where a texel reads: its triangle and barycentric coordinates there, and the point and
@@ -85,7 +90,8 @@ pub fn at_texels(
             s.indirect_at(r.point, r.planes.as_slice()[0])
         })
     };
-    let world = |surface: u32, triangle: u32, l: [f64; 3]| -> (DVec3, DVec3) {
+    // `off`: read half a texel inside (a point on a contact's outline), else a hair inside.
+    let world = |surface: u32, triangle: u32, l: [f64; 3], off: bool| -> (DVec3, DVec3) {
         let b = &surfaces[surface as usize];
         let tri = b.triangles[triangle as usize];
         let (mut p, mut n, mut c) = (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO);
@@ -94,9 +100,16 @@ pub fn at_texels(
             n += b.normals[tri[j] as usize] * l[j];
             c += b.positions[tri[j] as usize] / 3.0;
         }
-        // A midpoint on the triangle's edge may lie on a contact's outline: read a hair inside.
+        // A midpoint on the triangle's edge may lie where surfaces meet: read a hair inside
+        // (the same point for both triangles of an edge); on a contact's outline, half a texel
+        // inside, as its corners (at the outline's foot any step hides a quarter of the sphere).
         let inward = c - p;
-        let step = (0.01 * o.texel_size).min(0.5 * inward.length());
+        let reach = if off {
+            0.5 * o.texel_size
+        } else {
+            0.01 * o.texel_size
+        };
+        let step = reach.min(0.5 * inward.length());
         (
             p + inward.normalize_or_zero() * step,
             n.normalize_or(b.normals[tri[0] as usize]),
@@ -108,8 +121,8 @@ pub fn at_texels(
         let pts: Vec<_> = at.iter().map(|a| (a.point, a.normal)).collect();
         return (gather(&pts), at.len());
     }
-    // The solve's value at each vertex, or where it was read off an outline, a gather at the
-    // vertex itself (a hair inside, toward where the solve read).
+    // The solve's value at each vertex, or where it was read off an outline, a gather half a
+    // texel inside (toward where the solve read).
     let mut outline: BTreeMap<(u32, u32), (DVec3, DVec3)> = BTreeMap::new();
     let mut by_triangle: BTreeMap<(u32, u32), Vec<Local>> = BTreeMap::new();
     for (k, a) in at.iter().enumerate() {
@@ -129,8 +142,12 @@ pub fn at_texels(
         let nudge = r.point - r.position;
         match nudge.length() > 0.01 * o.texel_size {
             false => Ok(s.vertex(g.receivers.start + k).indirect),
+            // Read half a texel off the outline (the solve read farther, up to the contact's
+            // gap): a texel stands for that much surface, and at the outline itself a step of
+            // any height — a 2 mm panel as a 30 cm box — hides a quarter of the sphere.
             true => {
-                let p = b.positions[v as usize] + nudge.normalize() * 0.01 * o.texel_size;
+                let off = nudge.length().min(0.5 * o.texel_size);
+                let p = b.positions[v as usize] + nudge.normalize() * off;
                 Err((p, b.normals[v as usize]))
             }
         }
@@ -156,9 +173,19 @@ pub fn at_texels(
                 values: tri.map(|v| solved(surface, v).unwrap_or_else(|_| values[&(surface, v)])),
                 texels,
                 depth: 0,
+                outline: tri.iter().any(|&v| values.contains_key(&(surface, v))),
             }
         })
         .collect();
+    // Whether the point `l` of a triangle lies on one of its edges whose two ends are both on
+    // a contact's outline.
+    let on_outline = |surface: u32, triangle: u32, l: [f64; 3]| -> bool {
+        let tri = surfaces[surface as usize].triangles[triangle as usize];
+        (0..3).any(|k| {
+            let (a, b) = (tri[(k + 1) % 3], tri[(k + 2) % 3]);
+            l[k] < 1e-12 && values.contains_key(&(surface, a)) && values.contains_key(&(surface, b))
+        })
+    };
     let interpolate = |p: &Piece, out: &mut [DVec3]| {
         for (k, l) in &p.texels {
             out[*k] = p.values[0] * l[0] + p.values[1] * l[1] + p.values[2] * l[2];
@@ -167,7 +194,7 @@ pub fn at_texels(
     while !pieces.is_empty() {
         let (small, checked): (Vec<Piece>, Vec<Piece>) = pieces
             .into_iter()
-            .partition(|p| p.texels.len() < MIN_CHECKED);
+            .partition(|p| p.texels.len() < MIN_CHECKED && !p.outline);
         for p in &small {
             interpolate(p, &mut out);
         }
@@ -176,7 +203,7 @@ pub fn at_texels(
             [0, 1, 2].map(|j| (c[0][j] + c[1][j] + c[2][j]) / 3.0)
         };
         let pts: Vec<_> = (checked.iter())
-            .map(|p| world(p.surface, p.triangle, centroid(p)))
+            .map(|p| world(p.surface, p.triangle, centroid(p), false))
             .collect();
         gathers += pts.len();
         let mut failed = Vec::new();
@@ -209,8 +236,10 @@ pub fn at_texels(
         let pts: Vec<_> = (failed.iter())
             .flat_map(|p| {
                 let c = p.corners;
-                [mid(c[0], c[1]), mid(c[1], c[2]), mid(c[2], c[0])]
-                    .map(|m| world(p.surface, p.triangle, m))
+                [mid(c[0], c[1]), mid(c[1], c[2]), mid(c[2], c[0])].map(|m| {
+                    let off = on_outline(p.surface, p.triangle, m);
+                    world(p.surface, p.triangle, m, off)
+                })
             })
             .collect();
         gathers += pts.len();
@@ -238,6 +267,7 @@ fn split(p: Piece, m: [DVec3; 3]) -> [Piece; 4] {
         values,
         texels: Vec::new(),
         depth: p.depth + 1,
+        outline: false,
     };
     let mut out = [
         piece([a, ab, ca], [va, mab, mca]),
@@ -288,6 +318,7 @@ mod tests {
             ],
             texels,
             depth: 0,
+            outline: false,
         };
         let mid = |a: [f64; 3], b: [f64; 3]| field([0, 1, 2].map(|j| (a[j] + b[j]) / 2.0));
         let m = [

@@ -11,6 +11,10 @@
 //! differs from that interpolation by more than the tolerance, every texel of the triangle is
 //! gathered. Before reading, a sample is pushed off any surface within a hundredth of a texel
 //! along its plane, and out of a solid when most short rays along the plane meet back faces.
+//! A texel a chart only touches reads its centre where the surface really goes on beyond the
+//! chart's edge; else the edge point nearest it, except beside a contact's outline, where it
+//! reads half a texel inside (toward its triangle's centroid): at the outline's foot whatever
+//! stands there shades a quarter of the sphere, and filtering would smear that over the wall.
 
 use super::reflected::{At, Points};
 use super::{Display, Options, Sampled};
@@ -54,13 +58,40 @@ pub fn light(
                     (p, n.normalize_or(b.normals[tri[0] as usize]))
                 };
                 let (near, n) = at(&x.bary);
+                let mut bary = x.bary;
                 if let Some(l) = &x.extended {
                     let (far, _) = at(l);
                     if really_there(s, near, far, n, o.texel_size) {
                         return (far, n, *l);
                     }
+                    // No surface under its centre, and the edge a contact's outline: the texel
+                    // reads half a texel inside its triangle, toward the triangle's centroid,
+                    // so bilinear filtering carries the light of the surface beside the edge,
+                    // not that of the edge itself (in the shadow of what stands on it, within
+                    // the contact's gap). At other edges (a room's corner) it reads the edge.
+                    let surface = t.surface as usize;
+                    let outline = on_outline(
+                        s,
+                        surfaces,
+                        surface,
+                        &origins[surface],
+                        tri,
+                        &x.bary,
+                        o.texel_size,
+                    );
+                    if !outline {
+                        return (unocclude(s, near, n, o.texel_size), n, x.bary);
+                    }
+                    let (centroid, _) = at(&[1.0 / 3.0; 3]);
+                    let d = centroid.distance(near);
+                    let t = match d > 0.0 {
+                        true => (0.5 * o.texel_size / d).min(1.0),
+                        false => 0.0,
+                    };
+                    bary = std::array::from_fn(|k| x.bary[k] + t * (1.0 / 3.0 - x.bary[k]));
                 }
-                (unocclude(s, near, n, o.texel_size), n, x.bary)
+                let (point, _) = at(&bary);
+                (unocclude(s, point, n, o.texel_size), n, bary)
             }
             None => (DVec3::ZERO, DVec3::Y, [1.0, 0.0, 0.0]),
         })
@@ -108,6 +139,36 @@ pub fn light(
             display(DVec3::ZERO, DVec3::ZERO, g.material);
     }
     gathered
+}
+
+/// Whether the point `bary` of triangle `tri` of surface `surface` lies on an edge whose two
+/// ends are on a contact's outline, or within half a texel of a vertex there. Outline vertices
+/// are those the solve read off the surface by more than a hundredth of a texel (`origins`:
+/// each vertex's mesh receiver in its group).
+fn on_outline(
+    s: &Solution,
+    surfaces: &[BakedSurface],
+    surface: usize,
+    origins: &[u32],
+    tri: [u32; 3],
+    bary: &[f64; 3],
+    texel: f64,
+) -> bool {
+    let mesh = s.mesh();
+    let g = &mesh.groups[surface];
+    let nudged = |v: u32| {
+        let k = origins[v as usize] as usize;
+        (k < g.receivers.len()) && {
+            let r = &mesh.receivers[g.receivers.start + k];
+            r.point.distance(r.position) > 0.01 * texel
+        }
+    };
+    let on_edge =
+        (0..3).any(|k| bary[k] < 1e-3 && nudged(tri[(k + 1) % 3]) && nudged(tri[(k + 2) % 3]));
+    // Or beside an outline vertex (on an edge leaving the outline), within half a texel.
+    let b = &surfaces[surface];
+    let p: DVec3 = (0..3).map(|k| b.positions[tri[k] as usize] * bary[k]).sum();
+    on_edge || (tri.iter()).any(|&v| nudged(v) && b.positions[v as usize].distance(p) < 0.5 * texel)
 }
 
 /// Whether the surface really goes on from `near` (on a chart's edge, normal `n`) to `far` (a
