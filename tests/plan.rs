@@ -399,3 +399,52 @@ fn errors_name_the_file_and_what_is_wrong() {
     };
     assert!(plan::build(&b.output, &luminance).is_ok());
 }
+
+/// `--surface` takes the face keys report, targets and design take (issue 57): the office's desk
+/// tops are boxes, so `desk_dark/top` alone is refused naming the faces it can be drawn by,
+/// and `desk_dark/top[+y]` draws the upper face.
+#[test]
+fn a_solid_node_is_drawn_by_its_face_key() {
+    let dir = support::scratch("plan-face-keys");
+    let lit = dir.join("lit.gltf");
+    let office = support::cli::repo_file("samples/office/office.gltf");
+    let run = support::cli::bake_draft(&office, &lit, &[] as &[&str]);
+    assert!(run.ok(), "{run:?}");
+    let (lit, svg) = (lit.to_str().unwrap(), dir.join("top.svg"));
+    let run = run_bake([
+        "plan",
+        lit,
+        "-o",
+        svg.to_str().unwrap(),
+        "--surface",
+        "desk_dark/top",
+    ]);
+    assert_error_line(
+        &run,
+        &["is not planar", "desk_dark/top[+y]", "desk_dark/top[-y]"],
+    );
+    assert!(!svg.exists());
+    let run = run_bake([
+        "plan",
+        lit,
+        "-o",
+        svg.to_str().unwrap(),
+        "--surface",
+        "desk_dark/top[+y]",
+    ]);
+    assert!(run.ok(), "{run:?}");
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert!(
+        text.contains("desk_dark/top[+y]"),
+        "the title names the face"
+    );
+    let run = run_bake([
+        "plan",
+        lit,
+        "-o",
+        svg.to_str().unwrap(),
+        "--surface",
+        "desk_dark/top[up]",
+    ]);
+    assert_error_line(&run, &["unknown face [up]"]);
+}

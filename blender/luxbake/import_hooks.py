@@ -15,7 +15,8 @@ the importer's `gltf` as the last argument. When the file is a luxbake output (i
 - probe glyphs (`<probe>_glyph` nodes) move to the collection "LuxBake probe glyphs";
 - each luminaire (`EXT_lights_ies`, `LUXBAKE_luminaire`) gets its luminous opening drawn as a
   white emitting rectangle (or disc) facing its nadir, in the collection "LuxBake luminaires"
-  (openings.py; a glTF viewer draws nothing there, `bake view` draws the same openings);
+  (openings.py), unless the file draws them itself (display-only nodes, `extras.luxbake.
+  displayOnly`: outputs since issue 57, whose openings every glTF viewer shows);
 - the false-colour range is set to the illuminance's range over the imported meshes.
 """
 
@@ -78,6 +79,13 @@ class glTF2ImportUserExtension:
             return
         objects = []
         glyph_materials = set()
+        # Outputs since issue 57 carry the openings as display-only nodes: not drawn twice.
+        drawn = any(
+            isinstance(n.extras, dict)
+            and isinstance(n.extras.get("luxbake"), dict)
+            and n.extras["luxbake"].get("displayOnly") is True
+            for n in gltf.data.nodes or []
+        )
         for vnode_id, vnode in gltf.vnodes.items():
             obj = getattr(vnode, "blender_object", None)
             if obj is None:
@@ -86,7 +94,7 @@ class glTF2ImportUserExtension:
             extras = gltf.data.nodes[vnode_id].extras if isinstance(vnode_id, int) else None
             if isinstance(extras, dict) and setup_node(obj, extras):
                 glyph_materials.update(s.material for s in obj.material_slots if s.material)
-            if isinstance(vnode_id, int):
+            if isinstance(vnode_id, int) and not drawn:
                 size = luminaire_opening(gltf, gltf.data.nodes[vnode_id])
                 if size is not None:
                     add_opening(obj, *size)

@@ -15,6 +15,7 @@
 //! file layer, `export` for the bytes of a bake in memory) and the summary's format.
 
 pub mod cameras;
+pub mod keys;
 mod lightmaps;
 pub mod model;
 mod read;

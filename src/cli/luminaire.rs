@@ -29,8 +29,8 @@ pub fn run(args: &LuminaireArgs) -> Result<()> {
         )
     })?;
     if let Some(svg) = &args.polar {
-        super::formats::extension(svg, "--polar", &["svg"], "the polar curve")?;
         luxbake::export::check_files(&[file], &[svg])?;
+        super::formats::extension(svg, "--polar", &["svg"], "the polar curve")?;
     }
     let bytes = std::fs::read(file).with_context(|| format!("{}: cannot read", file.display()))?;
     let photometry = Photometry::parse(&bytes, format)

@@ -1,4 +1,4 @@
-//! `bake plan LIT.gltf|.glb -o PLAN.svg|PLAN.png [--working-plane | --surface NODE] [--scale
+//! `bake plan LIT.gltf|.glb -o PLAN.svg|PLAN.png [--working-plane | --surface NODE[FACE]] [--scale
 //! auto|LO:HI] [--log] [--steps N] [--quantity illuminance|luminance] [--size PX]`: a
 //! false-colour isolux plan of a finished bake, as vector SVG or PNG (by the output's extension).
 //! Options are checked (exit 2) and the output path too (not an input, a writable folder) before
@@ -21,8 +21,9 @@ pub struct PlanArgs {
     /// Draw the working plane (the default): the bake's --working-plane probes, seen from above.
     #[arg(long, conflicts_with = "surface")]
     working_plane: bool,
-    /// Draw this planar node instead (its name, or its path such as desk_light/top).
-    #[arg(long, value_name = "NODE")]
+    /// Draw this planar node instead (its name, or its path such as desk_light/top), or one
+    /// face of a solid node as report keys name it (desk_light/top[+y]).
+    #[arg(long, value_name = "NODE[FACE]")]
     surface: Option<String>,
     /// Colour scale range: auto (a round range over the values) or LO:HI.
     #[arg(long, value_name = "auto|LO:HI", default_value = "auto")]

@@ -108,10 +108,10 @@ pub fn run(args: &ReportArgs) -> Result<()> {
         ))
         .into());
     }
-    let format = format_of(args.format, args.output.as_deref())?;
     if let Some(out) = &args.output {
         luxbake::export::check_files(&[&args.file], &[out])?;
     }
+    let format = format_of(args.format, args.output.as_deref())?;
     let input = luxbake::baked::read(&args.file)?;
     let text = match format {
         ReportFormat::Table => render(&input, &options, FormatArg::Table)?,

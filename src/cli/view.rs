@@ -198,6 +198,17 @@ pub fn run(args: &ViewArgs) -> Result<()> {
     if args.scale != "auto" {
         colour_scale(args, &[])?;
     }
+    let outputs: Vec<&Path> = [
+        Some(&args.output),
+        args.png.as_ref(),
+        args.false_colour.as_ref(),
+        args.display.as_ref(),
+    ]
+    .into_iter()
+    .flatten()
+    .map(PathBuf::as_path)
+    .collect();
+    export::check_files(&[&args.file], &outputs)?;
     let main = super::formats::extension(
         &args.output,
         "-o",
@@ -214,17 +225,6 @@ pub fn run(args: &ViewArgs) -> Result<()> {
             super::formats::extension(path, flag, &["png"], "this picture")?;
         }
     }
-    let outputs: Vec<&Path> = [
-        Some(&args.output),
-        args.png.as_ref(),
-        args.false_colour.as_ref(),
-        args.display.as_ref(),
-    ]
-    .into_iter()
-    .flatten()
-    .map(PathBuf::as_path)
-    .collect();
-    export::check_files(&[&args.file], &outputs)?;
     let baked = luxbake::baked::read(&args.file)?;
     if baked.summary.is_none() {
         return Err(Error::input(

@@ -2,10 +2,11 @@
 //! its plane.
 //!
 //! Input: the output, the node (its name, or its path of names from the root joined by `/`:
-//! `desk_light/top`), the quantity. The node's own baked primitives (not its children's) must
-//! be coplanar: every triangle parallel to the first primitive's largest one (|cos| > 0.999)
+//! `desk_light/top`), optionally with a face as report keys take it (`desk_light/top[+y]`:
+//! only the triangles facing within ~8° of +Y, `baked::keys`), the quantity. The node's own
+//! baked primitives (not its children's), or the face's triangles, must be coplanar: every triangle parallel to the first primitive's largest one (|cos| > 0.999)
 //! and every vertex within 0.1 mm + 10⁻⁵ of the surface's size of its plane, else an error
-//! naming the node. The primitives facing that triangle's way are drawn (a double-sided
+//! naming the node and the faces it could be drawn by. The primitives facing that triangle's way are drawn (a double-sided
 //! surface's back is skipped), in the [`Frame`] of its normal.
 //!
 //! Cells (about 200 along the longer side, a round size in metres) are read at their centres:
@@ -20,47 +21,79 @@ use super::Quantity;
 use super::field::{CELLS, Field, Sampled};
 use super::frame::Frame;
 use super::outline::{self, normal};
-use crate::baked::{BakedOutput, Primitive};
+use crate::baked::{BakedOutput, Primitive, keys};
 use crate::picture::scale::round_up;
 use crate::{Error, Result};
 use glam::{DVec2, DVec3};
 
 /// The plan of the node named (or with path) `node`.
-pub fn sample(input: &BakedOutput, node: &str, quantity: Quantity) -> Result<Sampled> {
+pub fn sample(input: &BakedOutput, key: &str, quantity: Quantity) -> Result<Sampled> {
+    let (node, face) =
+        keys::split_face(key).map_err(|m| Error::Settings(format!("--surface {key}: {m}")))?;
     let i = find_node(input, node)?;
     let path = input.node_path(i);
     let prims: Vec<&Primitive> = input.primitives.iter().filter(|p| p.node == i).collect();
+    // The triangles drawn: all of the node's, or those of the face named.
+    let drawn = |p: &Primitive| -> Vec<usize> {
+        (0..p.triangles.len())
+            .filter(|&j| face.is_none_or(|d| keys::faces(p, j, d)))
+            .collect()
+    };
+    let prims: Vec<(&Primitive, Vec<usize>)> = (prims.into_iter())
+        .map(|p| (p, drawn(p)))
+        .filter(|(_, t)| !t.is_empty())
+        .collect();
     let not_planar = |why: &str| {
+        let faces = solid_faces(input, i);
+        let hint = match faces.is_empty() {
+            true => String::new(),
+            false => format!(
+                "; name one of its faces: {}",
+                (faces.iter().map(|f| format!("{path}[{f}]")))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        };
         Error::input(
             &input.file,
             format!("/nodes/{i}"),
             format!(
                 "node '{path}' is not planar ({why}): --surface draws one flat surface (a floor, \
-                 a wall, a table top modelled as a node of its own)"
+                 a wall, a table top modelled as a node of its own, or one face of a solid){hint}"
             ),
         )
     };
-    let Some(first) = prims.first() else {
+    if prims.is_empty() && face.is_some() {
+        return Err(Error::input(
+            &input.file,
+            format!("/nodes/{i}"),
+            format!("node '{path}' has no baked face facing {key}'s way"),
+        ));
+    }
+    let Some((first, first_tris)) = prims.first() else {
         return Err(Error::input(
             &input.file,
             format!("/nodes/{i}"),
             format!("node '{path}' has no baked surface (no primitive with _ILLUMINANCE)"),
         ));
     };
-    let (n, p0) = largest(first).ok_or_else(|| not_planar("its triangles have no area"))?;
+    let (n, p0) =
+        largest(first, first_tris).ok_or_else(|| not_planar("its triangles have no area"))?;
     let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
-    for p in &prims {
-        for q in &p.positions {
-            lo = lo.min(*q);
-            hi = hi.max(*q);
+    for (p, tris) in &prims {
+        for &j in tris {
+            for v in p.triangles[j] {
+                lo = lo.min(p.positions[v as usize]);
+                hi = hi.max(p.positions[v as usize]);
+            }
         }
     }
     let tol = 1e-4 + 1e-5 * (hi - lo).length();
     let mut chosen = Vec::new();
-    for p in &prims {
+    for (p, tris) in &prims {
         let mut facing = 0.0;
-        for t in &p.triangles {
-            let q = t.map(|v| p.positions[v as usize]);
+        for &j in tris {
+            let q = p.triangles[j].map(|v| p.positions[v as usize]);
             let m = normal(q);
             if m == DVec3::ZERO {
                 continue;
@@ -74,16 +107,18 @@ pub fn sample(input: &BakedOutput, node: &str, quantity: Quantity) -> Result<Sam
             facing += m.dot(n);
         }
         if facing > 0.0 {
-            chosen.push(*p);
+            chosen.push((*p, tris.as_slice()));
         }
     }
     let frame = Frame::of_normal(n);
     let (mut a, mut b) = (DVec2::INFINITY, DVec2::NEG_INFINITY);
-    for p in &chosen {
-        for q in &p.positions {
-            let q = frame.to_2d(*q);
-            a = a.min(q);
-            b = b.max(q);
+    for (p, tris) in &chosen {
+        for &j in *tris {
+            for v in p.triangles[j] {
+                let q = frame.to_2d(p.positions[v as usize]);
+                a = a.min(q);
+                b = b.max(q);
+            }
         }
     }
     let extent = b - a;
@@ -100,10 +135,9 @@ pub fn sample(input: &BakedOutput, node: &str, quantity: Quantity) -> Result<Sam
     };
     let mut set = vec![false; w * h];
     let mut edges = Vec::new();
-    for p in &chosen {
-        fill(input, p, &frame, quantity, &mut field, &mut set);
-        let all: Vec<usize> = (0..p.triangles.len()).collect();
-        edges.extend(outline::boundary(p, &all, &frame));
+    for (p, tris) in &chosen {
+        fill(input, p, tris, &frame, quantity, &mut field, &mut set);
+        edges.extend(outline::boundary(p, tris, &frame));
     }
     let values: Vec<f64> = field
         .values
@@ -121,7 +155,21 @@ pub fn sample(input: &BakedOutput, node: &str, quantity: Quantity) -> Result<Sam
     let avg = values.iter().sum::<f64>() / values.len() as f64;
     let min = values.iter().copied().fold(f64::INFINITY, f64::min);
     let max = values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    Ok((path, frame, field, outline::tidy(edges), [avg, min, max]))
+    // The title names the face drawn too.
+    let shown = format!("{path}{}", &key[node.len()..]);
+    Ok((shown, frame, field, outline::tidy(edges), [avg, min, max]))
+}
+
+/// The faces (`+x` … `-z`) of node `i`'s baked triangles that have any, in that order: the
+/// keys a non-planar node can be drawn by.
+fn solid_faces(input: &BakedOutput, i: usize) -> Vec<&'static str> {
+    let prims: Vec<&Primitive> = input.primitives.iter().filter(|p| p.node == i).collect();
+    (crate::probes::FACE_NAMES.iter().zip(crate::probes::FACES))
+        .filter(|(_, d)| {
+            (prims.iter()).any(|p| (0..p.triangles.len()).any(|j| keys::faces(p, j, *d)))
+        })
+        .map(|(name, _)| *name)
+        .collect()
 }
 
 /// The node whose path is `name`, else the one node so named.
@@ -159,10 +207,10 @@ fn find_node(input: &BakedOutput, name: &str) -> Result<usize> {
 }
 
 /// The unit normal and a vertex of the primitive's largest triangle.
-fn largest(p: &Primitive) -> Option<(DVec3, DVec3)> {
+fn largest(p: &Primitive, tris: &[usize]) -> Option<(DVec3, DVec3)> {
     let mut best: Option<(f64, DVec3, DVec3)> = None;
-    for t in &p.triangles {
-        let q = t.map(|v| p.positions[v as usize]);
+    for &j in tris {
+        let q = p.triangles[j].map(|v| p.positions[v as usize]);
         let c = (q[1] - q[0]).cross(q[2] - q[0]);
         let area = c.length();
         if area > 0.0 && best.is_none_or(|(a, _, _)| area > a) {
@@ -176,6 +224,7 @@ fn largest(p: &Primitive) -> Option<(DVec3, DVec3)> {
 fn fill(
     input: &BakedOutput,
     p: &Primitive,
+    tris: &[usize],
     frame: &Frame,
     quantity: Quantity,
     field: &mut Field,
@@ -189,8 +238,8 @@ fn fill(
         .lightmap
         .as_ref()
         .map(|l| (l, &input.lightmaps[l.lightmap]));
-    for (j, t) in p.triangles.iter().enumerate() {
-        let v = t.map(|v| v as usize);
+    for &j in tris {
+        let v = p.triangles[j].map(|v| v as usize);
         let q = v.map(|v| frame.to_2d(p.positions[v]));
         // The bake's marker where the output has it; in older outputs, how a covered part looks.
         let covered = match lightmap {

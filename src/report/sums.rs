@@ -148,10 +148,6 @@ fn area(p: &Primitive, j: usize) -> f64 {
 fn passes(p: &Primitive, j: usize, filter: &Filter) -> bool {
     match filter {
         Filter::All => true,
-        Filter::Facing(d) => {
-            let [a, b, c] = p.triangles[j].map(|v| p.positions[v as usize]);
-            let cross = (b - a).cross(c - a);
-            cross.length() > 0.0 && cross.normalize().dot(d.normalize()) >= 0.99
-        }
+        Filter::Facing(d) => crate::baked::keys::faces(p, j, *d),
     }
 }

@@ -14,7 +14,6 @@
 
 use super::rows::{Filter, row};
 use crate::baked::BakedOutput;
-use crate::probes::{FACE_NAMES, FACES};
 use crate::{Error, Result};
 use std::path::{Path, PathBuf};
 
@@ -161,15 +160,6 @@ impl Targets {
 
 /// `name[+y]` → (`name`, facing +Y); `name` → (`name`, all faces).
 fn split_face(key: &str) -> std::result::Result<(&str, Filter), String> {
-    let Some(open) = key.strip_suffix(']').and_then(|k| k.rfind('[')) else {
-        return Ok((key, Filter::All));
-    };
-    let face = &key[open + 1..key.len() - 1];
-    let k = FACE_NAMES.iter().position(|&f| f == face).ok_or_else(|| {
-        format!(
-            "unknown face [{face}] (use one of {})",
-            FACE_NAMES.join(" ")
-        )
-    })?;
-    Ok((&key[..open], Filter::Facing(FACES[k])))
+    let (name, face) = crate::baked::keys::split_face(key)?;
+    Ok((name, face.map_or(Filter::All, Filter::Facing)))
 }
