@@ -28,6 +28,7 @@ blender() { # name lit camera
 }
 for mode in vertex lightmaps; do
     flag=""; [ $mode = lightmaps ] && flag=--lightmaps
+    mkdir -p "$work/office-$mode" "$work/window-$mode"
     "$bake" samples/office/office.gltf -o "$work/office-$mode/lit.gltf" $flag -q
     shot office-$mode "$work/office-$mode/lit.gltf" --camera camera_interior
     blender office-$mode "$work/office-$mode/lit.gltf" camera_interior
@@ -35,6 +36,7 @@ for mode in vertex lightmaps; do
     shot window-$mode "$work/window-$mode/lit.gltf" --camera camera_room
     blender window-$mode "$work/window-$mode/lit.gltf" camera_room
 done
+mkdir -p "$work/cornell" "$work/floor"
 "$bake" samples/cornell-box/cornell-box.obj -o "$work/cornell/lit.gltf" --lightmaps -q
 shot cornell-lightmaps "$work/cornell/lit.gltf" --eye 0.278,0.273,-0.8 --target 0.278,0.273,0 --fov 39.3
 "$bake" "$work/floor.gltf" -o "$work/floor/lit.gltf" -q

@@ -48,7 +48,7 @@ fn mesh(o: &Opening, k: f64) -> Option<OpeningMesh> {
         let normal = (o.source.world_from_photometric * face.normal).normalize();
         // Seen from outside: the eye looks along −normal.
         let l = o.luminance(-normal);
-        if !(luma(l) > 0.0) {
+        if luma(l).is_nan() || luma(l) <= 0.0 {
             continue;
         }
         let color = display::luminance_color(l, k);

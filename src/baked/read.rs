@@ -127,7 +127,7 @@ fn from_file(file: &mut GltfFile, memory: Option<&Lightmaps>) -> Result<BakedOut
             .is_some_and(|e| e["luxbake"]["displayOnly"] == Value::Bool(true));
         if display_only {
             for p in file.primitives(i) {
-                shown.extend(shown_primitive(&json, &p, world)?);
+                shown.extend(shown_primitive(json, &p, world)?);
             }
             continue;
         }
