@@ -425,3 +425,28 @@ fn an_emitter_shows_its_emission_colour_and_reads_back_as_its_input() {
     assert!(b.emission.is_some());
     assert_eq!(a.display.base_color_factor, b.display.base_color_factor);
 }
+
+/// A luxbake output's kept display values (`extras.luxbake.original`, read in place of an unlit
+/// material's) are checked as the material's own: out of range is an error naming the pointer.
+#[test]
+fn kept_original_display_values_are_range_checked() {
+    for (key, value) in [
+        ("emissiveFactor", serde_json::json!([2.0, 0.0, 0.0])),
+        ("baseColorFactor", serde_json::json!([0.5, -1.0, 0.5, 1.0])),
+        ("emissiveStrength", serde_json::json!(-3.0)),
+    ] {
+        let dir = support::scratch(&format!("kept-{key}"));
+        let mut mini = support::cli::Mini::new();
+        mini.json["materials"][0]["extras"] =
+            serde_json::json!({"luxbake": {"original": {key: value}}});
+        let path = mini.write_gltf(&dir, "in.gltf", None);
+        let e = luxbake::import::load(&path, &Default::default())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains(&format!("/materials/0/extras/luxbake/original/{key}"))
+                && e.contains("out of range"),
+            "{key}: {e}"
+        );
+    }
+}

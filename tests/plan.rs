@@ -181,6 +181,14 @@ fn surface_contours_are_the_analytic_circles() {
         (200, 200, 0.02)
     );
     assert!(plan.field.values.iter().all(|v| v.is_finite()));
+    // A larger page gets a finer field (a cell per 4 px), as fine as the contours: 3000 px, 750
+    // cells wanted, 4 m / 750 = 5.3 mm rounded up to a round 1 cm: 400 (200 before).
+    let large = Options {
+        size: 3000,
+        ..options(Source::Surface("floor".into()))
+    };
+    let fine = plan::build(&baked().output, &large).unwrap();
+    assert_eq!((fine.field.w, fine.field.cell), (400, 0.01));
     // Its outline is the square's four sides (cut where the patches' vertices are): 16 m.
     let total: f64 = plan.outline.iter().map(|[a, b]| a.distance(*b)).sum();
     assert!((total - 16.0).abs() < 1e-5, "{total}");

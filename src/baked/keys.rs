@@ -52,6 +52,10 @@ mod tests {
             split_face("material:wall").unwrap(),
             ("material:wall", None)
         );
-        assert!(split_face("desk[up]").unwrap_err().contains("+x -x +y -y +z -z"));
+        assert!(
+            split_face("desk[up]")
+                .unwrap_err()
+                .contains("+x -x +y -y +z -z")
+        );
     }
 }

@@ -4,7 +4,8 @@
 //! The working-plane probes stand on a regular x-by-z grid (+Y up; spacing from the run
 //! summary's settings, else the smallest step between probes). Each probe is the centre of a
 //! square cell of that spacing; the plan's cells subdivide those `f` times (about 200 cells
-//! along the longer side) and read the probes bilinearly between their centres (clamped at the
+//! along the longer side, or a cell per 4 px of a larger plan; at most 16 a step) and read the
+//! probes bilinearly between their centres (clamped at the
 //! outer half cells, NaN next to a probe that was skipped inside an object). Figures (average,
 //! minimum, maximum) are the probes' own, as the report computes them.
 
@@ -41,11 +42,17 @@ impl Field {
 /// What a source gives a plan: its name, frame, field, outline and [avg, min, max].
 pub type Sampled = (String, Frame, Field, Vec<[DVec2; 2]>, [f64; 3]);
 
-/// About this many cells along the longer side.
+/// At least about this many cells along the longer side.
 pub const CELLS: f64 = 200.0;
 
-/// The working plane's plan.
-pub fn working_plane(input: &BakedOutput) -> Result<Sampled> {
+/// Cells along the longer side for a plan `size` px across: [`CELLS`], or one cell per 4 px on
+/// larger plans, so the colour field stays as fine as the contours drawn over it.
+pub fn cells(size: u32) -> f64 {
+    (f64::from(size) / 4.0).max(CELLS)
+}
+
+/// The working plane's plan, about `cells` cells along its longer side (at most 16 a probe step).
+pub fn working_plane(input: &BakedOutput, cells: f64) -> Result<Sampled> {
     let Some(plane) = input
         .working_plane
         .as_ref()
@@ -89,7 +96,7 @@ pub fn working_plane(input: &BakedOutput) -> Result<Sampled> {
         let (i, k) = index(p);
         probes[k * nx + i] = p.total as f64;
     }
-    let f = (CELLS / nx.max(nz) as f64).round().clamp(1.0, 16.0) as usize;
+    let f = (cells / nx.max(nz) as f64).round().clamp(1.0, 16.0) as usize;
     let (w, h) = (nx * f, nz * f);
     let mut values = Vec::with_capacity(w * h);
     for r in 0..h {

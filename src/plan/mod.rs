@@ -168,8 +168,10 @@ pub fn check(options: &Options) -> Result<()> {
 pub fn build(input: &BakedOutput, options: &Options) -> Result<Plan> {
     check(options)?;
     let (name, frame, field, outline, stats) = match &options.source {
-        Source::WorkingPlane => field::working_plane(input)?,
-        Source::Surface(node) => surface::sample(input, node, options.quantity)?,
+        Source::WorkingPlane => field::working_plane(input, field::cells(options.size))?,
+        Source::Surface(node) => {
+            surface::sample(input, node, options.quantity, field::cells(options.size))?
+        }
     };
     let [avg, min, max] = stats;
     let scale = match options.range {

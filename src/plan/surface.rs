@@ -9,7 +9,8 @@
 //! naming the node and the faces it could be drawn by. The primitives facing that triangle's way are drawn (a double-sided
 //! surface's back is skipped), in the [`Frame`] of its normal.
 //!
-//! Cells (about 200 along the longer side, a round size in metres) are read at their centres:
+//! Cells (about `cells` along the longer side: 200, or a cell per 4 px of a larger plan; a round
+//! size in metres) are read at their centres:
 //! from the lightmap bilinearly where the primitive is lightmapped (`Lightmap::bilinear` at the
 //! UV interpolated there), else from the vertex values interpolated linearly over the triangle.
 //! Cells whose centre no triangle holds are no data (NaN), and so are covered parts (marked by
@@ -18,7 +19,7 @@
 //! stands on). The figures are cell means, minimum and maximum.
 
 use super::Quantity;
-use super::field::{CELLS, Field, Sampled};
+use super::field::{Field, Sampled};
 use super::frame::Frame;
 use super::outline::{self, normal};
 use crate::baked::{BakedOutput, Primitive, keys};
@@ -27,7 +28,7 @@ use crate::{Error, Result};
 use glam::{DVec2, DVec3};
 
 /// The plan of the node named (or with path) `node`.
-pub fn sample(input: &BakedOutput, key: &str, quantity: Quantity) -> Result<Sampled> {
+pub fn sample(input: &BakedOutput, key: &str, quantity: Quantity, cells: f64) -> Result<Sampled> {
     let (node, face) =
         keys::split_face(key).map_err(|m| Error::Settings(format!("--surface {key}: {m}")))?;
     let i = find_node(input, node)?;
@@ -122,7 +123,7 @@ pub fn sample(input: &BakedOutput, key: &str, quantity: Quantity) -> Result<Samp
         }
     }
     let extent = b - a;
-    let cell = round_up(extent.max_element() / CELLS);
+    let cell = round_up(extent.max_element() / cells);
     // Whole cells over the extent (an extent of 64.000001 cells is 64: f32 positions).
     let w = ((extent.x / cell - 1e-4).ceil() as usize).max(1);
     let h = ((extent.y / cell - 1e-4).ceil() as usize).max(1);

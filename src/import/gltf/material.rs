@@ -170,7 +170,8 @@ fn material(
 fn check_factors(ctx: &Ctx, raw: &Value, at: &str) -> Result<()> {
     let unit = |v: f64| (0.0..=1.0).contains(&v);
     type Range<'a> = (String, &'a dyn Fn(f64) -> bool, &'a str);
-    let ranges: [Range; 7] = [
+    let kept = format!("{at}/extras/luxbake/original");
+    let ranges: [Range; 12] = [
         (
             format!("{at}/pbrMetallicRoughness/baseColorFactor"),
             &unit,
@@ -200,6 +201,16 @@ fn check_factors(ctx: &Ctx, raw: &Value, at: &str) -> Result<()> {
         (format!("{at}/alphaCutoff"), &|v| v >= 0.0, "≥ 0"),
         (
             format!("{at}/extensions/KHR_materials_emissive_strength/emissiveStrength"),
+            &|v| (0.0..=crate::import::MAX_PHOTOMETRIC).contains(&v),
+            "≥ 0 and at most 1e12",
+        ),
+        // What a luxbake output kept of an unlit material, read in its place.
+        (format!("{kept}/baseColorFactor"), &unit, "in [0, 1]"),
+        (format!("{kept}/metallicFactor"), &unit, "in [0, 1]"),
+        (format!("{kept}/roughnessFactor"), &unit, "in [0, 1]"),
+        (format!("{kept}/emissiveFactor"), &unit, "in [0, 1]"),
+        (
+            format!("{kept}/emissiveStrength"),
             &|v| (0.0..=crate::import::MAX_PHOTOMETRIC).contains(&v),
             "≥ 0 and at most 1e12",
         ),
