@@ -84,11 +84,11 @@ pub fn light(
                     }
                     let (centroid, _) = at(&[1.0 / 3.0; 3]);
                     let d = centroid.distance(near);
-                    let t = match d > 0.0 {
+                    let toward = match d > 0.0 {
                         true => (0.5 * o.texel_size / d).min(1.0),
                         false => 0.0,
                     };
-                    bary = std::array::from_fn(|k| x.bary[k] + t * (1.0 / 3.0 - x.bary[k]));
+                    bary = std::array::from_fn(|k| x.bary[k] + toward * (1.0 / 3.0 - x.bary[k]));
                 }
                 let (point, _) = at(&bary);
                 (unocclude(s, point, n, o.texel_size), n, bary)
