@@ -8,9 +8,9 @@
 //! (colour bar, level labels, unit) on the right; a scale bar (1, 2 or 5 × 10^k m, about a
 //! quarter of the longer side) under the plan. Labels sit on their line, centred at a point of
 //! it, on a white box; candidate points along each line are tried in a fixed order and one is
-//! taken only when its box overlaps no label placed before and stays inside the plan, so labels
-//! do not overlap where that is avoidable (a level none of whose lines has room gets one label at
-//! its longest line's middle anyway).
+//! taken only when its box overlaps no label placed before and stays inside the plan (a level
+//! none of whose lines has room gets one label at its longest line's middle if that overlaps no
+//! other), so labels never overlap at any size.
 
 use super::Plan;
 use crate::picture::contours::isolines;
@@ -214,10 +214,15 @@ pub fn draw(plan: &Plan) -> Drawing {
                 any = true;
             }
         }
+        // A level none of whose lines had room for a label on a free spot: at its longest
+        // line's middle, if that overlaps no label either (else the legend alone names it).
         if !any && let Some(l) = lines.first().filter(|l| l.len() > 1) {
             let p = point_along(l, 0.5);
-            placed.push([p - half, p + half]);
-            labels.push((p, half, label.clone()));
+            let b = [p - half, p + half];
+            if !placed.iter().any(|q| overlap(&b, q)) {
+                placed.push(b);
+                labels.push((p, half, label.clone()));
+            }
         }
     }
     for (p, half, label) in labels {
@@ -288,7 +293,9 @@ pub fn draw(plan: &Plan) -> Drawing {
         anchor: Anchor::Start,
     });
     let mut label_w = width(&format!("{sym} ({unit}, log)"), text);
-    for level in s.levels() {
+    let levels = s.levels();
+    let last = levels.len() - 1;
+    for (k, &level) in levels.iter().enumerate() {
         let y = bar_top + bar_h * (1.0 - s.position(level));
         items.push(Item::Line {
             points: vec![
@@ -298,7 +305,14 @@ pub fn draw(plan: &Plan) -> Drawing {
             colour: BLACK,
             width: 1.0,
         });
-        let l = s.label(level);
+        // Where values lie beyond an automatic range, its ends say so; a log scale labels
+        // 1, 2 and 5 × 10^k only.
+        let l = match (k, s.labelled(level)) {
+            (_, false) => String::new(),
+            (0, true) if s.open_low => format!("≤ {}", s.label(level)),
+            (k, true) if k == last && s.open_high => format!("≥ {}", s.label(level)),
+            _ => s.label(level),
+        };
         label_w = label_w.max(bar_w + 8.0 + width(&l, text));
         items.push(Item::Text {
             x: bar_x + bar_w + 8.0,
