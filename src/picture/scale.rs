@@ -48,9 +48,8 @@ impl ColourScale {
     /// it take the end colours and the legend says so (`open_low`, `open_high`).
     /// Linear: band edges at whole multiples of a 1-2-5 step (1, 2 or 5 × 10^k), lo the
     /// multiple at or below the 2nd percentile, hi the first at or above the 98th, so the range
-    /// overshoots each percentile by less than a band: `steps` bands when given (the smallest
-    /// step for which they reach the 98th percentile), else as many as the smallest step that
-    /// needs at most 8 gives. Log: whole decades from the one at or below the 2nd percentile of
+    /// overshoots each percentile by less than a band: as many bands as the smallest step that
+    /// needs at most `steps` (8 when smooth) gives, so a range never runs far past the values. Log: whole decades from the one at or below the 2nd percentile of
     /// the positive values to the one at or above their 98th, at most 6, with `steps` (when not
     /// 0) rounded to a whole number of bands per decade. Nothing positive: 0 … 1 (log 1 … 10).
     pub fn auto(values: &[f64], log: bool, steps: u32) -> ColourScale {
@@ -255,15 +254,15 @@ fn linear(p_lo: f64, p_hi: f64, steps: u32) -> ColourScale {
         step = step125(step * 1.5);
         lo = (p_lo / step).floor() * step;
     }
-    let bands = match steps {
-        0 => (((p_hi - lo) / step) * (1.0 - 1e-12)).ceil().max(1.0) as u32,
-        n => n,
-    };
+    // As many bands as reach the 98th percentile (at most `most`).
+    let bands = (((p_hi - lo) / step) * (1.0 - 1e-12))
+        .ceil()
+        .clamp(1.0, f64::from(most)) as u32;
     ColourScale {
         lo: clean(lo),
         hi: clean(lo + f64::from(bands) * step),
         log: false,
-        steps,
+        steps: if steps == 0 { 0 } else { bands },
         ticks: bands,
         open_low: false,
         open_high: false,
@@ -395,11 +394,13 @@ mod tests {
                     p98 <= s.hi * (1.0 + 1e-12),
                     "{name} {steps}: {s:?} p98 {p98}"
                 );
-                if steps == 0 {
-                    // (a flat field: one band above its value)
-                    assert!(s.hi - step < p98 || p98 == s.lo, "{name}: {s:?} p98 {p98}");
-                    assert!(s.bands() <= 8);
-                }
+                // (a flat field: one band above its value)
+                assert!(
+                    s.hi - step < p98 || p98 == s.lo,
+                    "{name} {steps}: {s:?} p98 {p98}"
+                );
+                assert!(s.bands() <= if steps == 0 { 8 } else { steps });
+                {}
                 for l in s.levels() {
                     let k = l / step;
                     assert!((k - k.round()).abs() < 1e-6, "{name} {steps}: level {l}");
