@@ -630,19 +630,7 @@ fn office_rebuilt_in_blender_bakes_like_the_sample() {
 
 /// 8-bit RGB pixels and size of a PNG.
 fn read_png(path: &Path) -> (usize, usize, Vec<u8>) {
-    let file = std::fs::File::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let mut reader = png::Decoder::new(std::io::BufReader::new(file))
-        .read_info()
-        .unwrap();
-    let mut pixels = vec![0; reader.output_buffer_size().unwrap()];
-    let info = reader.next_frame(&mut pixels).unwrap();
-    pixels.truncate(info.buffer_size());
-    let pixels = match info.color_type {
-        png::ColorType::Rgb => pixels,
-        png::ColorType::Rgba => pixels.chunks(4).flat_map(|p| [p[0], p[1], p[2]]).collect(),
-        other => panic!("{}: colour type {other:?}", path.display()),
-    };
-    (info.width as usize, info.height as usize, pixels)
+    support::read_png(path)
 }
 
 /// Mean |a − b| over all channels (in 1/255 steps) and the share of channel values more than

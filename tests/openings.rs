@@ -5,7 +5,7 @@
 mod support;
 
 use serde_json::Value;
-use support::{cli, gltf_read, scratch};
+use support::{cli, gltf_read};
 
 /// Every photometric luminaire of the office gets a display-only node; the fittings' faces that
 /// look down into the room (+Y up), and each opening's brightest face, show at least 0.95 of
@@ -13,14 +13,8 @@ use support::{cli, gltf_read, scratch};
 /// luminance (cd/m², > 0).
 #[test]
 fn the_office_fittings_are_drawn_lit_and_a_rebake_does_not_see_them() {
-    let dir = scratch("openings-office");
-    let lit = dir.join("lit.gltf");
-    let run = cli::bake_draft(
-        &cli::repo_file("samples/office/office.gltf"),
-        &lit,
-        &[] as &[&str],
-    );
-    assert!(run.ok(), "{run:?}");
+    let lit = cli::office_draft("openings-office", &[]);
+    let dir = lit.parent().unwrap().to_path_buf();
     let file = gltf_read::read(&lit);
     let nodes = file.json["nodes"].as_array().unwrap();
     let luminaires = (nodes.iter())

@@ -346,11 +346,7 @@ fn font_sheet() {
 /// spot of the picture set it (0 … 2 500 lx, the room in two bands).
 #[test]
 fn the_office_illuminance_scale_spans_its_2nd_to_98th_percentile_in_1_2_5_steps() {
-    let dir = support::scratch("picture-office-scale");
-    let lit = dir.join("lit.gltf");
-    let office = support::cli::repo_file("samples/office/office.gltf");
-    let run = support::cli::bake_draft(&office, &lit, &[] as &[&str]);
-    assert!(run.ok(), "{run:?}");
+    let lit = support::cli::office_draft("picture-office-scale", &[]);
     let baked = luxbake::baked::read(&lit).unwrap();
     let scene = luxbake::import::load(&lit, &Default::default()).unwrap();
     let camera =

@@ -408,17 +408,20 @@ fn errors_name_the_file_and_what_is_wrong() {
     assert!(plan::build(&b.output, &luminance).is_ok());
 }
 
+/// samples/office baked at draft quality with a working plane at 0.8 m, once for the tests.
+fn office() -> &'static std::path::Path {
+    static LIT: OnceLock<PathBuf> = OnceLock::new();
+    LIT.get_or_init(|| support::cli::office_draft("plan-office", &["--working-plane", "0.8"]))
+}
+
 /// `--surface` takes the face keys report, targets and design take (issue 57): the office's desk
 /// tops are boxes, so `desk_dark/top` alone is refused naming the faces it can be drawn by,
 /// and `desk_dark/top[+y]` draws the upper face.
 #[test]
 fn a_solid_node_is_drawn_by_its_face_key() {
-    let dir = support::scratch("plan-face-keys");
-    let lit = dir.join("lit.gltf");
-    let office = support::cli::repo_file("samples/office/office.gltf");
-    let run = support::cli::bake_draft(&office, &lit, &[] as &[&str]);
-    assert!(run.ok(), "{run:?}");
-    let (lit, svg) = (lit.to_str().unwrap(), dir.join("top.svg"));
+    let lit = office();
+    let svg = lit.parent().unwrap().join("top.svg");
+    let lit = lit.to_str().unwrap();
     let run = run_bake([
         "plan",
         lit,
@@ -464,12 +467,7 @@ fn a_solid_node_is_drawn_by_its_face_key() {
 #[test]
 fn isolux_labels_never_overlap_at_any_size() {
     use luxbake::plan::layout::{Anchor, Item, draw};
-    let dir = support::scratch("plan-labels");
-    let lit = dir.join("lit.gltf");
-    let office = support::cli::repo_file("samples/office/office.gltf");
-    let run = support::cli::bake_draft(&office, &lit, &["--working-plane", "0.8"]);
-    assert!(run.ok(), "{run:?}");
-    let output = luxbake::baked::read(&lit).unwrap();
+    let output = luxbake::baked::read(office()).unwrap();
     for source in [Source::Surface("wall_back".into()), Source::WorkingPlane] {
         for size in [200, 800, 3000] {
             for steps in [10, 30] {

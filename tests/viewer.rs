@@ -18,29 +18,9 @@ const CAMERA: &str = "camera_interior";
 const WIDTH: usize = 600;
 const HEIGHT: usize = 400;
 
-/// 8-bit RGB pixels of a PNG, row 0 at the top.
+/// 8-bit RGB pixels of a `WIDTH` × `HEIGHT` PNG, row 0 at the top.
 fn read_png(path: &Path) -> Vec<u8> {
-    let file = std::fs::File::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let mut reader = png::Decoder::new(std::io::BufReader::new(file))
-        .read_info()
-        .unwrap();
-    let mut pixels = vec![0; reader.output_buffer_size().unwrap()];
-    let info = reader.next_frame(&mut pixels).unwrap();
-    assert_eq!(
-        (info.width as usize, info.height as usize, info.bit_depth),
-        (WIDTH, HEIGHT, png::BitDepth::Eight),
-        "{}",
-        path.display()
-    );
-    match info.color_type {
-        png::ColorType::Rgb => pixels.truncate(info.buffer_size()),
-        png::ColorType::Rgba => {
-            pixels.truncate(info.buffer_size());
-            pixels = pixels.chunks(4).flat_map(|p| [p[0], p[1], p[2]]).collect();
-        }
-        other => panic!("{}: colour type {other:?}", path.display()),
-    }
-    pixels
+    read_png_sized(path, WIDTH, HEIGHT)
 }
 
 /// |a − b| per channel, scaled × 8 so a 1/255 step is visible, as an RGB PNG.
@@ -269,23 +249,9 @@ fn an_emitting_panel_shows_white_in_three_js_and_bake_view_display() {
 }
 
 /// 8-bit RGB pixels of a `width` × `height` PNG, row 0 at the top.
-fn read_png_sized(path: &Path, width: u32, height: u32) -> Vec<u8> {
-    let file = std::fs::File::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let mut reader = png::Decoder::new(std::io::BufReader::new(file))
-        .read_info()
-        .unwrap();
-    let mut pixels = vec![0; reader.output_buffer_size().unwrap()];
-    let info = reader.next_frame(&mut pixels).unwrap();
-    assert_eq!(
-        (info.width, info.height),
-        (width, height),
-        "{}",
-        path.display()
-    );
-    pixels.truncate(info.buffer_size());
-    match info.color_type {
-        png::ColorType::Rgb => pixels,
-        png::ColorType::Rgba => pixels.chunks(4).flat_map(|p| [p[0], p[1], p[2]]).collect(),
-        other => panic!("{}: colour type {other:?}", path.display()),
-    }
+fn read_png_sized(path: &Path, width: usize, height: usize) -> Vec<u8> {
+    let (w, h, pixels) = support::read_png(path);
+    assert_eq!((w, h), (width, height), "{}", path.display());
+    assert!(support::png_is_8_bit(path), "{}: not 8-bit", path.display());
+    pixels
 }

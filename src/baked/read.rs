@@ -254,14 +254,8 @@ fn reflectance(v: &Value) -> Option<DVec3> {
     (c.len() == 3).then(|| DVec3::new(c[0], c[1], c[2]))
 }
 
-/// A baked primitive, or `None` when it has no `_ILLUMINANCE` or is not made of triangles.
-/// `layouts`: the lightmaps and each material's; `scratch`: one per lightmap.
-/// A display-only primitive with COLOR_0 (others are skipped).
-fn shown_primitive(json: &Value, p: &GltfPrimitive, world: DMat4) -> Result<Option<Shown>> {
-    if !p.has("COLOR_0") || !p.is_triangles() {
-        return Ok(None);
-    }
-    p.vertex_count()?;
+/// A primitive's positions in world space and its triangles wound counter-clockwise there.
+fn in_world(p: &GltfPrimitive, world: DMat4) -> Result<(Vec<DVec3>, Vec<[u32; 3]>)> {
     let positions: Vec<DVec3> = (p.positions()?.into_iter())
         .map(|q| world.transform_point3(q))
         .collect();
@@ -271,6 +265,16 @@ fn shown_primitive(json: &Value, p: &GltfPrimitive, world: DMat4) -> Result<Opti
             t.swap(1, 2);
         }
     }
+    Ok((positions, triangles))
+}
+
+/// A display-only primitive with COLOR_0 (others are skipped).
+fn shown_primitive(json: &Value, p: &GltfPrimitive, world: DMat4) -> Result<Option<Shown>> {
+    if !p.has("COLOR_0") || !p.is_triangles() {
+        return Ok(None);
+    }
+    p.vertex_count()?;
+    let (positions, triangles) = in_world(p, world)?;
     let base = match p.material() {
         Some(m) => look(&json["materials"][m]).base_color,
         None => [1.0; 4],
@@ -283,6 +287,8 @@ fn shown_primitive(json: &Value, p: &GltfPrimitive, world: DMat4) -> Result<Opti
     }))
 }
 
+/// A baked primitive, or `None` when it has no `_ILLUMINANCE` or is not made of triangles.
+/// `layouts`: the lightmaps and each material's; `scratch`: one per lightmap.
 fn primitive(
     file: &GltfFile,
     p: &GltfPrimitive,
@@ -309,17 +315,7 @@ fn primitive(
         true => Some(colors(p)?),
         false => None,
     };
-    let positions: Vec<DVec3> = p
-        .positions()?
-        .into_iter()
-        .map(|q| world.transform_point3(q))
-        .collect();
-    let mut triangles = p.triangles()?;
-    if world.determinant() < 0.0 {
-        for t in &mut triangles {
-            t.swap(1, 2);
-        }
-    }
+    let (positions, triangles) = in_world(p, world)?;
     let material = p
         .material()
         .ok_or_else(|| file.err(&p.at, "a baked primitive without a material"))?;

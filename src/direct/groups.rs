@@ -373,21 +373,25 @@ mod tests {
         );
     }
 
+    /// A wall at x = 4 hides every luminaire beyond it: a box is proved seen when it lies wholly
+    /// on the near side, hidden when wholly beyond, else not proved.
+    fn wall(lo: DVec3, hi: DVec3) -> Option<bool> {
+        if hi.x <= 4.0 {
+            Some(true)
+        } else if lo.x > 4.0 {
+            Some(false)
+        } else {
+            None
+        }
+    }
+
     #[test]
     fn a_group_is_settled_only_as_its_query_proves() {
         let groups = grid();
         // A wall hides every luminaire with x > 4: the query proves a box seen only when it lies
         // wholly on the near side, hidden only when wholly beyond. No luminaire may then be
         // settled on the wrong side, and a group across the wall is split down to its leaves.
-        let (known, _) = visit(&groups, |lo, hi| {
-            if hi.x <= 4.0 {
-                Some(true)
-            } else if lo.x > 4.0 {
-                Some(false)
-            } else {
-                None
-            }
-        });
+        let (known, _) = visit(&groups, wall);
         let mut wrong = 0;
         for (k, answer) in known.iter().enumerate() {
             let x = lamp(k).x;
@@ -413,15 +417,7 @@ mod tests {
         // declined group is settled by its proof or split, so nothing else is seen behind the
         // wall.
         let groups = grid();
-        let settle = |lo: DVec3, hi: DVec3, _n: DVec3| {
-            if hi.x <= 4.0 {
-                Some(true)
-            } else if lo.x > 4.0 {
-                Some(false)
-            } else {
-                None
-            }
-        };
+        let settle = |lo: DVec3, hi: DVec3, _n: DVec3| wall(lo, hi);
         let visited = std::cell::RefCell::new(Vec::new());
         let first_ask = Cell::new(None);
         let mut estimate = |i: u32, _n: DVec3| {

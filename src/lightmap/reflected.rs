@@ -24,6 +24,27 @@ use crate::solution::{Planes, Receiver, Receivers, Solution, receivers};
 use glam::DVec3;
 use std::collections::{BTreeMap, HashMap};
 
+/// Where vertex `v` of surface `surface` is on a contact's outline: the step the solve took off
+/// it (longer than a hundredth of a texel), else `None`. `origins`: each vertex's receiver in
+/// its mesh group.
+pub fn outline_step(
+    s: &Solution,
+    surface: usize,
+    origins: &[u32],
+    v: u32,
+    texel: f64,
+) -> Option<DVec3> {
+    let mesh = s.mesh();
+    let g = &mesh.groups[surface];
+    let k = origins[v as usize] as usize;
+    if k >= g.receivers.len() {
+        return None;
+    }
+    let r = &mesh.receivers[g.receivers.start + k];
+    let nudge = r.point - r.position;
+    (nudge.length() > 0.01 * texel).then_some(nudge)
+}
+
 /// Pieces with fewer texels are interpolated unchecked.
 pub const MIN_CHECKED: usize = 6;
 /// A failing piece with at most this many texels is gathered texel by texel.
@@ -138,14 +159,18 @@ pub fn at_texels(
         if k >= g.receivers.len() {
             return Ok(DVec3::ZERO);
         }
-        let r = &mesh.receivers[g.receivers.start + k];
-        let nudge = r.point - r.position;
-        match nudge.length() > 0.01 * o.texel_size {
-            false => Ok(s.vertex(g.receivers.start + k).indirect),
+        match outline_step(
+            s,
+            surface as usize,
+            &origins[surface as usize],
+            v,
+            o.texel_size,
+        ) {
+            None => Ok(s.vertex(g.receivers.start + k).indirect),
             // Read half a texel off the outline (the solve read farther, up to the contact's
             // gap): a texel stands for that much surface, and at the outline itself a step of
             // any height — a 2 mm panel as a 30 cm box — hides a quarter of the sphere.
-            true => {
+            Some(nudge) => {
                 let off = nudge.length().min(0.5 * o.texel_size);
                 let p = b.positions[v as usize] + nudge.normalize() * off;
                 Err((p, b.normals[v as usize]))

@@ -154,15 +154,7 @@ fn on_outline(
     bary: &[f64; 3],
     texel: f64,
 ) -> bool {
-    let mesh = s.mesh();
-    let g = &mesh.groups[surface];
-    let nudged = |v: u32| {
-        let k = origins[v as usize] as usize;
-        (k < g.receivers.len()) && {
-            let r = &mesh.receivers[g.receivers.start + k];
-            r.point.distance(r.position) > 0.01 * texel
-        }
-    };
+    let nudged = |v: u32| super::reflected::outline_step(s, surface, origins, v, texel).is_some();
     let on_edge =
         (0..3).any(|k| bary[k] < 1e-3 && nudged(tri[(k + 1) % 3]) && nudged(tri[(k + 2) % 3]));
     // Or beside an outline vertex (on an edge leaving the outline), within half a texel.

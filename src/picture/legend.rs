@@ -78,15 +78,7 @@ pub fn legend(scale: &ColourScale, unit: &str, h: u32) -> Rgb8Image {
     let bar_w = 14 * s;
     let tick = 4 * s;
     let levels = scale.levels();
-    let last = levels.len() - 1;
-    let labels: Vec<String> = (levels.iter().enumerate())
-        .map(|(k, &v)| match (k, scale.labelled(v)) {
-            (_, false) => String::new(),
-            (0, true) if scale.open_low => format!("≤ {}", scale.label(v)),
-            (k, true) if k == last && scale.open_high => format!("≥ {}", scale.label(v)),
-            _ => scale.label(v),
-        })
-        .collect();
+    let labels = scale.legend_labels();
     let title_lines: Vec<&str> = if scale.log {
         vec![unit, "log"]
     } else {

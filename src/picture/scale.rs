@@ -87,6 +87,21 @@ impl ColourScale {
         }
     }
 
+    /// The legend's labels of [`ColourScale::levels`]: empty where the level is not labelled,
+    /// "≤ lo" / "≥ hi" at an end beyond which values lie.
+    pub fn legend_labels(&self) -> Vec<String> {
+        let levels = self.levels();
+        let last = levels.len() - 1;
+        (levels.iter().enumerate())
+            .map(|(k, &v)| match (k, self.labelled(v)) {
+                (_, false) => String::new(),
+                (0, true) if self.open_low => format!("≤ {}", self.label(v)),
+                (k, true) if k == last && self.open_high => format!("≥ {}", self.label(v)),
+                _ => self.label(v),
+            })
+            .collect()
+    }
+
     /// Whether the legend labels the level `v`: every level of a linear scale; on a
     /// logarithmic one only 1, 2 and 5 × 10^k (whole decades, and their halves and fifths).
     pub fn labelled(&self, v: f64) -> bool {

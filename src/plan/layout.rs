@@ -293,9 +293,7 @@ pub fn draw(plan: &Plan) -> Drawing {
         anchor: Anchor::Start,
     });
     let mut label_w = width(&format!("{sym} ({unit}, log)"), text);
-    let levels = s.levels();
-    let last = levels.len() - 1;
-    for (k, &level) in levels.iter().enumerate() {
+    for (level, l) in s.levels().into_iter().zip(s.legend_labels()) {
         let y = bar_top + bar_h * (1.0 - s.position(level));
         items.push(Item::Line {
             points: vec![
@@ -305,14 +303,6 @@ pub fn draw(plan: &Plan) -> Drawing {
             colour: BLACK,
             width: 1.0,
         });
-        // Where values lie beyond an automatic range, its ends say so; a log scale labels
-        // 1, 2 and 5 × 10^k only.
-        let l = match (k, s.labelled(level)) {
-            (_, false) => String::new(),
-            (0, true) if s.open_low => format!("≤ {}", s.label(level)),
-            (k, true) if k == last && s.open_high => format!("≥ {}", s.label(level)),
-            _ => s.label(level),
-        };
         label_w = label_w.max(bar_w + 8.0 + width(&l, text));
         items.push(Item::Text {
             x: bar_x + bar_w + 8.0,

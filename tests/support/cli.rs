@@ -229,3 +229,11 @@ impl Mini {
         out
     }
 }
+
+/// samples/office baked at draft quality with `extra` into `scratch(name)/lit.gltf`.
+pub fn office_draft(name: &str, extra: &[&str]) -> PathBuf {
+    let lit = super::scratch(name).join("lit.gltf");
+    let run = bake_draft(&repo_file("samples/office/office.gltf"), &lit, extra);
+    assert!(run.ok(), "{run:?}");
+    lit
+}

@@ -57,3 +57,30 @@ pub fn in_out(name: &str) -> (PathBuf, PathBuf) {
     std::fs::create_dir(&out).unwrap();
     (input, out)
 }
+
+/// A PNG's width, height and RGB pixels as bytes (row 0 at the top; RGBA loses its alpha), for
+/// 8-bit files ([`png_is_8_bit`] says).
+pub fn read_png(path: &Path) -> (usize, usize, Vec<u8>) {
+    let file = std::fs::File::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let mut reader = png::Decoder::new(std::io::BufReader::new(file))
+        .read_info()
+        .unwrap();
+    let mut pixels = vec![0; reader.output_buffer_size().unwrap()];
+    let info = reader.next_frame(&mut pixels).unwrap();
+    pixels.truncate(info.buffer_size());
+    let pixels = match info.color_type {
+        png::ColorType::Rgb => pixels,
+        png::ColorType::Rgba => pixels.chunks(4).flat_map(|p| [p[0], p[1], p[2]]).collect(),
+        other => panic!("{}: colour type {other:?}", path.display()),
+    };
+    (info.width as usize, info.height as usize, pixels)
+}
+
+/// Whether the PNG at `path` has 8 bits a channel.
+pub fn png_is_8_bit(path: &Path) -> bool {
+    let file = std::fs::File::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let reader = png::Decoder::new(std::io::BufReader::new(file))
+        .read_info()
+        .unwrap();
+    reader.info().bit_depth == png::BitDepth::Eight
+}
