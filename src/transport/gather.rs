@@ -29,6 +29,10 @@
 //! its representatives all lie below the receiver's plane (a node the plane cuts near its top),
 //! the target is a point on one of its patches above the plane, found by a short search down its
 //! subtree.
+//! Direct light from emitting surfaces ([`Gatherer::split_leaves`]) samples nothing above the
+//! leaves: a node's visibility is proved ([`crate::visibility::Occluder::settle`]: wholly seen,
+//! its patches taken without rays; wholly hidden, skipped) or the node is refined, so a
+//! penumbra is resolved by the leaves' adaptive splitting, not by where two rays fall.
 //! A far node crossing the receiver's plane whose part above it cannot have a form factor of
 //! 10⁻⁵ ([`HORIZON`]: a sliver of something far away on the horizon) is skipped.
 //! Black nodes ([`Gatherer::dark`]: nothing reflected, nothing emitted into the field) are
@@ -92,8 +96,9 @@ pub struct Gatherer<'a> {
     /// Far-field acceptance: bounding radius / distance below which a node is one source.
     pub tau: f64,
     /// Leaf patches' visible form factor by adaptive splitting ([`super::lit`]) instead of a
-    /// fixed sample pattern: for direct light from emitting surfaces, whose shadows are as sharp
-    /// as a luminaire's (a panel seen past a chair's back), not for the smooth reflected field.
+    /// fixed sample pattern, and inner nodes' visibility proved or refined, never sampled: for
+    /// direct light from emitting surfaces, whose shadows are as sharp as a luminaire's (a panel
+    /// seen past a chair's back), not for the smooth reflected field.
     pub split_leaves: bool,
     /// Only what faces the receiver is gathered: back faces and nodes turned away are skipped,
     /// not measured (direct light from single-sided emitters, which send nothing backward and
@@ -243,10 +248,24 @@ impl Gatherer<'_> {
             if self.fronts_only && node.facing(p) == Some(false) {
                 continue; // turned away: nothing of it is gathered
             }
+            let mut seen = seen;
+            if self.split_leaves && seen == Seen::No && !self.occluder.convex_empty {
+                // Direct light: a node's visibility is proved or the node is refined, never
+                // sampled (a penumbra's edge would be where two rays happen to fall).
+                match self.proved(p, n, node) {
+                    Some(true) => seen = Seen::All,
+                    Some(false) => continue,
+                    None => {
+                        push_children(&mut stack, node, Seen::No);
+                        continue;
+                    }
+                }
+            }
             if node.mixed {
                 // Patches from both sides of a wall: what one part shows says nothing of the
-                // other, so no ray settles it.
-                push_children(&mut stack, node, Seen::No);
+                // other, so no ray settles it (a proof does: [`Gatherer::proved`]).
+                let kept = if seen == Seen::All { seen } else { Seen::No };
+                push_children(&mut stack, node, kept);
                 continue;
             }
             if node.radius >= self.tau * dist {
@@ -280,6 +299,7 @@ impl Gatherer<'_> {
             let moments = self.tree.moments(i as usize);
             let f = facing.map(|_| moments.form_factor(p, n).abs());
             let vis = match f {
+                _ if self.split_leaves && seen == Seen::All => 1.0, // proved
                 Some(_) if seen.covers(facing == Some(true)) => 1.0,
                 Some(f) if f < SMALL_NODE => self.ray_visibility(p, n, i, &[1], &mut shared),
                 Some(_) => self.ray_visibility(p, n, i, &[0, 2], &mut shared),
@@ -298,6 +318,23 @@ impl Gatherer<'_> {
             }
         }
         coverage
+    }
+
+    /// What is proved of the visibility of all of `node` from `p` (normal `n`): the segments
+    /// to its box ([`Occluder::settle`]), the box moved off the plane of a flat node's own
+    /// patches by the occluder's epsilon (as a shadow ray's end is) and drawn in from its rim
+    /// by 10⁻⁴ of its distance (as [`super::lit`]'s edge samples are: off the edges a panel
+    /// shares with the ceiling it is set in).
+    fn proved(&self, p: DVec3, n: DVec3, node: &NodeBounds) -> Option<bool> {
+        let eps = self.occluder.epsilon;
+        let rim = 1e-4 * (node.center - p).length();
+        let half = (node.half - DVec3::splat(rim)).max(DVec3::ZERO);
+        let off = match node.cone_wide || node.curved {
+            true => DVec3::ZERO,
+            false => node.cone_axis * (2.0 * eps),
+        };
+        let c = node.center + off;
+        self.occluder.settle(&[p + n * eps], c - half, c + half)
     }
 
     /// Node `i` accepted as one far-field source seen from `p` (`front`: its patches face `p`;

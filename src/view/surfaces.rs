@@ -23,7 +23,7 @@
 //! Back faces are culled ([`Occluder::closest_front`]): a double-sided surface is baked as two
 //! primitives wound opposite ways, so each side shows its own values.
 
-use crate::baked::{BakedOutput, Primitive};
+use crate::baked::{BakedOutput, Lightmap, Primitive};
 use crate::scene::luma;
 use crate::visibility::Occluder;
 use glam::{DVec2, DVec3};
@@ -211,15 +211,30 @@ impl<'a> Surfaces<'a> {
 
     /// Illuminance on the surface at the hit (lx).
     pub fn illuminance(&self, h: &SurfaceHit) -> f64 {
+        self.scalar(h, |m| &m.illuminance, |p| &p.illuminance)
+    }
+
+    /// The direct part of the illuminance at the hit (lx).
+    pub fn direct_illuminance(&self, h: &SurfaceHit) -> f64 {
+        self.scalar(h, |m| &m.illuminance_direct, |p| &p.illuminance_direct)
+    }
+
+    /// A scalar channel at the hit: the lightmap's (bilinear) or the vertices' (interpolated).
+    fn scalar(
+        &self,
+        h: &SurfaceHit,
+        texels: fn(&Lightmap) -> &[f32],
+        vertices: fn(&Primitive) -> &[f32],
+    ) -> f64 {
         let prim = &self.baked.primitives[h.primitive];
         match &prim.lightmap {
             Some(l) => {
                 let map = &self.baked.lightmaps[l.lightmap];
-                map.bilinear(|k| map.illuminance[k] as f64, self.uv(h, &l.uv))
+                let values = texels(map);
+                map.bilinear(|k| values[k] as f64, self.uv(h, &l.uv))
             }
             None => {
-                self.interpolate(h, &prim.illuminance, |&e| DVec3::splat(e as f64))
-                    .x
+                (self.interpolate(h, vertices(prim), |&e| DVec3::splat(e as f64))).x
             }
         }
     }
