@@ -20,7 +20,12 @@ use support::cli::{bake, repo_file};
 /// The light's quad (y = 0.5488, facing −y) and its luminance Y (cd/m²): the sample's
 /// `Ke 13615.9 9611.2 3203.7` through 0.2126 R + 0.7152 G + 0.0722 B.
 const LIGHT_Y: f64 = 0.5488;
-const LIGHT: [[f64; 2]; 4] = [[0.343, 0.227], [0.343, 0.332], [0.213, 0.332], [0.213, 0.227]];
+const LIGHT: [[f64; 2]; 4] = [
+    [0.343, 0.227],
+    [0.343, 0.332],
+    [0.213, 0.332],
+    [0.213, 0.227],
+];
 const LUMINANCE: f64 = 0.2126 * 13615.9 + 0.7152 * 9611.2 + 0.0722 * 3203.7;
 
 /// The blocks: footprint (x, z) and height (m), from the sample's OBJ.
@@ -30,7 +35,12 @@ const BLOCKS: [([[f64; 2]; 4], f64); 2] = [
         0.165,
     ),
     (
-        [[0.423, 0.247], [0.265, 0.296], [0.314, 0.456], [0.472, 0.406]],
+        [
+            [0.423, 0.247],
+            [0.265, 0.296],
+            [0.314, 0.456],
+            [0.472, 0.406],
+        ],
         0.33,
     ),
 ];
@@ -42,7 +52,11 @@ fn hull(mut p: Vec<DVec2>) -> Vec<DVec2> {
     let mut h: Vec<DVec2> = Vec::new();
     for pass in [false, true] {
         let start = h.len();
-        let points: Vec<DVec2> = if pass { p.iter().rev().copied().collect() } else { p.clone() };
+        let points: Vec<DVec2> = if pass {
+            p.iter().rev().copied().collect()
+        } else {
+            p.clone()
+        };
         for q in points {
             while h.len() >= start + 2 && cross(h[h.len() - 2], h[h.len() - 1], q) <= 0.0 {
                 h.pop();
@@ -112,7 +126,11 @@ fn analytic(p: DVec3, n: DVec3) -> f64 {
         s if s.len() >= 3 => clip(&light, &s),
         _ => Vec::new(),
     });
-    let both = if a.len() >= 3 { clip(&b, &a) } else { Vec::new() };
+    let both = if a.len() >= 3 {
+        clip(&b, &a)
+    } else {
+        Vec::new()
+    };
     let ff = |poly: &[DVec2]| form_factor(p, n, poly);
     let f = ff(&light) - ff(&a) - ff(&b) + ff(&both);
     PI * LUMINANCE * f
@@ -149,7 +167,10 @@ fn texels_against_analytic(
             continue;
         }
         count += 1;
-        let (got, want) = (f64::from(map.illuminance_direct[t.index as usize]), analytic(q, n));
+        let (got, want) = (
+            f64::from(map.illuminance_direct[t.index as usize]),
+            analytic(q, n),
+        );
         let err = (got - want).abs() / (0.01 * want).max(0.002 * unshadowed);
         if err > worst.0 {
             worst = (err, q, got, want);
@@ -206,7 +227,10 @@ fn the_blocks_penumbrae_are_smooth_and_match_the_analytic_shadows() {
         q.y > m && q.y < LIGHT_Y - m && q.z > m && q.z < 0.5592 - m
     };
     let mut results = Vec::new();
-    for (node, keep) in [("floor", &strip as &dyn Fn(DVec3, f64) -> bool), ("left_wall", &wall)] {
+    for (node, keep) in [
+        ("floor", &strip as &dyn Fn(DVec3, f64) -> bool),
+        ("left_wall", &wall),
+    ] {
         let (count, worst) = texels_against_analytic(&baked, node, keep);
         eprintln!(
             "{node}: {count} texels; worst {:.2} of the tolerance at {} ({:.1} lx, analytic {:.1} lx)",
@@ -227,7 +251,10 @@ fn the_blocks_penumbrae_are_smooth_and_match_the_analytic_shadows() {
             assert!((h.distance - 0.01).abs() < 1e-6);
             let (got, want) = (surfaces.direct_illuminance(&h), analytic(q, DVec3::Y));
             if let Some((before, before_want)) = last {
-                assert!(want >= before_want * (1.0 - 1e-9), "the oracle rises at {q}");
+                assert!(
+                    want >= before_want * (1.0 - 1e-9),
+                    "the oracle rises at {q}"
+                );
                 let back = (before - got) / got.max(1e-9);
                 if back > worst_step.0 {
                     worst_step = (back, q);
@@ -236,7 +263,11 @@ fn the_blocks_penumbrae_are_smooth_and_match_the_analytic_shadows() {
             last = Some((got, want));
         }
     }
-    eprintln!("worst step back: {:.3} % at {}", 100.0 * worst_step.0, worst_step.1);
+    eprintln!(
+        "worst step back: {:.3} % at {}",
+        100.0 * worst_step.0,
+        worst_step.1
+    );
     for (node, worst) in results {
         assert!(worst.0 <= 1.0, "{node}: {worst:?}");
     }

@@ -233,9 +233,7 @@ impl<'a> Surfaces<'a> {
                 let values = texels(map);
                 map.bilinear(|k| values[k] as f64, self.uv(h, &l.uv))
             }
-            None => {
-                (self.interpolate(h, vertices(prim), |&e| DVec3::splat(e as f64))).x
-            }
+            None => (self.interpolate(h, vertices(prim), |&e| DVec3::splat(e as f64))).x,
         }
     }
 
