@@ -511,10 +511,13 @@ fn add_group(mesh: &mut PatchMesh, g: GroupInput) {
     }
     let mut offset = Vec::with_capacity(n);
     for i in 0..n {
-        // On a contact's outline the light changes within the gap's width, finer than any patch:
-        // read it that far off the outline (at most a quarter of the patches around).
+        // On a contact's outline of depth c the light changes within about c of it (a glowing
+        // panel's edge, a picture's shade), falling off as (c/d)²: read it where that profile
+        // equals its mean over the patches around (size w, weighted as linear interpolation
+        // weighs them): d = ½·√(c·w), at least 2c and at most a quarter of the patches around.
         let contact = g.outline.get(i).copied().flatten().unwrap_or(0.0);
-        let nudge = (1e-4 * local[i].min(g.h)).max((2.0 * contact).min(local[i] / 4.0));
+        let off = (2.0 * contact).max(0.5 * (contact * local[i]).sqrt());
+        let nudge = (1e-4 * local[i].min(g.h)).max(off.min(local[i] / 4.0));
         let face = face_sum[i].normalize_or_zero();
         let shading = g.shading_normals[i];
         // Trust the shading normal unless it disagrees with the faces around the vertex.

@@ -324,7 +324,7 @@ impl Gatherer<'_> {
     /// to its box ([`Occluder::settle`]), the box moved off the plane of a flat node's own
     /// patches by the occluder's epsilon (as a shadow ray's end is) and drawn in from its rim
     /// by 10⁻⁴ of its distance (as [`super::lit`]'s edge samples are: off the edges a panel
-    /// shares with the ceiling it is set in).
+    /// shares with the ceiling it is set in). Hidden is proved for the box grown by as much.
     fn proved(&self, p: DVec3, n: DVec3, node: &NodeBounds) -> Option<bool> {
         let eps = self.occluder.epsilon;
         let rim = 1e-4 * (node.center - p).length();
@@ -334,7 +334,19 @@ impl Gatherer<'_> {
             false => node.cone_axis * (2.0 * eps),
         };
         let c = node.center + off;
-        self.occluder.settle(&[p + n * eps], c - half, c + half)
+        let start = [p + n * eps];
+        match self.occluder.settle(&start, c - half, c + half)? {
+            true => Some(true),
+            // Hidden only if the whole box, grown by the rim, is: the drawn-in box of a closed
+            // emitter (a glowing box) lies inside it, behind its own faces.
+            false => {
+                let grown = node.half + DVec3::splat(rim + 2.0 * eps);
+                let hidden = self
+                    .occluder
+                    .settle(&start, node.center - grown, node.center + grown);
+                (hidden == Some(false)).then_some(false)
+            }
+        }
     }
 
     /// Node `i` accepted as one far-field source seen from `p` (`front`: its patches face `p`;
