@@ -15,7 +15,7 @@ mod support;
 use glam::{DVec2, DVec3};
 use luxbake::geom::lambert;
 use std::f64::consts::PI;
-use support::cli::{bake, repo_file};
+use support::cli::{bake_lightmapped, repo_file};
 
 /// The light's quad (y = 0.5488, facing −y) and its luminance Y (cd/m²): the sample's
 /// `Ke 13615.9 9611.2 3203.7` through 0.2126 R + 0.7152 G + 0.0722 B.
@@ -209,13 +209,7 @@ fn the_blocks_penumbrae_are_smooth_and_match_the_analytic_shadows() {
     let (_, out) = support::in_out("penumbra");
     let lit = out.join("lit.gltf");
     let obj = repo_file("samples/cornell-box/cornell-box.obj");
-    let run = bake([
-        obj.as_os_str(),
-        "-o".as_ref(),
-        lit.as_os_str(),
-        "--lightmaps".as_ref(),
-    ]);
-    assert!(run.ok(), "{run:?}");
+    bake_lightmapped(&obj, &lit);
     let baked = luxbake::baked::read(&lit).unwrap();
 
     // The floor strip left of the short block's left side (x ≈ 0.10–0.13 there): umbra,

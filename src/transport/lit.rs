@@ -56,6 +56,11 @@ const EDGE_SHARE: f64 = 0.01;
 /// A point of the patch by its barycentric weights on corners 0 and 1 (over [`WHOLE`]).
 type Bary = [u32; 2];
 
+/// The point's name in [`Traced`]: both weights, exact.
+fn key(b: Bary) -> u32 {
+    b[0] << 16 | b[1]
+}
+
 /// The call's patch and receiver, and what each sample point's ray said.
 struct Patch<'a> {
     occ: &'a Occluder,
@@ -98,13 +103,12 @@ impl Patch<'_> {
 
     /// Is the point seen from the receiver (traced at most once per call)?
     fn seen(&mut self, b: Bary) -> bool {
-        let key = b[0] << 16 | b[1];
-        if let Some(&seen) = self.traced.points.get(&key) {
+        if let Some(&seen) = self.traced.points.get(&key(b)) {
             return seen;
         }
         let on_edge = b[0] == 0 || b[1] == 0 || b[0] + b[1] == WHOLE;
         let seen = self.trace(self.at(b), on_edge);
-        self.traced.points.insert(key, seen);
+        self.traced.points.insert(key(b), seen);
         seen
     }
 
@@ -121,7 +125,6 @@ impl Patch<'_> {
     /// Where the shadow edge crosses the side from `a` to `b` (whose ends disagree): the
     /// point, found by bisection from the side's lower-named end.
     fn crossing(&mut self, a: Bary, b: Bary) -> DVec3 {
-        let key = |q: Bary| q[0] << 16 | q[1];
         let (lo, hi) = if key(a) < key(b) { (a, b) } else { (b, a) };
         let (pa, pb) = (self.at(lo), self.at(hi));
         let side = u64::from(key(lo)) << 32 | u64::from(key(hi));
@@ -179,17 +182,15 @@ impl Patch<'_> {
         // Its centroid and corners: a straight shadow edge crossing the piece leaves corners
         // on both sides of it.
         let centroid = [0, 1].map(|k| (b[0][k] + b[1][k] + b[2][k]) / 3);
-        let seen = [centroid, b[0], b[1], b[2]]
-            .into_iter()
-            .filter(|&q| self.seen(q))
-            .count();
+        let centre = self.seen(centroid);
+        let corners = b.map(|q| self.seen(q));
+        let seen = usize::from(centre) + corners.iter().filter(|&&c| c).count();
         if seen == 0 {
             return 0.0;
         }
         if seen < 4 && depth < MAX_DEPTH && size > COARSE / REFINE * dist {
             return self.split(b, depth);
         }
-        let corners = b.map(|q| self.seen(q));
         if corners.contains(&true) && corners.contains(&false) {
             return self.seen_part(b, t, corners);
         }

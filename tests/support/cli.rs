@@ -52,6 +52,17 @@ pub fn bake_draft<S: AsRef<OsStr>>(input: &Path, output: &Path, extra: &[S]) -> 
     bake(args)
 }
 
+/// Bake `input` to `output` with `--lightmaps` at default quality; the run must succeed.
+pub fn bake_lightmapped(input: &Path, output: &Path) {
+    let run = bake([
+        input.as_os_str(),
+        "-o".as_ref(),
+        output.as_os_str(),
+        "--lightmaps".as_ref(),
+    ]);
+    assert!(run.ok(), "{run:?}");
+}
+
 /// Bake `input` into `out/lit.gltf` at draft quality with `extra` arguments.
 pub fn bake_draft_into<S: AsRef<OsStr>>(input: &Path, out: &Path, extra: &[S]) -> Run {
     bake_draft(input, &out.join("lit.gltf"), extra)
