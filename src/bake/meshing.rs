@@ -11,11 +11,12 @@
 //! light from the scene's lights, luminaires and profiled emitters (Lambertian emitting surfaces
 //! are not in the estimate: their light arrives through the patch field), plus Sumpner's mean
 //! indirect illuminance at points that nothing covers within `CONTACT × h` (h/2) — and splits edges
-//! where linear interpolation misses it (see [`patches::adapt`]), down to `h / 2`. Shadow edges
-//! and steep gradients of direct light get fine patches, and so do contact lines, where light
-//! from the room stops (a fitting on the ceiling, a cabinet against a wall). Smooth regions
-//! keep patches 4× the area of the uniform mesh's; shadow edges and steep gradients get patches
-//! a quarter of it. `--uniform-patches` turns it off (the harness measures both).
+//! where linear interpolation misses it (see [`patches::adapt`]), down to `h / 2`, and at sharp
+//! edges of light on broad surfaces to `h / 4` (a luminaire's cut-off on a wall: vertex colours
+//! would show the patches there as scallops). Shadow edges and steep gradients of direct light
+//! get fine patches, and so do contact lines, where light from the room stops (a fitting on the
+//! ceiling, a cabinet against a wall). Smooth regions keep patches 4× the area of the uniform
+//! mesh's; steep gradients get patches a quarter of it, sharp edges a sixteenth. `--uniform-patches` turns it off (the harness measures both).
 
 use crate::contacts::{self, Contacts};
 use crate::direct::cut::{Cut, CutSettings};
@@ -277,14 +278,15 @@ fn mesh(
     };
     let adapt = Adapt {
         probe: &probe,
-        min_edge: h / 2.0,
+        min_edge: h / 4.0,
+        sharp_below: h / 2.0,
         levels: 3,
         mean,
     };
     let mesh = patches::build_cut(scene, COARSE * h, Some(&adapt), contacts);
     let record = MeshingRecord {
         coarse_patch_size: COARSE * h,
-        smallest_patch_size: h / 2.0,
+        smallest_patch_size: h / 4.0,
         coarse_patches: coarse.patches.len(),
         relative: patches::adapt::RELATIVE,
         absolute: patches::adapt::ABSOLUTE,

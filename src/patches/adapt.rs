@@ -28,6 +28,10 @@ pub const RELATIVE: f64 = 0.08;
 /// …or by this share of the scene's mean direct illuminance (dark regions need less).
 pub const ABSOLUTE: f64 = 0.03;
 
+/// Edges shorter than [`Adapt::sharp_below`] (× 1.5) split only where interpolation misses by
+/// this many times the thresholds above: a shadow or cut-off edge, not a gradient.
+pub const SHARP: f64 = 8.0;
+
 /// How far (× the local edge length) judged points are pulled into their triangles.
 const PULL: f64 = 1e-3;
 
@@ -39,6 +43,10 @@ pub struct Adapt<'p> {
     pub probe: Probe<'p>,
     /// Edges are not split below this length (m).
     pub min_edge: f64,
+    /// Below this length (m) edges split only at sharp edges of the light ([`SHARP`]), and only
+    /// on broad surfaces: those whose given triangles' longest edges are on average longer
+    /// (a chair's tessellation is not refined past it).
+    pub sharp_below: f64,
     /// Rounds of splitting (each can halve an edge once).
     pub levels: u32,
     /// The scene's mean direct illuminance (lx), the scale of [`ABSOLUTE`].
@@ -63,6 +71,12 @@ pub struct SurfaceMesh {
 /// many edges were split.
 pub fn refine(m: &mut SurfaceMesh, signs: &[f64], a: &Adapt) -> usize {
     let mut split_total = 0;
+    let sharp = a.sharp_below * 1.5 * (1.0 + 1e-9);
+    let min_edge = if broad(m) > sharp {
+        a.min_edge * 1.5 * (1.0 + 1e-9)
+    } else {
+        sharp.max(a.min_edge * 1.5 * (1.0 + 1e-9))
+    };
     // Illuminance per vertex and side, extended as vertices are added; NaN until a candidate
     // edge needs it. Each vertex is judged where the mesh of the round that added it puts it
     // (`asked`), but probed only when an edge ending there is long enough to split: a surface
@@ -96,7 +110,7 @@ pub fn refine(m: &mut SurfaceMesh, signs: &[f64], a: &Adapt) -> usize {
                 let (u, v) = (t[k], t[(k + 1) % 3]);
                 let key = (u.min(v), u.max(v));
                 let (pu, pv) = (m.positions[u as usize], m.positions[v as usize]);
-                if (pu - pv).length() <= a.min_edge * 1.5 * (1.0 + 1e-9) {
+                if (pu - pv).length() <= min_edge {
                     continue;
                 }
                 let dir = (c - (pu + pv) * 0.5).normalize_or_zero();
@@ -167,7 +181,9 @@ pub fn refine(m: &mut SurfaceMesh, signs: &[f64], a: &Adapt) -> usize {
                 let (eu, ev, em) = (at[s][u as usize], at[s][v as usize], e_mid[i]);
                 let error = (em - 0.5 * (eu + ev)).abs();
                 let local = eu.max(ev).max(em);
-                if error > RELATIVE * local || (error > ABSOLUTE * a.mean && local > 0.0) {
+                let len = (m.positions[u as usize] - m.positions[v as usize]).length();
+                let k = if len <= sharp { SHARP } else { 1.0 };
+                if error > k * RELATIVE * local || (error > k * ABSOLUTE * a.mean && local > 0.0) {
                     split[i] = true;
                 }
             }
@@ -207,6 +223,16 @@ pub fn refine(m: &mut SurfaceMesh, signs: &[f64], a: &Adapt) -> usize {
         }
     }
     split_total
+}
+
+/// The mean over `m`'s triangles of their longest edge (m).
+fn broad(m: &SurfaceMesh) -> f64 {
+    let longest = |t: &[u32; 3]| {
+        (0..3)
+            .map(|k| (m.positions[t[k] as usize] - m.positions[t[(k + 1) % 3] as usize]).length())
+            .fold(0.0, f64::max)
+    };
+    m.triangles.iter().map(longest).sum::<f64>() / m.triangles.len().max(1) as f64
 }
 
 /// Split triangle `t` (counter-clockwise) at the midpoints `mids[k]` of its edges `t[k]→t[k+1]`.
@@ -306,6 +332,7 @@ mod tests {
         let a = Adapt {
             probe: &probe,
             min_edge: 0.2,
+            sharp_below: 0.2,
             levels: 3,
             mean: 50.0,
         };
@@ -350,6 +377,56 @@ mod tests {
         assert!(smallest < 0.5 / 8.0 + 1e-12, "smallest {smallest}");
     }
 
+    /// The smallest triangle's area after refining `square(4)` under `probe` with the sharp
+    /// regime below 0.4 m and the floor at 0.1 m.
+    fn smallest_after(probe: Probe, m: &mut SurfaceMesh) -> f64 {
+        let a = Adapt {
+            probe,
+            min_edge: 0.1,
+            sharp_below: 0.4,
+            levels: 5,
+            mean: 100.0,
+        };
+        refine(m, &[1.0], &a);
+        m.triangles
+            .iter()
+            .map(|t| area_normal(&m.positions, t).y)
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    #[test]
+    fn only_sharp_edges_of_light_are_refined_below_sharp_below() {
+        // A shadow edge goes down to min_edge (0.1 m: triangles of 1/128 m²)…
+        let shadow = |q: &[(DVec3, DVec3)]| -> Vec<f64> {
+            q.iter()
+                .map(|(p, _)| if p.x < 2.3 { 100.0 } else { 0.0 })
+                .collect()
+        };
+        let a = smallest_after(&shadow, &mut square(4));
+        assert!(a < 1.0 / 128.0 + 1e-12, "shadow: smallest {a}");
+        // …a curved gradient is refined, but no edge at most 1.5 × sharp_below is split (the
+        // smallest triangles halve a 0.5 m cell along its diagonal: 1/16 m²)…
+        let curved = |q: &[(DVec3, DVec3)]| -> Vec<f64> {
+            q.iter().map(|(p, _)| 100.0 + 50.0 * (p.x * 3.0).sin()).collect()
+        };
+        let a = smallest_after(&curved, &mut square(4));
+        assert!((a - 1.0 / 16.0).abs() < 1e-12, "gradient: smallest {a}");
+        // …and a surface already tessellated finer than sharp_below is not refined past it,
+        // even at a shadow edge.
+        let mut fine = square(4);
+        for p in &mut fine.positions {
+            *p *= 0.1;
+        }
+        let narrow = |q: &[(DVec3, DVec3)]| -> Vec<f64> {
+            q.iter()
+                .map(|(p, _)| if p.x < 0.23 { 100.0 } else { 0.0 })
+                .collect()
+        };
+        let before = fine.triangles.len();
+        smallest_after(&narrow, &mut fine);
+        assert_eq!(fine.triangles.len(), before);
+    }
+
     #[test]
     fn linear_light_needs_no_patches() {
         let probe = |q: &[(DVec3, DVec3)]| -> Vec<f64> {
@@ -362,6 +439,7 @@ mod tests {
         let a = Adapt {
             probe: &probe,
             min_edge: 0.1,
+            sharp_below: 0.1,
             levels: 3,
             mean: 50.0,
         };
@@ -385,6 +463,7 @@ mod tests {
         let a = Adapt {
             probe: &probe,
             min_edge: 0.1,
+            sharp_below: 0.1,
             levels: 3,
             mean: 100.0,
         };
@@ -402,6 +481,7 @@ mod tests {
         let a = Adapt {
             probe: &probe,
             min_edge: 1.0,
+            sharp_below: 1.0,
             levels: 4,
             mean: 50.0,
         };

@@ -22,7 +22,11 @@
 //! screen standing on the surface). It reads their mean with Ward's weights 1/ε when at least two
 //! are valid and their first-bounce illuminances (their rows applied to the first-bounce field)
 //! spread by at most the tolerance × its estimated illuminance (direct + interpolated first
-//! bounce); else it waits for the next level. After the last level every receiver still
+//! bounce); else it waits for the next level. The spread is the residual of a weighted plane
+//! through four rows or more; for three (which a plane fits exactly) the plane's value less
+//! Ward's mean; for two, or rows in a line, their range, and only for a receiver within
+//! [`OFF_LINE`] of their line (off it they say nothing: a receiver behind a card hung above the
+//! floor would read two rows from under its edge). After the last level every receiver still
 //! unsettled is gathered. Nothing is read across groups, so never across the outline of a
 //! contact (covered parts are not receivers) or from another surface.
 //!
@@ -47,6 +51,9 @@ const MAX_TERMS: usize = 8;
 /// A gathered receiver seeing more back faces than this share of its hemisphere lends its row
 /// to nobody.
 const MAX_BACK: f32 = 0.05;
+/// A receiver reading two rows (or rows in a line) lies at most this share of their distance
+/// off their line.
+const OFF_LINE: f64 = 0.1;
 /// Linear weights below this extrapolate too far: the Ward mean is read instead.
 const MIN_WEIGHT: f64 = -0.25;
 /// Rays per side of the stratified pattern [`nearness`] traces.
@@ -506,9 +513,21 @@ fn settle(
         .map(|&(_, g)| gathered[g as usize].point)
         .collect();
     let (weights, error) = match linear(&points, &first, &ward, v) {
+        // Three rows fit a plane exactly, so their residual says nothing: how far the plane's
+        // value is from Ward's mean bounds the error instead (large across a kink in the light).
+        Some((w, _)) if near.len() == 3 => {
+            let at = |w: &[f64]| w.iter().zip(&first).map(|(w, f)| w * f).sum::<f64>();
+            let error = (at(&w) - at(&ward)).abs();
+            (w, error)
+        }
         Some(fit) => fit,
         None => {
-            // Two rows, or in a line: the spread of their estimates bounds the mean's error.
+            // Two rows, or in a line: the spread of their estimates bounds the mean's error
+            // along that line only; off it the light may change in a way they cannot show
+            // (a receiver behind a screen reading two rows from beneath it).
+            if off_line(&points, v.point) > OFF_LINE {
+                return None;
+            }
             let (lo, hi) = (first.iter()).fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
                 (a.min(*x), b.max(*x))
             });
@@ -525,6 +544,27 @@ fn settle(
             .map(|(&(_, g), &w)| (g, w as f32))
             .collect(),
     )
+}
+
+/// How far from the line through the two farthest of `points` `p` lies, as a share of their
+/// distance.
+fn off_line(points: &[DVec3], p: DVec3) -> f64 {
+    let mut far = (0.0, points[0], points[0]);
+    for (i, a) in points.iter().enumerate() {
+        for b in &points[i + 1..] {
+            let d = a.distance_squared(*b);
+            if d > far.0 {
+                far = (d, *a, *b);
+            }
+        }
+    }
+    let (span, a, b) = (far.0.sqrt(), far.1, far.2);
+    if span <= 0.0 {
+        return f64::INFINITY;
+    }
+    let u = (b - a) / span;
+    let w = p - a;
+    (w - u * w.dot(u)).length() / span
 }
 
 /// Weights that reproduce any linear function over `points` at `v` (a weighted least-squares
@@ -773,6 +813,50 @@ mod tests {
         let mean_error = sum_abs / sum;
         assert!(mean_error < 2e-3, "mean |error| {mean_error:e} of the mean");
         assert!(worse * 100 < e_full.len(), "{worse} receivers off by > 3 %");
+    }
+
+    /// A receiver behind a card hung 10 cm above a floor reads no row from under the card's
+    /// edge, where the light its front reflects still arrives (rows in a line say nothing off
+    /// their line; three rows fit a plane exactly).
+    #[test]
+    fn receivers_behind_a_hung_card_read_the_light_behind_it() {
+        let mut b = SceneBuilder::new();
+        let grey = b.material("grey", 0.5);
+        let card = b.material_full("card", DVec3::splat(0.6), None, true);
+        b.floor("floor", 1.0, 0.0, grey);
+        let p = DVec3::new;
+        let corners = [p(-0.5, 0.1, 0.5), p(0.5, 0.1, 0.5), p(0.5, 0.6, 0.5), p(-0.5, 0.6, 0.5)];
+        b.quad("card", corners, card);
+        b.point_light("lamp", p(0.0, 1.0, 0.0), 1000.0);
+        let built = built(&b.build());
+        let gatherer = gatherer(&built);
+        // The card's side facing −z (toward the lamp) bright, everything else dim.
+        let field: Vec<DVec3> = (built.mesh.patches.iter())
+            .map(|p| {
+                let c = p.corners(&built.mesh.receivers);
+                let n = (c[1] - c[0]).cross(c[2] - c[0]).normalize();
+                DVec3::splat(if n.z < -0.5 { 1000.0 } else { 10.0 })
+            })
+            .collect();
+        let direct = vec![DVec3::ZERO; built.mesh.receivers.len()];
+        let sharing = Sharing {
+            tolerance: 0.03,
+            direct: &direct,
+            first_bounce: &field,
+        };
+        let full = ReceiverLinks::build(&gatherer, &built.mesh.receivers);
+        let shared = build(&gatherer, &built.mesh.receivers, &sharing);
+        assert!(shared.rows() < built.mesh.receivers.len(), "nothing shared");
+        let (e_full, e_shared) = (apply(&built, &full, &field), apply(&built, &shared, &field));
+        for (r, v) in built.mesh.receivers.iter().enumerate() {
+            let behind = v.normal.y > 0.9 && v.point.z > 0.5;
+            let (a, s) = (e_full[r], e_shared[r]);
+            assert!(
+                !behind || (s - a).abs() <= 0.1 * a,
+                "floor receiver at {} reads {s} lx, its own row {a} lx",
+                v.point
+            );
+        }
     }
 
     /// Parts of whole groups, assembled, give the links of one build, row for row.
