@@ -276,8 +276,14 @@ fn mesh(
             })
             .collect()
     };
+    let open = |q: &[(DVec3, DVec3)]| -> Vec<bool> {
+        q.par_iter()
+            .map(|&(p, n)| occluder.clear(p, n, p + n * contact, DVec3::ZERO))
+            .collect()
+    };
     let adapt = Adapt {
         probe: &probe,
+        open: Some(&open),
         min_edge: h / 4.0,
         sharp_below: h / 2.0,
         levels: 3,

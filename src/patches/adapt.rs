@@ -38,6 +38,9 @@ const PULL: f64 = 1e-3;
 /// Estimated illuminance (lx) at each `(point, unit normal)`; evaluated in one batch.
 pub type Probe<'p> = &'p (dyn Fn(&[(DVec3, DVec3)]) -> Vec<f64> + Sync);
 
+/// Whether each `(point, unit normal)` is open (nothing lies on the surface in front of it).
+pub type Openness<'p> = &'p (dyn Fn(&[(DVec3, DVec3)]) -> Vec<bool> + Sync);
+
 /// What adaptive refinement needs beyond the mesh.
 pub struct Adapt<'p> {
     pub probe: Probe<'p>,
@@ -47,6 +50,9 @@ pub struct Adapt<'p> {
     /// on broad surfaces: those whose given triangles' longest edges are on average longer
     /// (a chair's tessellation is not refined past it).
     pub sharp_below: f64,
+    /// Whether each `(point, unit normal)` has nothing lying on the surface in front of it;
+    /// edges below `sharp_below` split only where their midpoint is open.
+    pub open: Option<Openness<'p>>,
     /// Rounds of splitting (each can halve an edge once).
     pub levels: u32,
     /// The scene's mean direct illuminance (lx), the scale of [`ABSOLUTE`].
@@ -155,6 +161,7 @@ pub fn refine(m: &mut SurfaceMesh, signs: &[f64], a: &Adapt) -> usize {
             )
         };
         let mut split = vec![false; edges.len()];
+        let mut below: Vec<(usize, (DVec3, DVec3))> = Vec::new();
         for (s, sign) in signs.iter().enumerate() {
             let queries: Vec<(DVec3, DVec3)> = edges
                 .iter()
@@ -184,9 +191,22 @@ pub fn refine(m: &mut SurfaceMesh, signs: &[f64], a: &Adapt) -> usize {
                 let len = (m.positions[u as usize] - m.positions[v as usize]).length();
                 let k = if len <= sharp { SHARP } else { 1.0 };
                 if error > k * RELATIVE * local || (error > k * ABSOLUTE * a.mean && local > 0.0) {
-                    split[i] = true;
+                    if len <= sharp {
+                        below.push((i, queries[i]));
+                    } else {
+                        split[i] = true;
+                    }
                 }
             }
+            // A sharp edge under something lying on the surface is a contact, not light: the
+            // contact lines were refined above, and points under a cover too small to cut away
+            // would read its darkness into the open triangle round them.
+            let q: Vec<(DVec3, DVec3)> = below.iter().map(|b| b.1).collect();
+            let open = a.open.map_or_else(|| vec![true; q.len()], |open| open(&q));
+            for (&(i, _), o) in below.iter().zip(open) {
+                split[i] |= o;
+            }
+            below.clear();
         }
         let count = split.iter().filter(|s| **s).count();
         if count == 0 {
@@ -333,6 +353,7 @@ mod tests {
             probe: &probe,
             min_edge: 0.2,
             sharp_below: 0.2,
+            open: None,
             levels: 3,
             mean: 50.0,
         };
@@ -379,11 +400,12 @@ mod tests {
 
     /// The smallest triangle's area after refining `square(4)` under `probe` with the sharp
     /// regime below 0.4 m and the floor at 0.1 m.
-    fn smallest_after(probe: Probe, m: &mut SurfaceMesh) -> f64 {
+    fn smallest_after(probe: Probe, open: Option<Openness>, m: &mut SurfaceMesh) -> f64 {
         let a = Adapt {
             probe,
             min_edge: 0.1,
             sharp_below: 0.4,
+            open,
             levels: 5,
             mean: 100.0,
         };
@@ -402,14 +424,19 @@ mod tests {
                 .map(|(p, _)| if p.x < 2.3 { 100.0 } else { 0.0 })
                 .collect()
         };
-        let a = smallest_after(&shadow, &mut square(4));
+        let a = smallest_after(&shadow, None, &mut square(4));
         assert!(a < 1.0 / 128.0 + 1e-12, "shadow: smallest {a}");
+        // …but not where something lies on the surface (a cover too small to cut away): the
+        // same edge of light stops at sharp_below there…
+        let covered = |q: &[(DVec3, DVec3)]| -> Vec<bool> { vec![false; q.len()] };
+        let a = smallest_after(&shadow, Some(&covered), &mut square(4));
+        assert!((a - 1.0 / 16.0).abs() < 1e-12, "under a cover: smallest {a}");
         // …a curved gradient is refined, but no edge at most 1.5 × sharp_below is split (the
         // smallest triangles halve a 0.5 m cell along its diagonal: 1/16 m²)…
         let curved = |q: &[(DVec3, DVec3)]| -> Vec<f64> {
             q.iter().map(|(p, _)| 100.0 + 50.0 * (p.x * 3.0).sin()).collect()
         };
-        let a = smallest_after(&curved, &mut square(4));
+        let a = smallest_after(&curved, None, &mut square(4));
         assert!((a - 1.0 / 16.0).abs() < 1e-12, "gradient: smallest {a}");
         // …and a surface already tessellated finer than sharp_below is not refined past it,
         // even at a shadow edge.
@@ -423,7 +450,7 @@ mod tests {
                 .collect()
         };
         let before = fine.triangles.len();
-        smallest_after(&narrow, &mut fine);
+        smallest_after(&narrow, None, &mut fine);
         assert_eq!(fine.triangles.len(), before);
     }
 
@@ -440,6 +467,7 @@ mod tests {
             probe: &probe,
             min_edge: 0.1,
             sharp_below: 0.1,
+            open: None,
             levels: 3,
             mean: 50.0,
         };
@@ -464,6 +492,7 @@ mod tests {
             probe: &probe,
             min_edge: 0.1,
             sharp_below: 0.1,
+            open: None,
             levels: 3,
             mean: 100.0,
         };
@@ -482,6 +511,7 @@ mod tests {
             probe: &probe,
             min_edge: 1.0,
             sharp_below: 1.0,
+            open: None,
             levels: 4,
             mean: 50.0,
         };
