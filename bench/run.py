@@ -1318,7 +1318,9 @@ def write_markdown(results, out, rows):
             L.append("")
     if results["notes"]:
         L += ["## Notes", ""] + [f"- {n}" for n in results["notes"]] + [""]
-    L += ["Reproduce: see [bench/README.md](../README.md). Raw figures: "
+    readme = os.path.relpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "README.md"),
+                             os.path.abspath(out))
+    L += [f"Reproduce: see [bench/README.md]({readme}). Raw figures: "
           "[results.json](results.json).", ""]
     with open(os.path.join(out, "results.md"), "w", encoding="utf-8") as f:
         f.write("\n".join(L))
