@@ -1,10 +1,10 @@
-"""The README's table of tests against closed forms, with its measured column from a run.
+"""The manual's table of tests against closed forms (docs/accuracy.md), with its measured column from a run.
 
     python3 bench/closed_forms.py   → bench/results/closed_forms.md
 
 Runs `cargo test --release --test FILE -- --nocapture` for each test file behind the table (and
 the library's unit test of a hall's coverage), collects the lines `oracle: KEY measured VALUE`
-the tests print to stderr, and writes the table (the README's columns) with the commit and date,
+the tests print to stderr, and writes the table (docs/accuracy.md's columns) with the commit and date,
 followed by every line collected. A row whose lines are missing says so. Any failing test stops
 the script. Python standard library only (honours CARGO_TARGET_DIR through cargo).
 """

@@ -1,5 +1,5 @@
 #!/bin/sh
-# The pictures of the README's "Blender" section, by the round trip it describes: samples/office
+# The pictures of the manual's Blender chapter (docs/blender.md), by the round trip it describes: samples/office
 # rebuilt in Blender (blender/examples/office.py), exported by the LuxBake add-on, baked, imported
 # back by the add-on and rendered with Cycles from the seed's interior camera
 # (blender/examples/render.py). Needs a Python with PyPI bpy 5.0.1 ($LUXBAKE_BPY_PYTHON, else

@@ -1,5 +1,5 @@
 #!/bin/sh
-# Makes the pictures of README.md and docs/ from samples/office: a bake at default quality with
+# Makes the pictures of README.md and the manual (docs/) from samples/office: a bake at default quality with
 # lightmaps and a working plane, the seed's three viewpoints (the office's camera nodes, at the
 # seed's image sizes: its Appendix C) as EXR (cd/m², ZIP), tone-mapped PNG and log false colour,
 # and the working plane's isolux plan as SVG and PNG; the designer's report (bake report --format html)

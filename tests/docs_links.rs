@@ -3,6 +3,8 @@
 //! (GitHub's slugs: lower case, punctuation dropped, spaces as hyphens, repeats numbered).
 //! Links in code blocks and inline code are not links and are skipped.
 
+mod support;
+
 use std::collections::{HashMap, HashSet};
 use std::path::{Path, PathBuf};
 
@@ -199,5 +201,71 @@ fn the_checker_sees_links_and_anchors() {
     let a = anchors(text);
     for want in ["a-title-with-code-punctuation", "again", "again-1"] {
         assert!(a.contains(want), "{want} not in {a:?}");
+    }
+}
+
+/// The manual (docs/, an mdBook) builds without a warning; every chapter of SUMMARY.md becomes a
+/// page.
+#[test]
+fn the_manual_builds_with_mdbook() {
+    let Some(mdbook) = support::tools::mdbook() else {
+        return;
+    };
+    let out = support::scratch("docs-book");
+    let run = std::process::Command::new(mdbook)
+        .arg("build")
+        .arg(repo().join("docs"))
+        .arg("--dest-dir")
+        .arg(&out)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(run.status.success(), "mdbook build failed:\n{stderr}");
+    assert!(
+        !stderr.contains("WARN") && !stderr.contains("ERROR"),
+        "mdbook warned:\n{stderr}"
+    );
+    let summary = std::fs::read_to_string(repo().join("docs/SUMMARY.md")).unwrap();
+    let mut pages = 0;
+    for (_, target) in links(&summary) {
+        // mdBook makes a folder's README.md its index.html.
+        let page = out.join(target.replace("README.md", "index.md").replace(".md", ".html"));
+        assert!(page.is_file(), "{} not built", page.display());
+        pages += 1;
+    }
+    assert!(pages >= 15, "only {pages} chapters in SUMMARY.md");
+}
+
+/// The README stays a page: at most 200 lines, opening with the two set-up commands, and every
+/// subcommand `bake --help` lists is in its tour with a link into the manual.
+#[test]
+fn the_readme_is_short_and_tours_every_subcommand() {
+    let readme = std::fs::read_to_string(repo().join("README.md")).unwrap();
+    let lines = readme.lines().count();
+    assert!(lines <= 200, "README.md has {lines} lines");
+    let commands = "```\ncargo run --release -- samples/office/office.gltf -o office-lit.gltf\n\
+                    cargo test --release\n```";
+    assert!(
+        readme.starts_with(&format!("# luxbake\n\n{commands}")),
+        "README.md does not open with the two set-up commands"
+    );
+    let help = support::cli::bake(["--help"]);
+    assert!(help.ok(), "{}", help.stderr);
+    let listed: Vec<&str> = help
+        .stdout
+        .lines()
+        .skip_while(|l| !l.starts_with("Commands:"))
+        .skip(1)
+        .take_while(|l| l.starts_with("  "))
+        .filter_map(|l| l.split_whitespace().next())
+        .filter(|c| *c != "help")
+        .collect();
+    assert!(listed.len() >= 8, "{listed:?}");
+    for c in listed {
+        let row = readme
+            .lines()
+            .find(|l| l.starts_with(&format!("| `bake {c}")))
+            .unwrap_or_else(|| panic!("`bake {c}` is not in the README's tour"));
+        assert!(row.contains("](docs/"), "`bake {c}`'s row links no chapter");
     }
 }

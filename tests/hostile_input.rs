@@ -466,7 +466,7 @@ fn quantized_and_sparse_positions_bake_like_plain_ones() {
 
 #[test]
 fn missing_materials_are_warned_about() {
-    // OBJ: a `usemtl` naming no material of the MTL file (the README promises a warning).
+    // OBJ: a `usemtl` naming no material of the MTL file (docs/inputs.md promises a warning).
     let (input, out) = folders("usemtl");
     std::fs::write(input.join("room.mtl"), "newmtl floor\nKd 0.5 0.5 0.5\n").unwrap();
     let obj = "mtllib room.mtl\nv 0 0 0\nv 1 0 0\nv 1 0 1\nv 0 1 0\nv 1 1 0\nv 1 1 1\n\
@@ -606,7 +606,7 @@ fn usage_errors_exit_2_and_input_errors_exit_1() {
 
 #[test]
 fn a_material_black_only_because_metallic_defaulted_is_warned_about() {
-    // The README promises it: metallicFactor absent defaults to 1 (metal), reflectance 0.
+    // docs/inputs.md promises it: metallicFactor absent defaults to 1 (metal), reflectance 0.
     let (input, out) = folders("metallic");
     let path = variant(&input, "metal.gltf", |j| {
         j["materials"][0]["pbrMetallicRoughness"]

@@ -63,7 +63,7 @@ pub struct DiffArgs {
     /// How many of the worst places to list.
     #[arg(long, value_name = "N", default_value_t = 10)]
     worst: usize,
-    /// Print JSON (fields documented in the README) instead of text.
+    /// Print JSON (fields documented in docs/diff.md) instead of text.
     #[arg(long)]
     json: bool,
 }

