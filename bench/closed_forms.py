@@ -131,13 +131,31 @@ ROWS = [
 ]
 
 
+DEFAULT_OUT = os.path.join(BENCH, "results", "closed_forms.md")
+MANUAL = os.path.join(ROOT, "docs", "accuracy.md")
+BEGIN, END = "<!-- closed-forms table: bench/closed_forms.py writes it -->", "<!-- end of closed-forms table -->"
+
+
+def write_manual(out, commit):
+    """The same table into the manual (docs/accuracy.md) between its markers, with the commit;
+    tests/docs_links.rs checks that the two tables are equal."""
+    text = open(MANUAL, encoding="utf-8").read()
+    head, rest = text.split(BEGIN, 1)
+    _, tail = rest.split(END, 1)
+    table = [l for l in out if l.startswith("|")]
+    date = datetime.date.today().isoformat()
+    block = [BEGIN, f"Measured at commit {commit[:7]}{commit[40:]} on {date} "
+             "(`python3 bench/closed_forms.py`):", "", *table, END]
+    open(MANUAL, "w", encoding="utf-8").write(head + "\n".join(block) + tail)
+
+
 def git(*args):
     return subprocess.run(["git", *args], cwd=ROOT, capture_output=True, text=True).stdout.strip()
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--out", default=os.path.join(BENCH, "results", "closed_forms.md"))
+    ap.add_argument("--out", default=DEFAULT_OUT)
     a = ap.parse_args()
     measured, lines = {}, []
     for args in RUNS:
@@ -177,6 +195,8 @@ def main():
     out += ["", "Oracle lines (test binary: key value):", "", "```", *lines, "```", ""]
     os.makedirs(os.path.dirname(a.out), exist_ok=True)
     open(a.out, "w").write("\n".join(out))
+    if a.out == DEFAULT_OUT:
+        write_manual(out, commit)
     print("\n".join(out))
     if missing:
         print("rows not measured: " + "; ".join(missing), file=sys.stderr)
