@@ -65,17 +65,38 @@ fn module_of(file: &Path) -> Vec<String> {
     parts
 }
 
-/// The code of a file without comments and without its `#[cfg(test)]` modules.
+/// The code of a file without comments and without the items `#[cfg(test)]` marks (a test
+/// module, a test-only function or import), wherever they are: the rest of the file is read.
 fn code(text: &str) -> String {
     let mut out = String::new();
+    // Inside a `#[cfg(test)]` item: its brace depth, and whether its body has opened.
+    let mut skipping: Option<(i64, bool)> = None;
     for line in text.lines() {
-        if line.trim_start().starts_with("#[cfg(test)]") {
-            break;
-        }
         let line = match line.find("//") {
             Some(i) => &line[..i],
             None => line,
         };
+        if line.trim_start().starts_with("#[cfg(test)]") {
+            skipping = Some((0, false));
+            continue;
+        }
+        if let Some((depth, opened)) = skipping.as_mut() {
+            for c in line.chars() {
+                match c {
+                    '{' => {
+                        *depth += 1;
+                        *opened = true;
+                    }
+                    '}' => *depth -= 1,
+                    _ => {}
+                }
+            }
+            let done = (*opened && *depth <= 0) || (!*opened && line.trim_end().ends_with(';'));
+            if done {
+                skipping = None;
+            }
+            continue;
+        }
         out.push_str(line);
         out.push('\n');
     }
@@ -249,4 +270,19 @@ fn imports_run_down_the_layers_without_loops() {
         files.len(),
         edges.values().map(BTreeSet::len).sum::<usize>()
     );
+}
+
+#[test]
+fn test_items_are_skipped_wherever_they_are_and_the_rest_is_read() {
+    let text = "use crate::a::X; // comment use crate::z\n\
+                #[cfg(test)]\n\
+                use crate::t::Y;\n\
+                #[cfg(test)]\n\
+                mod tests {\n    use crate::u::Z;\n    fn f() { if true { } }\n}\n\
+                use crate::b::W;\n";
+    let c = code(text);
+    assert!(c.contains("crate::a::X") && c.contains("crate::b::W"), "{c}");
+    for hidden in ["crate::z", "crate::t", "crate::u"] {
+        assert!(!c.contains(hidden), "{hidden} read in {c}");
+    }
 }

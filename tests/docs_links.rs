@@ -269,3 +269,28 @@ fn the_readme_is_short_and_tours_every_subcommand() {
         assert!(row.contains("](docs/"), "`bake {c}`'s row links no chapter");
     }
 }
+
+/// The manual's closed-form table is the one `bench/closed_forms.py` last wrote
+/// (`bench/results/closed_forms.md`), row for row: a rerun updates both or the test fails.
+#[test]
+fn the_manuals_closed_form_table_is_the_generated_one() {
+    let rows = |text: &str| -> Vec<String> {
+        text.lines()
+            .filter(|l| l.starts_with('|'))
+            .map(str::to_string)
+            .collect()
+    };
+    let manual = std::fs::read_to_string(repo().join("docs/accuracy.md")).unwrap();
+    let begin = "<!-- closed-forms table: bench/closed_forms.py writes it -->";
+    let end = "<!-- end of closed-forms table -->";
+    let inside = manual
+        .split_once(begin)
+        .and_then(|(_, r)| r.split_once(end))
+        .map(|(t, _)| t)
+        .expect("docs/accuracy.md has the closed-forms table's markers");
+    let generated =
+        std::fs::read_to_string(repo().join("bench/results/closed_forms.md")).unwrap();
+    let (a, b) = (rows(inside), rows(&generated));
+    assert!(a.len() > 20, "{} rows", a.len());
+    assert_eq!(a, b, "docs/accuracy.md's table is not bench/results/closed_forms.md's");
+}

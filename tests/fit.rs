@@ -159,10 +159,18 @@ fn a_room_with_an_exact_solution_is_fitted_to_its_targets() {
         "-q",
     ]));
     let groups = out["groups"].as_array().unwrap();
+    let mut worst: f64 = 0.0;
     for (g, want) in groups.iter().zip(factors) {
         let got = g["factor"].as_f64().unwrap();
-        assert!((got / want - 1.0).abs() < 0.01, "{g}: want {want}");
+        worst = worst.max((got / want - 1.0).abs());
     }
+    // The fit ends on the mesh of the fitted scene, nearly the truth's (adaptive meshing follows
+    // the light, which differs by the factors' last digits): measured 2.8·10⁻⁴. At most
+    // `PASSES` meshes.
+    let passes = out["passes"].as_u64().unwrap();
+    println!("exact room: factors within {worst:.1e} of the truth, {passes} meshes");
+    assert!(worst < 1e-3, "factors off by {worst:e}: {groups:?}");
+    assert!((1..=3).contains(&passes), "{passes} meshes");
     for row in out["surfaces"].as_array().unwrap() {
         let ratio = row["ratio"].as_f64().unwrap();
         assert!((ratio - 1.0).abs() < 0.01, "{row}");

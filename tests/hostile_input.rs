@@ -348,6 +348,52 @@ fn emitters_beyond_any_lamp_are_refused() {
     }
 }
 
+/// The input limits hold at their edges, not only far past them: a probe at 0.99 × 10⁷ m is
+/// taken (and warned about), at 1.01 × 10⁷ m refused; an emitting surface of 10¹² cd/m² bakes,
+/// 1.01 × 10¹² is refused.
+#[test]
+fn input_limits_hold_at_their_edges() {
+    let probe_at = |x: f64| {
+        move |j: &mut Value| {
+            j["nodes"].as_array_mut().unwrap().push(
+                json!({"name": "p", "translation": [x, 1.0, 0.0], "extras": {"probe": true}}),
+            );
+            j["scenes"][0]["nodes"]
+                .as_array_mut()
+                .unwrap()
+                .push(json!(2));
+        }
+    };
+    let (input, out) = folders("limit-coordinate-in");
+    let path = variant(&input, "near.gltf", probe_at(0.99e7));
+    let run = bake_draft_into(&path, &out, &[] as &[&str]);
+    assert!(run.ok(), "{}", run.stderr);
+    assert_warned(&run, &["near.gltf", "probe p", "outside the scene's geometry"]);
+    let (input, out) = folders("limit-coordinate-out");
+    let path = variant(&input, "beyond.gltf", probe_at(1.01e7));
+    let run = bake_draft_into(&path, &out, &[] as &[&str]);
+    assert_refused(&run, &out, &["beyond.gltf", "/nodes/2", "x = 1.01e7"]);
+
+    let luminance = |l: f64| {
+        move |j: &mut Value| {
+            j["materials"][1]["extensions"]["LUXBAKE_material"]["emission"] =
+                json!({ "luminance": l })
+        }
+    };
+    let (input, out) = folders("limit-luminance-in");
+    let path = variant(&input, "bright.gltf", luminance(1e12));
+    let run = bake_draft_into(&path, &out, &[] as &[&str]);
+    assert!(run.ok(), "{}", run.stderr);
+    let (input, out) = folders("limit-luminance-out");
+    let path = variant(&input, "brighter.gltf", luminance(1.01e12));
+    let run = bake_draft_into(&path, &out, &[] as &[&str]);
+    assert_refused(
+        &run,
+        &out,
+        &["brighter.gltf", "/materials/1", "luminance (cd/m²) 1.01e12"],
+    );
+}
+
 /// A tiny IES LM-63-2002 file whose candela multiplier is `multiplier`.
 fn ies(multiplier: &str) -> String {
     format!(

@@ -197,6 +197,7 @@ fn check_two_rooms(shared_floor: bool) {
     let (scene, light, i) = two_rooms(shared_floor);
     let r = run(&scene, 0.05);
     let (mut dark_max, mut dark_direct, mut lit_texels, mut worst) = (0.0f64, 0.0f64, 0, 0.0f64);
+    let mut dark_texels = 0;
     // What the vertices of the dark room received: the solve's own answer there.
     let dark_vertices = (r.surfaces.iter())
         .flat_map(|s| s.positions.iter().zip(&s.illuminance))
@@ -210,6 +211,7 @@ fn check_two_rooms(shared_floor: bool) {
             let on_floor = s.normals[0].y > 0.99;
             match p {
                 Some(p) if p.x > 3.01 => {
+                    dark_texels += 1;
                     dark_max = dark_max.max(a.illuminance[k] as f64);
                     dark_direct = dark_direct.max(a.illuminance_direct[k] as f64);
                 }
@@ -226,6 +228,8 @@ fn check_two_rooms(shared_floor: bool) {
         lit_texels >= 55,
         "{lit_texels} floor texels beside the wall"
     );
+    // The dark room's texels were looked at: its floor, walls and ceiling at 5 cm.
+    assert!(dark_texels > 1000, "{dark_texels} texels of the dark room");
     assert_eq!(dark_direct, 0.0, "direct light crossed the wall");
     if shared_floor {
         // The solve itself leaks a little through the floor running under the wall (its

@@ -717,3 +717,114 @@ pub fn area_centroid(poly: &[DVec3], n: DVec3) -> (f64, DVec3) {
         (0.0, poly.first().copied().unwrap_or(DVec3::ZERO))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The unit square in y = 0 facing +Y (glTF +Y up), as two triangles split along x = z.
+    fn square() -> Surface {
+        let p = DVec3::new;
+        Surface {
+            node: 0,
+            primitive: 0,
+            source_path: "/meshes/0/primitives/0".into(),
+            material: 0,
+            positions: vec![p(0., 0., 0.), p(0., 0., 1.), p(1., 0., 1.), p(1., 0., 0.)],
+            normals: vec![DVec3::Y; 4],
+            uv0: None,
+            uv1: None,
+            triangles: vec![[0, 1, 2], [0, 2, 3]],
+        }
+    }
+
+    /// A cover of `triangle`'s front by the triangle `corners` (in y = 0).
+    fn cover(triangle: u32, corners: [DVec3; 3]) -> Cover {
+        let edges = std::array::from_fn(|k| {
+            let (u, v, w) = (corners[k], corners[(k + 1) % 3], corners[(k + 2) % 3]);
+            let mut m = DVec3::Y.cross(v - u).normalize();
+            if m.dot(w - u) < 0.0 {
+                m = -m;
+            }
+            (m, m.dot(u))
+        });
+        Cover {
+            triangle,
+            back: false,
+            depth: 0.01,
+            edges,
+            by: 1,
+            area: 0.0,
+        }
+    }
+
+    fn area(c: &CutSurface, t: &[u32; 3]) -> DVec3 {
+        let p = t.map(|v| c.positions[v as usize]);
+        (p[1] - p[0]).cross(p[2] - p[0]) * 0.5
+    }
+
+    #[test]
+    fn a_cover_across_two_triangles_is_cut_out_exactly_and_conformingly() {
+        let p = DVec3::new;
+        let corners = [p(0.2, 0., 0.2), p(0.8, 0., 0.2), p(0.5, 0., 0.8)];
+        let covers = [cover(0, corners), cover(1, corners)];
+        let c = cut(&square(), &covers, &[], 1e-9, 0.0);
+        assert_eq!(c.triangles.len(), c.covered.len());
+        // Area and orientation kept; the covered pieces are the covering triangle (0.18 m²).
+        let (mut total, mut under) = (0.0, 0.0);
+        for (t, &mask) in c.triangles.iter().zip(&c.covered) {
+            let a = area(&c, t);
+            assert!(a.y > 1e-12 && a.x.abs() + a.z.abs() < 1e-12, "{t:?}: {a}");
+            total += a.y;
+            if mask & FRONT != 0 {
+                under += a.y;
+            }
+            assert_eq!(mask & BACK, 0, "one-sided cover covers the back");
+            // Every piece lies wholly under the cover or wholly outside it.
+            let inside = |x: DVec3| (0..3).map(|k| covers[0].inside(k, x)).fold(f64::MAX, f64::min);
+            let least = t.map(|v| inside(c.positions[v as usize]));
+            if mask & FRONT != 0 {
+                assert!(least.iter().all(|d| *d > -1e-9), "covered piece sticks out: {least:?}");
+            } else {
+                assert!(least.iter().all(|d| *d < 1e-9), "open piece reaches in: {least:?}");
+            }
+        }
+        assert!((total - 1.0).abs() < 1e-12, "area {total}");
+        assert!((under - 0.18).abs() < 1e-12, "covered {under}");
+        // Conforming: an edge inside the square has two triangles, one on its rim one, so the
+        // points where the outline crosses the diagonal are shared, not duplicated.
+        let mut uses: HashMap<(u32, u32), usize> = HashMap::new();
+        for t in &c.triangles {
+            for k in 0..3 {
+                let (u, v) = (t[k], t[(k + 1) % 3]);
+                *uses.entry((u.min(v), u.max(v))).or_insert(0) += 1;
+            }
+        }
+        for ((u, v), n) in uses {
+            let (a, b) = (c.positions[u as usize], c.positions[v as usize]);
+            let rim = [0.0, 1.0]
+                .iter()
+                .any(|s| (a.x == *s && b.x == *s) || (a.z == *s && b.z == *s));
+            assert_eq!(n, if rim { 1 } else { 2 }, "edge {a} – {b}");
+        }
+    }
+
+    #[test]
+    fn a_triangle_smaller_than_a_patch_is_covered_whole_where_covers_hold_most_of_it() {
+        let p = DVec3::new;
+        // One cover holds x ≤ 0.5 of the square: three quarters of triangle 0 (z ≥ x), which
+        // stays one triangle, covered; a quarter of triangle 1, which stays one triangle, open.
+        let half = [p(-10., 0., -10.), p(0.5, 0., -10.), p(0.5, 0., 10.)];
+        let covers = [cover(0, half), cover(1, half)];
+        let c = cut(&square(), &covers, &[], 1e-9, 2.0);
+        // The same two triangles (each may start at another corner).
+        let turned = |t: &[u32; 3]| {
+            let k = (0..3).min_by_key(|&k| t[k]).unwrap();
+            [t[k], t[(k + 1) % 3], t[(k + 2) % 3]]
+        };
+        let got: Vec<[u32; 3]> = c.triangles.iter().map(turned).collect();
+        assert_eq!(got, square().triangles);
+        assert_eq!(c.covered, vec![FRONT, 0]);
+        assert_eq!(c.gap[0], 0.01);
+    }
+}

@@ -245,7 +245,8 @@ fn running(pid: u32) -> bool {
     alive || std::io::Error::last_os_error().raw_os_error() != Some(libc::ESRCH)
 }
 
-/// Test-only fault injection (documented in ARCHITECTURE.md): with `LUXBAKE_FAULT_AT=N` the
+/// Test-only fault injection (documented in ARCHITECTURE.md; built only with the
+/// `fault-injection` feature, which `cargo test` turns on): with `LUXBAKE_FAULT_AT=N` the
 /// process kills itself (SIGKILL) at its N-th step, counting every staging write (after half the
 /// bytes), rename and cleanup removal from 1; with `LUXBAKE_FAULT_AT=N:pause` it prints
 /// `luxbake-fault: pause at step N (<kind> <path>)` on stderr and sleeps 20 s there instead (a
@@ -253,10 +254,13 @@ fn running(pid: u32) -> bool {
 /// variable is set.
 pub mod fault {
     use std::path::Path;
+    #[cfg(feature = "fault-injection")]
     use std::sync::OnceLock;
+    #[cfg(feature = "fault-injection")]
     use std::sync::atomic::{AtomicU64, Ordering};
 
     /// (N, pause) from `LUXBAKE_FAULT_AT`, read once.
+    #[cfg(feature = "fault-injection")]
     fn setting() -> Option<(u64, bool)> {
         static SETTING: OnceLock<Option<(u64, bool)>> = OnceLock::new();
         *SETTING.get_or_init(|| {
@@ -269,7 +273,13 @@ pub mod fault {
         })
     }
 
+    /// One step: `kind` is `write`, `rename` or `remove`, `path` the file concerned. Without
+    /// the `fault-injection` feature (every build but `cargo test`'s) it does nothing.
+    #[cfg(not(feature = "fault-injection"))]
+    pub(crate) fn step(_kind: &str, _path: &Path) {}
+
     /// One step: `kind` is `write`, `rename` or `remove`, `path` the file concerned.
+    #[cfg(feature = "fault-injection")]
     pub(crate) fn step(kind: &str, path: &Path) {
         static STEPS: AtomicU64 = AtomicU64::new(0);
         let Some((at, pause)) = setting() else {
