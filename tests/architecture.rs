@@ -281,7 +281,10 @@ fn test_items_are_skipped_wherever_they_are_and_the_rest_is_read() {
                 mod tests {\n    use crate::u::Z;\n    fn f() { if true { } }\n}\n\
                 use crate::b::W;\n";
     let c = code(text);
-    assert!(c.contains("crate::a::X") && c.contains("crate::b::W"), "{c}");
+    assert!(
+        c.contains("crate::a::X") && c.contains("crate::b::W"),
+        "{c}"
+    );
     for hidden in ["crate::z", "crate::t", "crate::u"] {
         assert!(!c.contains(hidden), "{hidden} read in {c}");
     }

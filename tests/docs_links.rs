@@ -148,7 +148,11 @@ fn anchors(text: &str) -> HashSet<String> {
 #[test]
 fn every_relative_link_and_anchor_in_the_docs_resolves() {
     let files = markdown_files();
-    assert!(files.len() >= 10, "only {} Markdown files found", files.len());
+    assert!(
+        files.len() >= 10,
+        "only {} Markdown files found",
+        files.len()
+    );
     let mut broken = Vec::new();
     let mut checked = 0;
     for file in &files {
@@ -229,7 +233,11 @@ fn the_manual_builds_with_mdbook() {
     let mut pages = 0;
     for (_, target) in links(&summary) {
         // mdBook makes a folder's README.md its index.html.
-        let page = out.join(target.replace("README.md", "index.md").replace(".md", ".html"));
+        let page = out.join(
+            target
+                .replace("README.md", "index.md")
+                .replace(".md", ".html"),
+        );
         assert!(page.is_file(), "{} not built", page.display());
         pages += 1;
     }
@@ -288,9 +296,11 @@ fn the_manuals_closed_form_table_is_the_generated_one() {
         .and_then(|(_, r)| r.split_once(end))
         .map(|(t, _)| t)
         .expect("docs/accuracy.md has the closed-forms table's markers");
-    let generated =
-        std::fs::read_to_string(repo().join("bench/results/closed_forms.md")).unwrap();
+    let generated = std::fs::read_to_string(repo().join("bench/results/closed_forms.md")).unwrap();
     let (a, b) = (rows(inside), rows(&generated));
     assert!(a.len() > 20, "{} rows", a.len());
-    assert_eq!(a, b, "docs/accuracy.md's table is not bench/results/closed_forms.md's");
+    assert_eq!(
+        a, b,
+        "docs/accuracy.md's table is not bench/results/closed_forms.md's"
+    );
 }

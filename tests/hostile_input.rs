@@ -368,7 +368,10 @@ fn input_limits_hold_at_their_edges() {
     let path = variant(&input, "near.gltf", probe_at(0.99e7));
     let run = bake_draft_into(&path, &out, &[] as &[&str]);
     assert!(run.ok(), "{}", run.stderr);
-    assert_warned(&run, &["near.gltf", "probe p", "outside the scene's geometry"]);
+    assert_warned(
+        &run,
+        &["near.gltf", "probe p", "outside the scene's geometry"],
+    );
     let (input, out) = folders("limit-coordinate-out");
     let path = variant(&input, "beyond.gltf", probe_at(1.01e7));
     let run = bake_draft_into(&path, &out, &[] as &[&str]);

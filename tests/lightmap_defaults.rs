@@ -57,7 +57,10 @@ fn the_default_texel_is_a_quarter_patch_at_most_the_qualitys_edge() {
     let (h, texel) = (num(&s["patchSize"]), num(&s["lightmaps"]["texelSizeM"]));
     println!("cornell box: patch {h:.5} m, texel {texel:.5} m");
     assert!((texel - h / 4.0).abs() < 1e-12, "h {h}, texel {texel}");
-    assert!((texel - 0.0077).abs() < 0.00005, "texel {texel} (docs: 7.7 mm)");
+    assert!(
+        (texel - 0.0077).abs() < 0.00005,
+        "texel {texel} (docs: 7.7 mm)"
+    );
 }
 
 #[test]
@@ -66,7 +69,13 @@ fn a_large_room_is_held_to_the_qualitys_texel_count() {
     // 250 000 cap, so the texel is √(area / cap) = 0.15 m.
     let mut b = SceneBuilder::new();
     let walls = b.material("walls", 0.5);
-    b.axis_box("hall", DVec3::ZERO, DVec3::new(50.0, 3.0, 50.0), true, walls);
+    b.axis_box(
+        "hall",
+        DVec3::ZERO,
+        DVec3::new(50.0, 3.0, 50.0),
+        true,
+        walls,
+    );
     b.point_light("lamp", DVec3::new(25.0, 2.8, 25.0), 10_000.0);
     let dir = scratch("lm-default-hall");
     let input = dir.join("hall.gltf");
@@ -76,7 +85,10 @@ fn a_large_room_is_held_to_the_qualitys_texel_count() {
     let want = (5_600.0f64 / 250_000.0).sqrt();
     let texels = num(&s["lightmaps"]["texels"]);
     println!("hall: texel {texel:.4} m (cap rule {want:.4} m), {texels} texels");
-    assert!((texel / want - 1.0).abs() < 1e-9, "texel {texel}, want {want}");
+    assert!(
+        (texel / want - 1.0).abs() < 1e-9,
+        "texel {texel}, want {want}"
+    );
     assert!(texels <= 250_000.0 * 1.05, "{texels} texels");
 }
 

@@ -781,12 +781,22 @@ mod tests {
             }
             assert_eq!(mask & BACK, 0, "one-sided cover covers the back");
             // Every piece lies wholly under the cover or wholly outside it.
-            let inside = |x: DVec3| (0..3).map(|k| covers[0].inside(k, x)).fold(f64::MAX, f64::min);
+            let inside = |x: DVec3| {
+                (0..3)
+                    .map(|k| covers[0].inside(k, x))
+                    .fold(f64::MAX, f64::min)
+            };
             let least = t.map(|v| inside(c.positions[v as usize]));
             if mask & FRONT != 0 {
-                assert!(least.iter().all(|d| *d > -1e-9), "covered piece sticks out: {least:?}");
+                assert!(
+                    least.iter().all(|d| *d > -1e-9),
+                    "covered piece sticks out: {least:?}"
+                );
             } else {
-                assert!(least.iter().all(|d| *d < 1e-9), "open piece reaches in: {least:?}");
+                assert!(
+                    least.iter().all(|d| *d < 1e-9),
+                    "open piece reaches in: {least:?}"
+                );
             }
         }
         assert!((total - 1.0).abs() < 1e-12, "area {total}");

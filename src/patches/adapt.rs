@@ -430,11 +430,16 @@ mod tests {
         // same edge of light stops at sharp_below there…
         let covered = |q: &[(DVec3, DVec3)]| -> Vec<bool> { vec![false; q.len()] };
         let a = smallest_after(&shadow, Some(&covered), &mut square(4));
-        assert!((a - 1.0 / 16.0).abs() < 1e-12, "under a cover: smallest {a}");
+        assert!(
+            (a - 1.0 / 16.0).abs() < 1e-12,
+            "under a cover: smallest {a}"
+        );
         // …a curved gradient is refined, but no edge at most 1.5 × sharp_below is split (the
         // smallest triangles halve a 0.5 m cell along its diagonal: 1/16 m²)…
         let curved = |q: &[(DVec3, DVec3)]| -> Vec<f64> {
-            q.iter().map(|(p, _)| 100.0 + 50.0 * (p.x * 3.0).sin()).collect()
+            q.iter()
+                .map(|(p, _)| 100.0 + 50.0 * (p.x * 3.0).sin())
+                .collect()
         };
         let a = smallest_after(&curved, None, &mut square(4));
         assert!((a - 1.0 / 16.0).abs() < 1e-12, "gradient: smallest {a}");

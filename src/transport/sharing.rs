@@ -825,7 +825,12 @@ mod tests {
         let card = b.material_full("card", DVec3::splat(0.6), None, true);
         b.floor("floor", 1.0, 0.0, grey);
         let p = DVec3::new;
-        let corners = [p(-0.5, 0.1, 0.5), p(0.5, 0.1, 0.5), p(0.5, 0.6, 0.5), p(-0.5, 0.6, 0.5)];
+        let corners = [
+            p(-0.5, 0.1, 0.5),
+            p(0.5, 0.1, 0.5),
+            p(0.5, 0.6, 0.5),
+            p(-0.5, 0.6, 0.5),
+        ];
         b.quad("card", corners, card);
         b.point_light("lamp", p(0.0, 1.0, 0.0), 1000.0);
         let built = built(&b.build());

