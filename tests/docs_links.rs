@@ -180,13 +180,11 @@ fn every_relative_link_and_anchor_in_the_docs_resolves() {
                 broken.push(format!("{name}:{line}: {target}: no such file"));
                 continue;
             }
-            if let Some(a) = anchor {
-                if resolved.extension().is_some_and(|e| e == "md") {
-                    let there = std::fs::read_to_string(&resolved).unwrap();
-                    if !anchors(&there).contains(a) {
-                        broken.push(format!("{name}:{line}: {target}: no heading #{a}"));
-                    }
-                }
+            if let Some(a) = anchor
+                && resolved.extension().is_some_and(|e| e == "md")
+                && !anchors(&std::fs::read_to_string(&resolved).unwrap()).contains(a)
+            {
+                broken.push(format!("{name}:{line}: {target}: no heading #{a}"));
             }
         }
     }
