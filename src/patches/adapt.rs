@@ -11,7 +11,11 @@
 //! the linear interpolation of its ends — exactly what linear (vertex) interpolation of the output
 //! and the trapezoid quadrature of the solver miss there. An edge is split when that error
 //! exceeds `RELATIVE` of the brightest of the three values or `ABSOLUTE` of the scene's mean
-//! direct illuminance, and it is longer than the smallest patch size. Both sides of a
+//! direct illuminance, and it is longer than the smallest patch size. Edges shorter than
+//! `sharp_below` split only where the error is [`SHARP`] times those thresholds (a shadow or a
+//! cut-off edge, not a gradient), the midpoint is open (nothing lying on the surface in front
+//! of it) and the surface is broad (its given triangles' longest edges longer on average: not
+//! clutter's tessellation). Both sides of a
 //! double-sided surface are judged and split alike (a patch and its twin stay coincident).
 //!
 //! Splitting is conforming within the surface: an edge is split for both triangles beside it
@@ -78,7 +82,7 @@ pub struct SurfaceMesh {
 pub fn refine(m: &mut SurfaceMesh, signs: &[f64], a: &Adapt) -> usize {
     let mut split_total = 0;
     let sharp = a.sharp_below * 1.5 * (1.0 + 1e-9);
-    let min_edge = if broad(m) > sharp {
+    let min_edge = if mean_longest_edge(m) > sharp {
         a.min_edge * 1.5 * (1.0 + 1e-9)
     } else {
         sharp.max(a.min_edge * 1.5 * (1.0 + 1e-9))
@@ -246,7 +250,7 @@ pub fn refine(m: &mut SurfaceMesh, signs: &[f64], a: &Adapt) -> usize {
 }
 
 /// The mean over `m`'s triangles of their longest edge (m).
-fn broad(m: &SurfaceMesh) -> f64 {
+fn mean_longest_edge(m: &SurfaceMesh) -> f64 {
     let longest = |t: &[u32; 3]| {
         (0..3)
             .map(|k| (m.positions[t[k] as usize] - m.positions[t[(k + 1) % 3] as usize]).length())
