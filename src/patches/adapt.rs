@@ -109,31 +109,7 @@ pub fn refine(m: &mut SurfaceMesh, signs: &[f64], a: &Adapt) -> usize {
             asked[s].extend((from..m.positions.len()).map(|i| (pulled(i), m.normals[i] * *sign)));
             at[s].resize(m.positions.len(), f64::NAN);
         }
-        // Candidate edges in first-seen order (deterministic), each with the direction into its
-        // triangles from its midpoint.
-        let mut index: HashMap<(u32, u32), usize> = HashMap::new();
-        let mut edges: Vec<(u32, u32)> = Vec::new();
-        let mut into: Vec<DVec3> = Vec::new();
-        for t in &m.triangles {
-            let c = t.iter().map(|v| m.positions[*v as usize]).sum::<DVec3>() / 3.0;
-            for k in 0..3 {
-                let (u, v) = (t[k], t[(k + 1) % 3]);
-                let key = (u.min(v), u.max(v));
-                let (pu, pv) = (m.positions[u as usize], m.positions[v as usize]);
-                if (pu - pv).length() <= min_edge {
-                    continue;
-                }
-                let dir = (c - (pu + pv) * 0.5).normalize_or_zero();
-                match index.get(&key) {
-                    Some(&i) => into[i] += dir,
-                    None => {
-                        index.insert(key, edges.len());
-                        edges.push(key);
-                        into.push(dir);
-                    }
-                }
-            }
-        }
+        let (edges, into) = candidates(m, min_edge);
         if edges.is_empty() {
             break;
         }
@@ -157,13 +133,6 @@ pub fn refine(m: &mut SurfaceMesh, signs: &[f64], a: &Adapt) -> usize {
                 at[s][v as usize] = e;
             }
         }
-        let mid = |m: &SurfaceMesh, &(u, v): &(u32, u32)| {
-            let (u, v) = (u as usize, v as usize);
-            (
-                (m.positions[u] + m.positions[v]) * 0.5,
-                (m.normals[u] + m.normals[v]).normalize_or_zero(),
-            )
-        };
         let mut split = vec![false; edges.len()];
         let mut below: Vec<(usize, (DVec3, DVec3))> = Vec::new();
         for (s, sign) in signs.iter().enumerate() {
@@ -217,36 +186,80 @@ pub fn refine(m: &mut SurfaceMesh, signs: &[f64], a: &Adapt) -> usize {
             break;
         }
         split_total += count;
-        // Midpoints of the split edges.
-        let mut midpoint: HashMap<(u32, u32), u32> = HashMap::new();
-        for (i, e) in edges.iter().enumerate() {
-            if split[i] {
-                let (p, n) = mid(m, e);
-                midpoint.insert(*e, m.positions.len() as u32);
-                m.positions.push(p);
-                m.normals.push(n);
-                for uv in [&mut m.uv0, &mut m.uv1].into_iter().flatten() {
-                    let w = (uv[e.0 as usize] + uv[e.1 as usize]) * 0.5;
-                    uv.push(w);
+        apply(m, &edges, &split);
+    }
+    split_total
+}
+
+/// Candidate edges (longer than `min_edge`) in first-seen order (deterministic), each with the
+/// direction into its triangles from its midpoint.
+fn candidates(m: &SurfaceMesh, min_edge: f64) -> (Vec<(u32, u32)>, Vec<DVec3>) {
+    let mut index: HashMap<(u32, u32), usize> = HashMap::new();
+    let mut edges: Vec<(u32, u32)> = Vec::new();
+    let mut into: Vec<DVec3> = Vec::new();
+    for t in &m.triangles {
+        let c = t.iter().map(|v| m.positions[*v as usize]).sum::<DVec3>() / 3.0;
+        for k in 0..3 {
+            let (u, v) = (t[k], t[(k + 1) % 3]);
+            let key = (u.min(v), u.max(v));
+            let (pu, pv) = (m.positions[u as usize], m.positions[v as usize]);
+            if (pu - pv).length() <= min_edge {
+                continue;
+            }
+            let dir = (c - (pu + pv) * 0.5).normalize_or_zero();
+            match index.get(&key) {
+                Some(&i) => into[i] += dir,
+                None => {
+                    index.insert(key, edges.len());
+                    edges.push(key);
+                    into.push(dir);
                 }
             }
         }
-        let old = std::mem::take(&mut m.triangles);
-        let old_tags = std::mem::take(&mut m.tags);
-        for (i, t) in old.into_iter().enumerate() {
-            let mids: [Option<u32>; 3] = std::array::from_fn(|k| {
-                let (u, v) = (t[k], t[(k + 1) % 3]);
-                midpoint.get(&(u.min(v), u.max(v))).copied()
-            });
-            let before = m.triangles.len();
-            split_triangle(t, mids, &m.positions, &mut m.triangles);
-            if let Some(tag) = old_tags.get(i) {
-                m.tags
-                    .extend(std::iter::repeat_n(*tag, m.triangles.len() - before));
+    }
+    (edges, into)
+}
+
+/// An edge's midpoint and mean normal.
+fn mid(m: &SurfaceMesh, &(u, v): &(u32, u32)) -> (DVec3, DVec3) {
+    let (u, v) = (u as usize, v as usize);
+    (
+        (m.positions[u] + m.positions[v]) * 0.5,
+        (m.normals[u] + m.normals[v]).normalize_or_zero(),
+    )
+}
+
+/// Split the edges marked in `split` at their midpoints (new vertices in edge order) and every
+/// triangle beside them; tags go to the pieces.
+fn apply(m: &mut SurfaceMesh, edges: &[(u32, u32)], split: &[bool]) {
+    // Midpoints of the split edges.
+    let mut midpoint: HashMap<(u32, u32), u32> = HashMap::new();
+    for (i, e) in edges.iter().enumerate() {
+        if split[i] {
+            let (p, n) = mid(m, e);
+            midpoint.insert(*e, m.positions.len() as u32);
+            m.positions.push(p);
+            m.normals.push(n);
+            for uv in [&mut m.uv0, &mut m.uv1].into_iter().flatten() {
+                let w = (uv[e.0 as usize] + uv[e.1 as usize]) * 0.5;
+                uv.push(w);
             }
         }
     }
-    split_total
+    let old = std::mem::take(&mut m.triangles);
+    let old_tags = std::mem::take(&mut m.tags);
+    for (i, t) in old.into_iter().enumerate() {
+        let mids: [Option<u32>; 3] = std::array::from_fn(|k| {
+            let (u, v) = (t[k], t[(k + 1) % 3]);
+            midpoint.get(&(u.min(v), u.max(v))).copied()
+        });
+        let before = m.triangles.len();
+        split_triangle(t, mids, &m.positions, &mut m.triangles);
+        if let Some(tag) = old_tags.get(i) {
+            m.tags
+                .extend(std::iter::repeat_n(*tag, m.triangles.len() - before));
+        }
+    }
 }
 
 /// The mean over `m`'s triangles of their longest edge (m).
