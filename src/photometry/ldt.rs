@@ -116,10 +116,9 @@ fn lamp_sets(f: &Fields, n: usize) -> Result<LampSets, ParseError> {
     Ok(sets)
 }
 
-pub(super) fn parse(text: &str) -> Result<Parsed, ParseError> {
-    let lines = split_lines(text);
-    let last = last_content_line(&lines);
-    let f = Fields { lines, last };
+/// Ityp, Isym, Mc, Dc, Ng and Dg (lines 2–7): the symmetry indicator and the numbers of C planes
+/// and γ angles, checked.
+fn grid_header(f: &Fields) -> Result<(i64, usize, usize), ParseError> {
     f.integer(2, "the type indicator Ityp")?;
     let isym = f.integer(3, "the symmetry indicator Isym")?;
     if !(0..=4).contains(&isym) {
@@ -151,7 +150,75 @@ pub(super) fn parse(text: &str) -> Result<Parsed, ParseError> {
         ));
     }
     f.number(7, "the γ angle spacing Dg")?;
-    let (mc, ng) = (mc as usize, ng as usize);
+    Ok((isym, mc as usize, ng as usize))
+}
+
+/// The symmetry Isym declares and which of the `mc` C planes the file stores, checked against
+/// the C angles read (`c`, on the lines `c_lines`).
+fn stored_planes(
+    isym: i64,
+    mc: usize,
+    c: &[f64],
+    c_lines: &[usize],
+) -> Result<(Symmetry, std::ops::Range<usize>), ParseError> {
+    let (symmetry, stored, range) = match isym {
+        0 => (Symmetry::None, 0..mc, None),
+        1 => (Symmetry::Axial, 0..1, None),
+        2 => (Symmetry::BilateralC0C180, 0..mc / 2 + 1, Some((0.0, 180.0))),
+        3 => (
+            Symmetry::BilateralC90C270,
+            mc / 4..mc / 4 + mc / 2 + 1,
+            Some((90.0, 270.0)),
+        ),
+        _ => (Symmetry::Quadrant, 0..mc / 4 + 1, Some((0.0, 90.0))),
+    };
+    if stored.end > mc {
+        return Err(err(
+            4,
+            format!("expected more C planes for Isym {isym}, found Mc = {mc}"),
+        ));
+    }
+    if let Some((lo, hi)) = range {
+        let (a, b) = (c[stored.start], c[stored.end - 1]);
+        if (a - lo).abs() > 1e-6 || (b - hi).abs() > 1e-6 {
+            return Err(err(
+                c_lines[stored.start],
+                format!(
+                    "expected Isym {isym} to store the C planes {lo}° to {hi}°, but its C angles give {a}° to {b}°"
+                ),
+            ));
+        }
+    }
+    Ok((symmetry, stored))
+}
+
+/// The luminous opening from the dimensions of lines 13–21 (mm): round when its width is 0,
+/// as tall as its largest height.
+fn opening_of(dims: &[f64]) -> Opening {
+    let (la, wa) = (dims[3] / 1000.0, dims[4] / 1000.0);
+    let height = dims[5..9].iter().fold(0.0_f64, |m, &h| m.max(h.abs())) / 1000.0;
+    if wa == 0.0 {
+        Opening {
+            length: la,
+            width: la,
+            height,
+            shape: OpeningShape::Round,
+        }
+    } else {
+        Opening {
+            length: la,
+            width: wa,
+            height,
+            shape: OpeningShape::Rectangular,
+        }
+    }
+}
+
+pub(super) fn parse(text: &str) -> Result<Parsed, ParseError> {
+    let lines = split_lines(text);
+    let last = last_content_line(&lines);
+    let f = Fields { lines, last };
+    let (isym, mc, ng) = grid_header(&f)?;
     const DIMS: [&str; 9] = [
         "the luminaire length (mm)",
         "the luminaire width (mm)",
@@ -203,34 +270,7 @@ pub(super) fn parse(text: &str) -> Result<Parsed, ParseError> {
             ),
         ));
     }
-    let (symmetry, stored, range) = match isym {
-        0 => (Symmetry::None, 0..mc, None),
-        1 => (Symmetry::Axial, 0..1, None),
-        2 => (Symmetry::BilateralC0C180, 0..mc / 2 + 1, Some((0.0, 180.0))),
-        3 => (
-            Symmetry::BilateralC90C270,
-            mc / 4..mc / 4 + mc / 2 + 1,
-            Some((90.0, 270.0)),
-        ),
-        _ => (Symmetry::Quadrant, 0..mc / 4 + 1, Some((0.0, 90.0))),
-    };
-    if stored.end > mc {
-        return Err(err(
-            4,
-            format!("expected more C planes for Isym {isym}, found Mc = {mc}"),
-        ));
-    }
-    if let Some((lo, hi)) = range {
-        let (a, b) = (c[stored.start], c[stored.end - 1]);
-        if (a - lo).abs() > 1e-6 || (b - hi).abs() > 1e-6 {
-            return Err(err(
-                c_lines[stored.start],
-                format!(
-                    "expected Isym {isym} to store the C planes {lo}° to {hi}°, but its C angles give {a}° to {b}°"
-                ),
-            ));
-        }
-    }
+    let (symmetry, stored) = stored_planes(isym, mc, &c, &c_lines)?;
     let total = stored.len() * ng;
     let what = |i: usize| {
         format!(
@@ -268,23 +308,7 @@ pub(super) fn parse(text: &str) -> Result<Parsed, ParseError> {
     let full = complete_c(planes, symmetry);
     let (angles, table): (Vec<f64>, Vec<Vec<f64>>) = full.into_iter().unzip();
     let grid = Grid::new(Frame::of(PhotometricType::C), angles, g, table.concat());
-    let (la, wa) = (dims[3] / 1000.0, dims[4] / 1000.0);
-    let height = dims[5..9].iter().fold(0.0_f64, |m, &h| m.max(h.abs())) / 1000.0;
-    let opening = if wa == 0.0 {
-        Opening {
-            length: la,
-            width: la,
-            height,
-            shape: OpeningShape::Round,
-        }
-    } else {
-        Opening {
-            length: la,
-            width: wa,
-            height,
-            shape: OpeningShape::Rectangular,
-        }
-    };
+    let opening = opening_of(&dims);
     let info = FileInfo {
         version: "EULUMDAT".into(),
         photometric_type: PhotometricType::C,
