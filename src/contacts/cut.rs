@@ -77,12 +77,6 @@ pub fn cut(
     let mut shared: HashMap<Origin, Vec<u32>> = HashMap::new();
     // First every triangle's pieces, their points registered (so that every point on an input
     // edge is known before any triangle is triangulated)...
-    struct Cut {
-        normal: DVec3,
-        pieces: Vec<Placed>,
-        seamed: bool,
-        creases: std::ops::Range<usize>,
-    }
     let mut cuts: Vec<Cut> = Vec::with_capacity(surface.triangles.len());
     // Points put on each input edge, by the edge's place (its ends' positions, ordered): two
     // triangles beside one edge may not share vertex indices (a crease, or an exporter's
@@ -118,27 +112,7 @@ pub fn cut(
         // A seam is cut along however small the triangle: a floor's piece in a door's opening
         // under a leaf would otherwise join the rooms on either side of the leaf.
         if longest < whole_below && !seamed {
-            // Judged whole: covered on a side where covers hold more than half of it.
-            let area = |poly: &[Point]| {
-                let pos: Vec<DVec3> = poly.iter().map(|x| x.pos).collect();
-                area_centroid(&pos, normal).0
-            };
-            let total: f64 = pieces.iter().map(|x| area(&x.0)).sum();
-            let mut mask = 0;
-            let mut gap = 0.0f64;
-            for bit in [FRONT, BACK] {
-                let under: f64 = (pieces.iter())
-                    .filter(|x| x.1 & bit != 0)
-                    .map(|x| area(&x.0))
-                    .sum();
-                if under > 0.5 * total {
-                    mask |= bit;
-                    gap = pieces
-                        .iter()
-                        .filter(|x| x.1 & bit != 0)
-                        .fold(gap, |g, x| g.max(x.2));
-                }
-            }
+            let (mask, gap) = whole(&pieces, normal);
             let ids: Vec<(u32, Point)> = (0..3)
                 .map(|i| {
                     (
@@ -198,12 +172,63 @@ pub fn cut(
     }
     // ...then each piece with the points of its neighbours' cuts on its edges put in (no
     // T-junctions across input edges either), fanned by ears.
+    let crease_edges = fan(&mut out, &mut shared, surface, cuts, &on_edges, seams, eps);
+    out.creases = crease_edges.into_iter().collect();
+    out.creases.sort_unstable();
+    out
+}
+
+/// A triangle judged whole: covered on a side where its covered `pieces` hold more than half
+/// of it; the mask and the deepest cover's depth there.
+fn whole(pieces: &[Piece], normal: DVec3) -> (u8, f64) {
+    let area = |poly: &[Point]| {
+        let pos: Vec<DVec3> = poly.iter().map(|x| x.pos).collect();
+        area_centroid(&pos, normal).0
+    };
+    let total: f64 = pieces.iter().map(|x| area(&x.0)).sum();
+    let mut mask = 0;
+    let mut gap = 0.0f64;
+    for bit in [FRONT, BACK] {
+        let under: f64 = (pieces.iter())
+            .filter(|x| x.1 & bit != 0)
+            .map(|x| area(&x.0))
+            .sum();
+        if under > 0.5 * total {
+            mask |= bit;
+            gap = pieces
+                .iter()
+                .filter(|x| x.1 & bit != 0)
+                .fold(gap, |g, x| g.max(x.2));
+        }
+    }
+    (mask, gap)
+}
+
+/// A triangle's pieces, their points registered, before triangulation.
+struct Cut {
+    normal: DVec3,
+    pieces: Vec<Placed>,
+    seamed: bool,
+    creases: std::ops::Range<usize>,
+}
+
+/// Every piece of `cuts` (one per input triangle) with the points its neighbours put on its
+/// edges, fanned by ears into `out`; returns the edges along creases.
+fn fan(
+    out: &mut CutSurface,
+    shared: &mut HashMap<Origin, Vec<u32>>,
+    surface: &Surface,
+    cuts: Vec<Cut>,
+    on_edges: &HashMap<[[u64; 3]; 2], Vec<DVec3>>,
+    seams: &[Seam],
+    eps: f64,
+) -> std::collections::HashSet<(u32, u32)> {
     let mut crease_edges = std::collections::HashSet::new();
     for (k, c) in cuts.into_iter().enumerate() {
         let tri = surface.triangles[k];
         for (piece, mask, gap) in c.pieces {
-            let mut id = |pt: &Point| vertex(&mut out, &mut shared, surface, tri, pt, eps);
-            let piece = with_edge_points(&piece, &on_edges, &surface.positions, &mut id, eps);
+            let mut id = |pt: &Point| vertex(out, shared, surface, tri, pt, eps);
+            let piece = with_edge_points(&piece, on_edges, &surface.positions, &mut id, eps);
             let pos: Vec<DVec3> = piece.iter().map(|p| p.1.pos).collect();
             for t in ears(&pos, c.normal, eps) {
                 let t = t.map(|i| piece[i].0);
@@ -223,9 +248,7 @@ pub fn cut(
             }
         }
     }
-    out.creases = crease_edges.into_iter().collect();
-    out.creases.sort_unstable();
-    out
+    crease_edges
 }
 
 /// Whether segment a–b lies on the seam's segment (within `eps`).
