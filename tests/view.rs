@@ -243,10 +243,9 @@ fn a_coloured_vertex_floor_under_a_coloured_light_keeps_both_colours() {
     assert!(worst < 1e-3, "worst channel off by {:.4} %", worst * 100.0);
 }
 
-#[test]
-fn a_luminaire_opening_seen_from_below_shows_its_intensity_over_its_area() {
-    // A 0.6 × 0.3 m flat opening 2.5 m above a floor, facing down; the view looks straight up
-    // at it from 1 m above the floor, the opening filling the centre of the image.
+/// A 6 × 6 m grey floor and, 2.5 m above its centre facing down (+Y up), the office's louvred
+/// fitting profile with a flat `length` × `width` m opening, its C0 plane along `c0`.
+fn opening_above_a_floor(length: f64, width: f64, c0: DVec3) -> Scene {
     let mut b = SceneBuilder::new();
     let m = b.material("grey", 0.3);
     b.floor("floor", 3.0, 0.0, m);
@@ -255,8 +254,8 @@ fn a_luminaire_opening_seen_from_below_shows_its_intensity_over_its_area() {
     ))
     .unwrap();
     let opening = luxbake::photometry::Opening {
-        length: 0.6,
-        width: 0.3,
+        length,
+        width,
         height: 0.0,
         shape: luxbake::photometry::OpeningShape::Rectangular,
     };
@@ -266,11 +265,18 @@ fn a_luminaire_opening_seen_from_below_shows_its_intensity_over_its_area() {
         luxbake::photometry::Format::Ies,
         DVec3::new(0.0, 2.5, 0.0),
         -DVec3::Y,
-        DVec3::X,
+        c0,
         1.0,
         Some(opening),
     );
-    let scene = b.build();
+    b.build()
+}
+
+#[test]
+fn a_luminaire_opening_seen_from_below_shows_its_intensity_over_its_area() {
+    // A 0.6 × 0.3 m flat opening 2.5 m above a floor, facing down; the view looks straight up
+    // at it from 1 m above the floor, the opening filling the centre of the image.
+    let scene = opening_above_a_floor(0.6, 0.3, DVec3::X);
     let i0 = scene.profiles[0]
         .photometry
         .intensity(DVec3::new(0.0, 0.0, -1.0));
@@ -470,32 +476,9 @@ fn a_camera_inside_a_solid_is_warned_about() {
 /// pixel the edge pixels are all or nothing.
 #[test]
 fn antialiased_edge_pixels_show_the_share_of_the_opening_they_see() {
-    let mut b = SceneBuilder::new();
-    let m = b.material("grey", 0.3);
-    b.floor("floor", 3.0, 0.0, m);
-    let ies = std::fs::read(support::cli::repo_file(
-        "samples/office/profiles/miral_58w.ies",
-    ))
-    .unwrap();
-    let opening = luxbake::photometry::Opening {
-        length: 0.4,
-        width: 0.4,
-        height: 0.0,
-        shape: luxbake::photometry::OpeningShape::Rectangular,
-    };
     let turn = 30f64.to_radians();
     let c0 = DVec3::new(turn.cos(), 0.0, turn.sin());
-    b.luminaire(
-        "square",
-        &ies,
-        luxbake::photometry::Format::Ies,
-        DVec3::new(0.0, 2.5, 0.0),
-        -DVec3::Y,
-        c0,
-        1.0,
-        Some(opening),
-    );
-    let lit = baked("view-antialias", &b.build(), &[]);
+    let lit = baked("view-antialias", &opening_above_a_floor(0.4, 0.4, c0), &[]);
     let n = 61;
     let shot = |samples: &str| {
         let exr = lit.with_file_name(format!("aa-{samples}.exr"));

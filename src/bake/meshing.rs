@@ -16,7 +16,8 @@
 //! would show the patches there as scallops). Shadow edges and steep gradients of direct light
 //! get fine patches, and so do contact lines, where light from the room stops (a fitting on the
 //! ceiling, a cabinet against a wall). Smooth regions keep patches 4× the area of the uniform
-//! mesh's; steep gradients get patches a quarter of it, sharp edges a sixteenth. `--uniform-patches` turns it off (the harness measures both).
+//! mesh's; steep gradients get patches a quarter of it, sharp edges a sixteenth.
+//! `--uniform-patches` turns it off (the harness measures both).
 
 use crate::contacts::{self, Contacts};
 use crate::direct::cut::{Cut, CutSettings};
@@ -268,19 +269,15 @@ fn mesh(
         / coarse.receivers.len().max(1) as f64;
     let indirect = indirect_estimate(scene, &coarse, &group_means);
     let contact = h * CONTACT;
+    // Nothing lies within `contact` in front of the point: the room's light reaches it.
+    let is_open = |p: DVec3, n: DVec3| occluder.clear(p, n, p + n * contact, DVec3::ZERO);
     let probe = |q: &[(DVec3, DVec3)]| -> Vec<f64> {
         q.par_iter()
-            .map(|&(p, n)| {
-                let open = occluder.clear(p, n, p + n * contact, DVec3::ZERO);
-                direct(p, n) + if open { indirect } else { 0.0 }
-            })
+            .map(|&(p, n)| direct(p, n) + if is_open(p, n) { indirect } else { 0.0 })
             .collect()
     };
-    let open = |q: &[(DVec3, DVec3)]| -> Vec<bool> {
-        q.par_iter()
-            .map(|&(p, n)| occluder.clear(p, n, p + n * contact, DVec3::ZERO))
-            .collect()
-    };
+    let open =
+        |q: &[(DVec3, DVec3)]| -> Vec<bool> { q.par_iter().map(|&(p, n)| is_open(p, n)).collect() };
     let adapt = Adapt {
         probe: &probe,
         open: Some(&open),
