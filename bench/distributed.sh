@@ -2,10 +2,10 @@
 # The distributed bake against the single-process bake on one generated floor:
 #   bench/distributed.sh [SIZE] [WORK]     SIZE small|medium|large (default large, 10^6 triangles)
 #                                          or a triangle count (bake generate openplan --triangles)
-# Bakes SIZE once in one process, then with dist/dask_bake.py on a local Dask cluster of two
+# Bakes SIZE once in one process, then with dask/dask_bake.py on a local Dask cluster of two
 # workers (four tasks, TASKS=N for another count), each bake call under /usr/bin/time -v (wall, CPU, peak memory per process);
 # compares the two outputs byte for byte. Needs target/release/bake (BAKE=path for another
-# build) and dist/install.sh's venv. SINGLE=file.glb takes that file (baked by the same build,
+# build) and dask/install.sh's venv. SINGLE=file.glb takes that file (baked by the same build,
 # with its own timing) as the single-process output instead of baking it again.
 set -euo pipefail
 size="${1:-large}"
@@ -24,7 +24,7 @@ esac
 cat > timed-bake <<SH
 #!/usr/bin/env bash
 stage=other
-for a in "\$@"; do case "\$a" in --shard-plan) stage=plan;; --shard-merge) stage=merge;; --shard-task) stage=gather;; esac; done
+[ "\$1" = shard ] && stage=\$2
 exec /usr/bin/time -v -o "$work/times/\$stage-\$\$.txt" "$bake" "\$@"
 SH
 chmod +x timed-bake
@@ -33,7 +33,7 @@ if [ -n "${SINGLE:-}" ]; then
 else
   /usr/bin/time -v -o times/single.txt "$bake" "$size.gltf" -o single.glb -q
 fi
-"$repo/.venv-dask/bin/python" "$repo/dist/dask_bake.py" "$size.gltf" -o dask.glb \
+"$repo/.venv-dask/bin/python" "$repo/dask/dask_bake.py" "$size.gltf" -o dask.glb \
   --local-workers 2 --tasks "${TASKS:-4}" --bake "$work/timed-bake" --timings dask-timings.json
 cmp single.glb dask.glb && echo "byte-identical: single.glb dask.glb"
 for f in times/*.txt; do

@@ -44,6 +44,9 @@ enum Command {
     /// Fit dimming factors of luminaire groups to a design (least squares on relative error)
     /// and write the fitted scene.
     Fit(Box<cli::fit::FitArgs>),
+    /// The distributed bake's steps (plan, gather tasks anywhere, merge): the same output as one
+    /// bake, byte for byte.
+    Shard(Box<cli::bake::ShardArgs>),
     /// Write a scene built in code as an input glTF (e.g. the benchmark's open-plan office).
     Generate(cli::generate::GenerateArgs),
 }
@@ -82,6 +85,7 @@ fn main() {
         Some(Command::Report(a)) => cli::report::run(a),
         Some(Command::Diff(_)) => unreachable!("handled above"),
         Some(Command::Generate(a)) => cli::generate::run(a),
+        Some(Command::Shard(a)) => cli::bake::run_shard(a),
         Some(Command::View(a)) => cli::view::run(a),
         Some(Command::Plan(a)) => cli::plan::run(a),
         Some(Command::Design(a)) => cli::design::run(a),

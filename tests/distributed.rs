@@ -1,7 +1,7 @@
-//! The distributed bake (`--shard-plan`, `--shard-gather`, `--shard-merge`; `dist/dask_bake.py`
+//! The distributed bake (`bake shard plan|gather|merge`; `dask/dask_bake.py`
 //! on a Dask cluster) writes the same bytes as one `bake` process, whatever the task count,
 //! the tasks' order and threads; its errors name the file and leave no output.
-//! The Dask test is skipped locally without `.venv-dask` (dist/install.sh), never under CI.
+//! The Dask test is skipped locally without `.venv-dask` (dask/install.sh), never under CI.
 
 mod support;
 
@@ -38,14 +38,27 @@ fn args<'a>(input: &'a Path, out: &'a Path, options: &[&'a str]) -> Vec<&'a str>
     a
 }
 
+/// `bake shard STEP --dir DIR [step options] IN -o OUT -q OPTIONS`.
+fn step<'a>(
+    name: &'a str,
+    dir: &'a str,
+    step_options: &[&'a str],
+    input: &'a Path,
+    out: &'a Path,
+    options: &[&'a str],
+) -> Vec<&'a str> {
+    let mut a = vec!["shard", name, "--dir", dir];
+    a.extend_from_slice(step_options);
+    a.extend(args(input, out, options));
+    a
+}
+
 /// Plan, gather the tasks in `order` (each with its own `--threads`), merge; the output's bytes.
 fn sharded(input: &Path, out: &Path, options: &[&str], tasks: usize, order: &[usize]) -> Vec<u8> {
     let dir = out.with_extension("state");
     let dir_s = dir.to_str().unwrap();
     let n = tasks.to_string();
-    let mut plan = args(input, out, options);
-    plan.extend(["--shard-plan", dir_s, "--shard-tasks", &n]);
-    let run = bake(&plan);
+    let run = bake(step("plan", dir_s, &["--tasks", &n], input, out, options));
     assert!(run.ok(), "plan: {}", run.stderr);
     assert!(!out.exists(), "the plan writes no output");
     let plan: serde_json::Value =
@@ -53,21 +66,17 @@ fn sharded(input: &Path, out: &Path, options: &[&str], tasks: usize, order: &[us
     assert_eq!(plan["tasks"], tasks, "{plan}");
     for (i, &k) in order.iter().enumerate() {
         let (k, threads) = (k.to_string(), (1 + i % 2).to_string());
-        let mut gather = args(input, out, options);
-        gather.extend([
-            "--threads",
-            &threads,
-            "--shard-gather",
+        let run = bake(step(
+            "gather",
             dir_s,
-            "--shard-task",
-            &k,
-        ]);
-        let run = bake(&gather);
+            &["--task", &k, "--threads", &threads],
+            input,
+            out,
+            options,
+        ));
         assert!(run.ok(), "gather {k}: {}", run.stderr);
     }
-    let mut merge = args(input, out, options);
-    merge.extend(["--shard-merge", dir_s]);
-    let run = bake(&merge);
+    let run = bake(step("merge", dir_s, &[], input, out, options));
     assert!(run.ok(), "merge: {}", run.stderr);
     std::fs::read(out).unwrap()
 }
@@ -110,16 +119,11 @@ fn a_missing_or_foreign_task_fails_the_merge_with_no_output() {
     let state = dir.join("state");
     let s = state.to_str().unwrap();
     let draft = ["--quality", "draft"];
-    let mut plan = args(&input, &out, &draft);
-    plan.extend(["--shard-plan", s, "--shard-tasks", "2"]);
-    assert!(bake(&plan).ok());
-    let mut gather = args(&input, &out, &draft);
-    gather.extend(["--shard-gather", s, "--shard-task", "0"]);
-    assert!(bake(&gather).ok());
+    assert!(bake(step("plan", s, &["--tasks", "2"], &input, &out, &draft)).ok());
+    assert!(bake(step("gather", s, &["--task", "0"], &input, &out, &draft)).ok());
 
     // Task 1 never ran.
-    let mut merge = args(&input, &out, &draft);
-    merge.extend(["--shard-merge", s]);
+    let merge = step("merge", s, &[], &input, &out, &draft);
     let run = bake(&merge);
     assert!(
         !run.ok() && run.stderr.contains("task-1.bin"),
@@ -129,17 +133,14 @@ fn a_missing_or_foreign_task_fails_the_merge_with_no_output() {
     assert!(!out.exists());
 
     // A task run with other settings, and a task the plan does not have.
-    let mut other = args(&input, &out, &["--quality", "default"]);
-    other.extend(["--shard-gather", s, "--shard-task", "1"]);
-    let run = bake(&other);
+    let other = ["--quality", "default"];
+    let run = bake(step("gather", s, &["--task", "1"], &input, &out, &other));
     assert!(
         !run.ok() && run.stderr.contains("settings differ"),
         "{}",
         run.stderr
     );
-    let mut beyond = args(&input, &out, &draft);
-    beyond.extend(["--shard-gather", s, "--shard-task", "2"]);
-    let run = bake(&beyond);
+    let run = bake(step("gather", s, &["--task", "2"], &input, &out, &draft));
     assert!(
         !run.ok() && run.stderr.contains("task 2 is not in the plan"),
         "{}",
@@ -150,9 +151,8 @@ fn a_missing_or_foreign_task_fails_the_merge_with_no_output() {
     let other_dir = dir.join("other");
     std::fs::create_dir_all(&other_dir).unwrap();
     let other_input = floor_of(&other_dir, "2");
-    let mut foreign = args(&other_input, &out, &draft);
-    foreign.extend(["--shard-gather", s, "--shard-task", "1"]);
-    let run = bake(&foreign);
+    let one = ["--task", "1"];
+    let run = bake(step("gather", s, &one, &other_input, &out, &draft));
     assert!(
         !run.ok() && run.stderr.contains("not the scene the plan meshed"),
         "{}",
@@ -194,7 +194,7 @@ fn a_local_dask_cluster_bakes_the_single_bake_bytes() {
     let one = single(&input, &dir.join("one.glb"), &options);
     let out = dir.join("dask.glb");
     let timings = dir.join("timings.json");
-    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("dist/dask_bake.py");
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("dask/dask_bake.py");
     let run = std::process::Command::new(python)
         .arg(script)
         .arg(&input)

@@ -5,7 +5,7 @@
 //! the factors applied (multipliers of luminaires, intensities of lights, emitted amounts of
 //! materials) to FITTED, and prints the factors and, per surface, design, achieved and ratio.
 
-use super::bake::{SettingsArgs, UpArg};
+use super::settings::{SettingsArgs, UpArg};
 use super::progress::CliProgress;
 use super::report::FormatArg;
 use anyhow::Result;
@@ -82,7 +82,7 @@ pub enum GroupByArg {
 }
 
 pub fn run(args: &FitArgs) -> Result<()> {
-    let settings = super::bake::settings(&args.settings)?;
+    let settings = super::settings::settings(&args.settings)?;
     if args.settings.probes.out_path().is_some() {
         return Err(Error::Settings("bake fit writes no probes: drop --probes-out".into()).into());
     }
@@ -139,7 +139,7 @@ pub fn run(args: &FitArgs) -> Result<()> {
         ),
         false => fit::groups::parse_groups(&scene, &args.groups)?,
     };
-    let pool = super::bake::worker_pool(&settings, &progress)?;
+    let pool = super::settings::worker_pool(&settings, &progress)?;
     let options = fit::Options {
         max_factor: args.max_factor,
         border: args.border,

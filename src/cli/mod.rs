@@ -13,5 +13,6 @@ pub mod plan;
 pub mod probes;
 pub mod progress;
 pub mod report;
+pub mod settings;
 pub mod shard;
 pub mod view;

@@ -5,7 +5,6 @@
 
 use anyhow::{Result, anyhow};
 use clap::Args;
-use luxbake::export::atomic::Batch;
 use luxbake::probes::{ProbeResult, csv, output};
 use luxbake::settings::{ProbeGrid, Settings};
 use std::path::{Path, PathBuf};
@@ -87,15 +86,12 @@ impl ProbeArgs {
         self.probes.as_deref()
     }
 
-    /// Stage `--probes-out` in `batch`, if asked for.
-    pub fn stage_out(&self, results: &[ProbeResult], batch: &mut Batch) -> Result<()> {
-        let Some(path) = &self.probes_out else {
-            return Ok(());
-        };
-        let format = output::Format::for_path(path).map_err(|m| anyhow!("{m}"))?;
-        batch.stage(path, &output::bytes(format, results))?;
-        Ok(())
-    }
+}
+
+/// The bytes of a `--probes-out` file at `path` (its format by extension).
+pub fn out_bytes(path: &Path, results: &[ProbeResult]) -> Result<Vec<u8>> {
+    let format = output::Format::for_path(path).map_err(|m| anyhow!("{m}"))?;
+    Ok(output::bytes(format, results))
 }
 
 /// The probes of a `--probes` file; errors read `FILE:LINE: message`.

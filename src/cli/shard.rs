@@ -1,6 +1,6 @@
-//! The distributed bake's three steps on the command line (`bake IN -o OUT … --shard-plan DIR`,
-//! `--shard-gather DIR --shard-task K`, `--shard-merge DIR`; `dist/dask_bake.py` runs them on a
-//! Dask cluster): the state and task files in DIR, read and written here.
+//! The files of the distributed bake's three steps (`bake shard plan|gather|merge --dir DIR`,
+//! parsed in `cli::bake`; `dask/dask_bake.py` runs them on a Dask cluster): the state and task
+//! files in DIR, read and written here.
 
 use anyhow::{Context, Result};
 use luxbake::bake::shard::{self, State};
@@ -78,7 +78,7 @@ fn read_state(dir: &Path) -> Result<State> {
     let path = state_path(dir);
     let bytes = std::fs::read(&path).with_context(|| {
         format!(
-            "{}: cannot read the plan's state (run --shard-plan first)",
+            "{}: cannot read the plan's state (run bake shard plan first)",
             path.display()
         )
     })?;

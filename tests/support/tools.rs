@@ -269,7 +269,7 @@ pub fn render_three_with(gltf: &Path, out: &Path, view: &[&str]) {
     );
 }
 
-/// The Python of `dist/install.sh`'s venv (`<repo>/.venv-dask`) when `dask.distributed` imports
+/// The Python of `dask/install.sh`'s venv (`<repo>/.venv-dask`) when `dask.distributed` imports
 /// there.
 pub fn dask_python() -> Option<PathBuf> {
     let python = repo().join(".venv-dask").join("bin").join("python");
@@ -281,5 +281,5 @@ pub fn dask_python() -> Option<PathBuf> {
 }
 
 pub fn have_dask() -> bool {
-    dask_python().is_some() || missing("a Python with dask.distributed", "run dist/install.sh")
+    dask_python().is_some() || missing("a Python with dask.distributed", "run dask/install.sh")
 }

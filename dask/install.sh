@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Create (or reuse) the Python venv that runs dist/dask_bake.py.
-#   dist/install.sh [VENV_DIR]        default: .venv-dask at the repo root
+# Create (or reuse) the Python venv that runs dask/dask_bake.py.
+#   dask/install.sh [VENV_DIR]        default: .venv-dask at the repo root
 # Env: PYTHON (interpreter for the venv, default python3; 3.10+ needed by dask 2026.x).
 # Installs dask[distributed] from PyPI only. Idempotent: a venv where
 # `import dask.distributed` works at the pinned version is left as it is.
@@ -35,4 +35,4 @@ if ! ready; then
     exit 1
 fi
 echo "dask $DASK_VERSION installed in $venv"
-echo "run: $venv/bin/python $repo_root/dist/dask_bake.py --help"
+echo "run: $venv/bin/python $repo_root/dask/dask_bake.py --help"

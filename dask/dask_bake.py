@@ -1,17 +1,17 @@
 #!/usr/bin/env python3
 """Run one bake with its links gather spread over a Dask cluster.
 
-    python dist/dask_bake.py IN -o OUT [--scheduler ADDR | --local-workers W] [--tasks N]
+    python dask/dask_bake.py IN -o OUT [--scheduler ADDR | --local-workers W] [--tasks N]
         [--bake PATH] [--state DIR] [--keep-state] [--task-threads T] [--timings FILE.json]
         -- [extra bake options]
 
-Three stages, each the bake binary with the same command line plus one flag:
-  plan    (here)            bake IN -o OUT OPTS --shard-plan DIR [--shard-tasks N]
-  gather  (a Dask task, K)  bake IN -o OUT OPTS --threads T --shard-gather DIR --shard-task K
-  merge   (here)            bake IN -o OUT OPTS --shard-merge DIR
+Three stages, each `bake shard STEP --dir DIR` with the bake's own command line:
+  plan    (here)            bake shard plan --dir DIR IN -o OUT OPTS [--tasks N]
+  gather  (a Dask task, K)  bake shard gather --dir DIR IN -o OUT OPTS --threads T --task K
+  merge   (here)            bake shard merge --dir DIR IN -o OUT OPTS
 OUT is byte-identical to `bake IN -o OUT OPTS`. On a real cluster IN, OUT's folder, DIR and
 the bake binary must be at the same paths on every node (a shared filesystem); see
-dist/README.md. Exit 0 on success, 1 when a stage failed, 2 on bad arguments.
+dask/README.md. Exit 0 on success, 1 when a stage failed, 2 on bad arguments.
 """
 
 from __future__ import annotations
@@ -51,7 +51,7 @@ class TaskResult:
 
 
 def gather_task(argv: list[str], task: int, threads: int | None, slots_per_host: dict[str, int]) -> TaskResult:
-    """Run on a Dask worker: one `--shard-gather` task as a bake subprocess.
+    """Run on a Dask worker: one `bake shard gather` task as a bake subprocess.
 
     `threads` None: this host's cores shared evenly among the Dask worker slots on it.
     Raises on a non-zero exit, so that Dask's retry runs the task once more.
@@ -60,7 +60,7 @@ def gather_task(argv: list[str], task: int, threads: int | None, slots_per_host:
     if threads is None:
         cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
         threads = max(1, cores // max(1, slots_per_host.get(host, 1)))
-    cmd = [*argv, "--threads", str(threads), "--shard-task", str(task)]
+    cmd = [*argv, "--threads", str(threads), "--task", str(task)]
     env = {**os.environ, "RAYON_NUM_THREADS": str(threads)}
     start = time.perf_counter()
     try:
@@ -171,9 +171,13 @@ def resolve_bake(path: str | None) -> str:
 def run(args: argparse.Namespace, bake: str, state: Path) -> dict[str, object]:
     t0 = time.perf_counter()
     inp, out = args.input.resolve(), args.output.resolve()
-    base = [bake, str(inp), "-o", str(out), *args.bake_options]
+    job = [str(inp), "-o", str(out)]
 
-    gather_argv = [bake, str(inp), "-o", str(out), *without_threads(args.bake_options), "--shard-gather", str(state)]
+    def step(name: str, options: list[str]) -> list[str]:
+        return [bake, "shard", name, "--dir", str(state), *job, *options]
+
+
+    gather_argv = step("gather", without_threads(args.bake_options))
     local = args.scheduler is None
     with (
         (
@@ -186,9 +190,9 @@ def run(args: argparse.Namespace, bake: str, state: Path) -> dict[str, object]:
         # Connect (and wait for a first worker) before the plan, so a wrong address costs no plan.
         if not local:
             client.wait_for_workers(1, timeout=120)
-        plan_cmd = [*base, "--shard-plan", str(state)]
+        plan_cmd = step("plan", args.bake_options)
         if args.tasks is not None:
-            plan_cmd += ["--shard-tasks", str(args.tasks)]
+            plan_cmd += ["--tasks", str(args.tasks)]
         plan_s = run_local("plan", plan_cmd)
         plan = json.loads((state / "plan.json").read_text())
         n_tasks = int(plan["tasks"])
@@ -227,7 +231,7 @@ def run(args: argparse.Namespace, bake: str, state: Path) -> dict[str, object]:
             )
         gather_s = time.perf_counter() - g0
 
-    merge_s = run_local("merge", [*base, "--shard-merge", str(state)])
+    merge_s = run_local("merge", step("merge", args.bake_options))
     results.sort(key=lambda r: r.task)
     task_sum = sum(r.wall_s for r in results)
     workers = min(n_slots, n_tasks)
