@@ -23,6 +23,7 @@ pub mod geom;
 pub mod heap;
 pub mod import;
 pub mod lightmap;
+pub mod machine;
 pub mod patches;
 pub mod photometry;
 pub mod picture;

@@ -673,3 +673,47 @@ fn a_material_black_only_because_metallic_defaulted_is_warned_about() {
         ],
     );
 }
+
+/// Every input a subcommand reads, linked to `/dev/zero` (endless) or a FIFO (no writer), is
+/// refused at once, naming the file, instead of being read until memory runs out.
+#[cfg(unix)]
+#[test]
+fn devices_and_fifos_are_refused_as_inputs() {
+    let (input, out) = folders("devices");
+    let scene = Mini::new().write_gltf(&input, "room.gltf", None);
+    let link = |name: &str| {
+        let path = input.join(name);
+        std::os::unix::fs::symlink("/dev/zero", &path).unwrap();
+        path.to_str().unwrap().to_string()
+    };
+    let fifo = input.join("pipe.gltf");
+    let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+    assert!(made.is_ok_and(|s| s.success()), "mkfifo failed");
+    let (scene, o) = (scene.to_str().unwrap(), out.join("lit.glb"));
+    let o = o.to_str().unwrap();
+    let cases: Vec<(Vec<String>, String)> = vec![
+        (vec![link("z.gltf"), "-o".into(), o.into()], "z.gltf".into()),
+        (vec![link("z.glb"), "-o".into(), o.into()], "z.glb".into()),
+        (vec![link("z.obj"), "-o".into(), o.into()], "z.obj".into()),
+        (
+            vec![fifo.to_str().unwrap().into(), "-o".into(), o.into()],
+            "pipe.gltf".into(),
+        ),
+        (vec!["luminaire".into(), link("z.ies")], "z.ies".into()),
+        (vec!["design".into(), link("z.csv")], "z.csv".into()),
+        (
+            vec![scene.into(), "-o".into(), o.into(), "--targets".into(), link("t.json")],
+            "t.json".into(),
+        ),
+        (
+            vec![scene.into(), "-o".into(), o.into(), "--probes".into(), link("p.csv")],
+            "p.csv".into(),
+        ),
+    ];
+    for (args, name) in cases {
+        let start = std::time::Instant::now();
+        let run = bake(&args);
+        assert!(start.elapsed().as_secs() < 20, "{args:?} took {:?}", start.elapsed());
+        assert_refused(&run, &out, &[&name, "not a regular file"]);
+    }
+}

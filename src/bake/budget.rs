@@ -55,7 +55,7 @@ pub struct Budget {
 
 /// The patch and probe limits for `settings` on this machine.
 pub fn limits(settings: &Settings) -> (f64, f64) {
-    let free = (machine_memory() * RAM_SHARE - BYTES_BASE).max(BYTES_PER_PATCH);
+    let free = (crate::machine::memory() * RAM_SHARE - BYTES_BASE).max(BYTES_PER_PATCH);
     (
         settings
             .max_patches
@@ -64,25 +64,6 @@ pub fn limits(settings: &Settings) -> (f64, f64) {
             .max_probes
             .map_or((free / BYTES_PER_PROBE).floor(), |n| n as f64),
     )
-}
-
-/// The machine's memory in bytes: physical RAM (`/proc/meminfo`), or the cgroup's limit when
-/// lower; 8 GiB where neither can be read.
-pub fn machine_memory() -> f64 {
-    let ram = std::fs::read_to_string("/proc/meminfo").ok().and_then(|t| {
-        let line = t.lines().find(|l| l.starts_with("MemTotal:"))?;
-        let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
-        Some(kb * 1024.0)
-    });
-    let cgroup = std::fs::read_to_string("/sys/fs/cgroup/memory.max")
-        .ok()
-        .and_then(|t| t.trim().parse::<f64>().ok());
-    match (ram, cgroup) {
-        (Some(r), Some(c)) => r.min(c),
-        (Some(r), None) => r,
-        (None, Some(c)) => c,
-        (None, None) => 8.0 * 1024.0 * 1024.0 * 1024.0,
-    }
 }
 
 /// Patches of the whole scene at `h`, and the surface with the most (index, count).
@@ -160,7 +141,7 @@ fn gib(bytes: f64) -> String {
 /// `settings.patch_size` is `None`), before meshing.
 pub fn check(scene: &Scene, settings: &Settings, h: f64) -> Result<Budget> {
     let (max_patches, max_probes) = limits(settings);
-    let memory = machine_memory();
+    let memory = crate::machine::memory();
     let why = match settings.max_patches {
         Some(_) => "--max-patches".to_string(),
         None => format!(
@@ -285,7 +266,7 @@ fn probes(scene: &Scene, settings: &Settings, max: f64) -> Result<f64> {
                 format!(
                     "what {:.0} % of this machine's {} holds at {:.0} KiB each",
                     RAM_SHARE * 100.0,
-                    gib(machine_memory()),
+                    gib(crate::machine::memory()),
                     BYTES_PER_PROBE / 1024.0
                 )
             };

@@ -57,7 +57,7 @@ pub fn run(args: &DesignArgs) -> Result<()> {
 
 /// A design table's rows, read and parsed.
 pub fn read(file: &Path) -> Result<Vec<DesignRow>> {
-    let text = std::fs::read_to_string(file)
+    let text = luxbake::import::files::read_text(file)
         .map_err(|e| Error::input(file, "", format!("cannot read the design table: {e}")))?;
     Ok(design::parse(file, &text)?)
 }

@@ -96,7 +96,7 @@ pub fn out_bytes(path: &Path, results: &[ProbeResult]) -> Result<Vec<u8>> {
 
 /// The probes of a `--probes` file; errors read `FILE:LINE: message`.
 fn read_csv(path: &Path) -> Result<Vec<luxbake::probes::Probe>> {
-    let text = std::fs::read_to_string(path)
+    let text = luxbake::import::files::read_text(path)
         .map_err(|e| anyhow!("{}: cannot read the probes file: {e}", path.display()))?;
     csv::parse(&text).map_err(|(line, m)| anyhow!("{}:{line}: {m}", path.display()))
 }

@@ -15,10 +15,8 @@ use crate::{Error, Result};
 use glam::DVec3;
 use serde_json::Value;
 
+pub use crate::photometry::MAX_PHOTOMETRIC;
 pub use crate::scene::MAX_COORDINATE;
-/// Largest photometric amount accepted in cd, cd/m², lm or lx: a million times the brightest
-/// lamps made; larger ones overflow the solve's sums or come from a wrong unit.
-pub const MAX_PHOTOMETRIC: f64 = 1e12;
 /// A triangle whose doubled area is at most this fraction of its longest edge squared is taken
 /// as having no area (its corners are collinear to rounding).
 const DEGENERATE: f64 = 1e-12;

@@ -12,6 +12,7 @@
 mod checks;
 mod context;
 pub mod exr;
+pub mod files;
 mod geometry;
 mod glb;
 mod gltf;

@@ -172,7 +172,7 @@ fn load_mtl(ctx: &Ctx, reference: &Path, loads: &mut MtlLoads) -> tobj::MTLLoadR
             return empty;
         }
     };
-    let parsed = std::fs::read(&path)
+    let parsed = super::files::read(&path)
         .map_err(|e| e.to_string())
         .and_then(|b| check_colour_lines(&b).map(|()| b))
         .and_then(|b| tobj::load_mtl_buf(&mut &b[..]).map_err(|e| e.to_string()));

@@ -162,7 +162,7 @@ fn load_texture(
     if let Some(&i) = textures.by_path.get(&path) {
         return Ok(Some(i));
     }
-    let bytes = std::fs::read(&path).map_err(|e| {
+    let bytes = super::files::read(&path).map_err(|e| {
         Error::input(
             &source.path,
             at,

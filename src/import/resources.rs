@@ -46,7 +46,7 @@ pub(crate) fn read_confined(
     what: &str,
 ) -> Result<Vec<u8>> {
     let path = confine(ctx, reference, at, what)?;
-    let bytes = std::fs::read(&path)
+    let bytes = super::files::read(&path)
         .map_err(|e| ctx.err(at, format!("cannot read {what} {}: {e}", path.display())))?;
     ctx.record(path);
     Ok(bytes)

@@ -73,9 +73,9 @@ impl Targets {
         })
     }
 
-    /// Read and parse a targets file.
+    /// Read (through [`crate::import::files`]) and parse a targets file.
     pub fn read(file: &Path) -> Result<Self> {
-        let text = std::fs::read_to_string(file)
+        let text = crate::import::files::read_text(file)
             .map_err(|e| Error::input(file, "", format!("cannot read the targets: {e}")))?;
         Targets::parse(file, &text)
     }
