@@ -1,6 +1,8 @@
-//! Scenes with known answers, built in code: closed boxes, CIE 171 test rooms, a panel over a
-//! floor. The tests compare bakes of these against closed forms (docs/ANALYTIC.md); the benchmark
-//! harness uses them too. Axes: +Y up; lengths in metres.
+//! Scenes built in code (not library API: hidden from the docs, free to change): the builder,
+//! the benchmark's open-plan office and building floor that `bake generate` writes, and — with
+//! the `test-scenes` feature, on for `cargo test` and the examples — the scenes with known
+//! answers that the tests compare against closed forms (docs/ANALYTIC.md) and the benchmark
+//! harness bakes. Axes: +Y up; lengths in metres.
 
 use crate::scene::{
     DisplayMaterial, Emission, EmissionAmount, Light, LightKind, LocalTransform, Material, Node,
@@ -8,11 +10,21 @@ use crate::scene::{
 };
 use glam::{DMat4, DVec3};
 
-pub mod building;
 pub mod building_floor;
-pub mod contacts;
 pub mod openplan;
 pub use openplan::{OpenPlan, open_plan};
+
+// The known-answer scenes are for tests and benchmarks only (on with the `test-scenes` feature,
+// which `cargo test` and the examples turn on); `bake generate` needs only the builder and the
+// benchmark's floors.
+#[cfg(any(test, feature = "test-scenes"))]
+pub mod building;
+#[cfg(any(test, feature = "test-scenes"))]
+pub mod contacts;
+#[cfg(any(test, feature = "test-scenes"))]
+mod known;
+#[cfg(any(test, feature = "test-scenes"))]
+pub use known::*;
 
 /// Builds a [`Scene`] one node per surface.
 #[derive(Default)]
@@ -408,69 +420,9 @@ pub fn box_faces(lo: DVec3, hi: DVec3) -> [[DVec3; 4]; 6] {
     ]
 }
 
-/// CIE 171:2006 test 5.8: a 4 m cube (S = 96 m²) of uniform reflectance `rho` with an isotropic
-/// 10 000 lm point source at its centre.
-pub fn cie_5_8(rho: f64) -> Scene {
-    let mut b = SceneBuilder::new();
-    let m = b.material("walls", rho);
-    b.axis_box("room", DVec3::ZERO, DVec3::splat(4.0), true, m);
-    b.point_light("source", DVec3::splat(2.0), 10_000.0);
-    b.build()
-}
-
-/// A closed box `size` with uniform reflectance `rho`, whose ceiling has an emitting square of
-/// side `panel` (luminance `l`) in its middle, flush with it (the ceiling is cut into 9 quads).
-pub fn closed_box_with_panel(size: DVec3, rho: f64, panel: f64, l: f64) -> Scene {
-    box_with_panel(size, rho, panel, l).0.build()
-}
-
-/// The builder of [`closed_box_with_panel`] and its walls' material.
-fn box_with_panel(size: DVec3, rho: f64, panel: f64, l: f64) -> (SceneBuilder, usize) {
-    let mut b = SceneBuilder::new();
-    let walls = b.material("walls", rho);
-    let lamp = b.emitter("panel", rho, l);
-    let faces = box_faces(DVec3::ZERO, size);
-    for (i, f) in faces.iter().enumerate().filter(|(i, _)| *i != 1) {
-        b.quad(&format!("face_{i}"), *f, walls);
-    }
-    // Ceiling at y = size.y facing down, cut at the panel's edges.
-    let xs = [0.0, (size.x - panel) / 2.0, (size.x + panel) / 2.0, size.x];
-    let zs = [0.0, (size.z - panel) / 2.0, (size.z + panel) / 2.0, size.z];
-    for i in 0..3 {
-        for j in 0..3 {
-            let y = size.y;
-            let c = [
-                DVec3::new(xs[i], y, zs[j]),
-                DVec3::new(xs[i + 1], y, zs[j]),
-                DVec3::new(xs[i + 1], y, zs[j + 1]),
-                DVec3::new(xs[i], y, zs[j + 1]),
-            ];
-            b.quad(
-                &format!("ceiling_{i}{j}"),
-                c,
-                if i == 1 && j == 1 { lamp } else { walls },
-            );
-        }
-    }
-    (b, walls)
-}
-
-/// [`closed_box_with_panel`] with twelve tessellated balls (radius 0.25 m, 6 × 8
-/// latitude-longitude, 80 triangles) floating 5 cm above its floor (centres at y = 0.3 m, +Y up:
-/// no contact with it), all of reflectance `rho`: a closed enclosure with curved clutter.
-pub fn closed_box_with_balls(size: DVec3, rho: f64, panel: f64, l: f64) -> Scene {
-    let (mut b, walls) = box_with_panel(size, rho, panel, l);
-    for k in 0..12 {
-        let (i, j) = ((k % 4) as f64, (k / 4) as f64);
-        let centre = DVec3::new(size.x * (i + 0.5) / 4.0, 0.3, size.z * (j + 0.5) / 3.0);
-        b.ball(&format!("ball_{k}"), centre, 0.25, (6, 8), walls);
-    }
-    b.build()
-}
-
 /// Unit directions of a latitude-longitude sphere (`rings` × `segments`, +Y the pole) and its
 /// triangles, unoriented.
-fn lat_long(rings: u32, segments: u32) -> (Vec<DVec3>, Vec<[u32; 3]>) {
+pub(crate) fn lat_long(rings: u32, segments: u32) -> (Vec<DVec3>, Vec<[u32; 3]>) {
     let mut dirs = Vec::new();
     for i in 0..=rings {
         let theta = std::f64::consts::PI * i as f64 / rings as f64;
@@ -497,83 +449,4 @@ fn lat_long(rings: u32, segments: u32) -> (Vec<DVec3>, Vec<[u32; 3]>) {
         }
     }
     (dirs, triangles)
-}
-
-/// [`sphere_interior`]'s scene and the figures its closed form needs.
-pub struct SphereInterior {
-    pub scene: Scene,
-    /// Area of all facets, and of the black ones (m²).
-    pub area: f64,
-    pub black_area: f64,
-    /// The black facets' share of the solid angle around the centre (of the light's flux).
-    pub black_light_share: f64,
-}
-
-/// The inside of a tessellated sphere (radius `radius` m, centre at the origin, `rings` ×
-/// `segments` latitude-longitude facets, radial shading normals pointing inward, +Y up) with an
-/// isotropic point light of `flux` lm at the centre. Facets whose centroid lies below y =
-/// `cap_y` are black (reflectance 0, a separate node "cap"), the rest reflect `rho` (node
-/// "shell"). A concave curved enclosure in which every element sees every other in proportion
-/// to its area, so the inter-reflected illuminance is the same at every point.
-pub fn sphere_interior(
-    radius: f64,
-    (rings, segments): (u32, u32),
-    cap_y: f64,
-    rho: f64,
-    flux: f64,
-) -> SphereInterior {
-    let mut b = SceneBuilder::new();
-    let grey = b.material("shell", rho);
-    let black = b.material("black", 0.0);
-    let (dirs, triangles) = lat_long(rings, segments);
-    let positions: Vec<DVec3> = dirs.iter().map(|d| *d * radius).collect();
-    let normals: Vec<DVec3> = dirs.iter().map(|d| -*d).collect();
-    let (mut shell, mut cap) = (Vec::new(), Vec::new());
-    let (mut area, mut black_area, mut black_angle) = (0.0, 0.0, 0.0);
-    for mut t in triangles {
-        let p = t.map(|v| positions[v as usize]);
-        let centroid = (p[0] + p[1] + p[2]) / 3.0;
-        // Counter-clockwise seen from inside: the front faces the centre.
-        if (p[1] - p[0]).cross(p[2] - p[0]).dot(centroid) > 0.0 {
-            t.swap(1, 2);
-        }
-        let a = (p[1] - p[0]).cross(p[2] - p[0]).length() / 2.0;
-        area += a;
-        if centroid.y < cap_y {
-            black_area += a;
-            black_angle += solid_angle(p);
-            cap.push(t);
-        } else {
-            shell.push(t);
-        }
-    }
-    b.surface("shell", positions.clone(), normals.clone(), shell, grey);
-    if !cap.is_empty() {
-        b.surface("cap", positions, normals, cap, black);
-    }
-    b.point_light("lamp", DVec3::ZERO, flux);
-    SphereInterior {
-        scene: b.build(),
-        area,
-        black_area,
-        black_light_share: black_angle / (4.0 * std::f64::consts::PI),
-    }
-}
-
-/// Solid angle (sr) of triangle `p` seen from the origin (Van Oosterom and Strackee).
-fn solid_angle(p: [DVec3; 3]) -> f64 {
-    let [a, b, c] = p;
-    let (la, lb, lc) = (a.length(), b.length(), c.length());
-    let num = a.dot(b.cross(c)).abs();
-    let den = la * lb * lc + a.dot(b) * lc + a.dot(c) * lb + b.dot(c) * la;
-    2.0 * num.atan2(den)
-}
-
-/// The furnace: a closed box whose every surface emits luminance `l` and reflects `rho`; the
-/// exitance everywhere is π·l/(1 − ρ).
-pub fn furnace(size: DVec3, rho: f64, l: f64) -> Scene {
-    let mut b = SceneBuilder::new();
-    let m = b.emitter("glow", rho, l);
-    b.axis_box("room", DVec3::ZERO, size, true, m);
-    b.build()
 }

@@ -18,6 +18,7 @@ pub mod direct;
 pub mod error;
 pub mod export;
 pub mod fit;
+#[doc(hidden)]
 pub mod fixtures;
 pub mod geom;
 pub mod heap;

@@ -223,3 +223,80 @@ fn a_local_dask_cluster_bakes_the_single_bake_bytes() {
     let t: serde_json::Value = serde_json::from_slice(&std::fs::read(&timings).unwrap()).unwrap();
     assert!(t.to_string().contains("merge"), "{t}");
 }
+
+/// A bake wrapper for `dask_bake.py --bake`: gather task 1 fails (exit 3) on its first `fails`
+/// attempts, counted in DIR/attempts; every other call is the real bake.
+fn flaky_bake(dir: &Path, fails: u32) -> PathBuf {
+    let script = dir.join(format!("flaky-{fails}.sh"));
+    let count = dir.join(format!("attempts-{fails}"));
+    let text = format!(
+        "#!/bin/sh\ncase \" $* \" in *\" gather \"*\" --task 1 \"*)\n  \
+         n=$(cat '{c}' 2>/dev/null || echo 0); n=$((n + 1)); echo $n > '{c}'\n  \
+         if [ $n -le {fails} ]; then echo 'injected failure' >&2; exit 3; fi;;\nesac\n\
+         exec '{bake}' \"$@\"\n",
+        c = count.display(),
+        bake = env!("CARGO_BIN_EXE_bake"),
+    );
+    std::fs::write(&script, text).unwrap();
+    use std::os::unix::fs::PermissionsExt;
+    std::fs::set_permissions(&script, std::fs::Permissions::from_mode(0o755)).unwrap();
+    script
+}
+
+/// `dask_bake.py IN -o OUT --local-workers 2 --tasks 3 --bake BAKE -- --quality draft`.
+fn dask_run(python: &Path, input: &Path, out: &Path, bake: &Path) -> std::process::Output {
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("dask/dask_bake.py");
+    std::process::Command::new(python)
+        .arg(script)
+        .arg(input)
+        .arg("-o")
+        .arg(out)
+        .args(["--local-workers", "2", "--tasks", "3", "--bake"])
+        .arg(bake)
+        .args(["--", "--quality", "draft"])
+        .output()
+        .unwrap()
+}
+
+/// The driver's promises (dask/README.md): a failed gather task is retried once and the bake
+/// still gives the single bake's bytes; a task failing twice fails the run with exit 1, naming
+/// the task and its stderr, writing no output; bad arguments exit 2.
+#[test]
+fn dask_retries_a_failed_task_once_and_exits_1_when_it_fails_again() {
+    if !tools::have_dask() {
+        return;
+    }
+    let python = tools::dask_python().unwrap();
+    let dir = scratch("distributed-dask-retry");
+    let input = floor(&dir);
+    let one = single(&input, &dir.join("one.glb"), &["--quality", "draft"]);
+
+    let out = dir.join("retried.glb");
+    let run = dask_run(&python, &input, &out, &flaky_bake(&dir, 1));
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(0), "{stderr}");
+    let attempts = std::fs::read_to_string(dir.join("attempts-1")).unwrap();
+    assert_eq!(attempts.trim(), "2", "task 1 ran {attempts} times");
+    assert!(one == std::fs::read(&out).unwrap(), "the retried bake differs");
+
+    let out = dir.join("failed.glb");
+    let run = dask_run(&python, &input, &out, &flaky_bake(&dir, 2));
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert_eq!(run.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("gather task 1 failed") && stderr.contains("injected failure"),
+        "{stderr}"
+    );
+    let attempts = std::fs::read_to_string(dir.join("attempts-2")).unwrap();
+    assert_eq!(attempts.trim(), "2", "task 1 ran {attempts} times");
+    assert!(!out.exists(), "a failed run wrote its output");
+
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("dask/dask_bake.py");
+    let run = std::process::Command::new(&python)
+        .arg(script)
+        .arg(&input)
+        .args(["-o", "x.glb", "--local-workers", "0"])
+        .output()
+        .unwrap();
+    assert_eq!(run.status.code(), Some(2), "{run:?}");
+}
