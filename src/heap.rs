@@ -10,7 +10,7 @@
 
 /// Return the heap's free pages to the system (glibc on Linux; elsewhere nothing to do). A
 /// library user with another global allocator loses nothing: glibc's own heap is then trimmed.
-pub fn return_freed() {
+pub(crate) fn return_freed() {
     #[cfg(all(target_os = "linux", target_env = "gnu"))]
     // SAFETY: malloc_trim only releases free memory of the allocator; it is thread-safe.
     unsafe {

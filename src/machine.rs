@@ -3,7 +3,7 @@
 
 /// The machine's memory in bytes: physical RAM (`/proc/meminfo`), or the cgroup's limit when
 /// lower; 8 GiB where neither can be read.
-pub fn memory() -> f64 {
+pub(crate) fn memory() -> f64 {
     let ram = std::fs::read_to_string("/proc/meminfo").ok().and_then(|t| {
         let line = t.lines().find(|l| l.starts_with("MemTotal:"))?;
         let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;

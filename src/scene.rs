@@ -137,7 +137,7 @@ pub struct Surface {
 
 impl Scene {
     /// The world-space box around every surface's vertices (m), if there is any vertex.
-    pub fn bounds(&self) -> Option<(DVec3, DVec3)> {
+    pub(crate) fn bounds(&self) -> Option<(DVec3, DVec3)> {
         let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
         for p in self.surfaces.iter().flat_map(|s| s.positions.iter()) {
             lo = lo.min(*p);
@@ -149,7 +149,7 @@ impl Scene {
 
 impl Surface {
     /// Total area of its triangles (m²).
-    pub fn area(&self) -> f64 {
+    pub(crate) fn area(&self) -> f64 {
         (self.triangles.iter())
             .map(|t| {
                 let [a, b, c] = t.map(|v| self.positions[v as usize]);
@@ -182,7 +182,7 @@ impl Material {
     /// The linear RGB a viewer multiplies the baked display value (COLOR_0, a display texture)
     /// by: the base colour; for an emitting material, its emission colour scaled to a largest
     /// channel of 1, so a source shows at its own luminance instead of reflectance × it.
-    pub fn display_base(&self) -> DVec3 {
+    pub(crate) fn display_base(&self) -> DVec3 {
         match &self.emission {
             Some(e) => e.color / e.color.max_element().max(1e-12),
             None => {

@@ -30,7 +30,7 @@ pub struct QualityParams {
 }
 
 impl Quality {
-    pub fn params(self) -> QualityParams {
+    pub(crate) fn params(self) -> QualityParams {
         match self {
             Quality::Draft => QualityParams {
                 target_patches: 2_000.0,
@@ -57,7 +57,7 @@ impl Quality {
 impl Quality {
     /// The default lightmap texel edge (m) and the most texels the default may make: the texel
     /// is this edge, at most a quarter patch, and at least what keeps the count under the cap.
-    pub fn lightmap_texel(self) -> (f64, f64) {
+    pub(crate) fn lightmap_texel(self) -> (f64, f64) {
         match self {
             Quality::Draft => (0.1, 250_000.0),
             Quality::Default => (0.05, 1_000_000.0),
@@ -68,7 +68,7 @@ impl Quality {
     /// How far the first-bounce light may spread across the gathered receivers a vertex reads
     /// (fraction of its illuminance) for it to read their rows instead of gathering its own
     /// (`transport::sharing`); 0 gathers at every vertex.
-    pub fn receiver_tolerance(self) -> f64 {
+    pub(crate) fn receiver_tolerance(self) -> f64 {
         match self {
             Quality::Draft => 0.03,
             Quality::Default => 0.01,
@@ -78,7 +78,7 @@ impl Quality {
 
     /// How far a lightmap triangle's interpolated inter-reflected light may miss a gather at
     /// its middle texel (fraction of the texel's illuminance) before every texel is gathered.
-    pub fn lightmap_tolerance(self) -> f64 {
+    pub(crate) fn lightmap_tolerance(self) -> f64 {
         match self {
             Quality::Draft => 0.03,
             Quality::Default => 0.01,
@@ -89,7 +89,7 @@ impl Quality {
     /// The direct-light budget (`direct::cut`, [`Settings::direct_budget`]): a group of
     /// luminaires no proof settles takes its visibility from two rays when its light could be
     /// at most this fraction of the direct light summed before it.
-    pub fn direct_budget(self) -> f64 {
+    pub(crate) fn direct_budget(self) -> f64 {
         match self {
             Quality::Draft => 0.03,
             Quality::Default => 0.01,
@@ -223,7 +223,7 @@ impl Default for Settings {
 
 impl Settings {
     /// The quality's numbers with this settings' overrides applied.
-    pub fn params(&self) -> QualityParams {
+    pub(crate) fn params(&self) -> QualityParams {
         let mut p = self.quality.params();
         if let Some(t) = self.far_field {
             p.tau = t;
@@ -232,7 +232,7 @@ impl Settings {
     }
 
     /// The direct-light budget in force.
-    pub fn direct_budget(&self) -> f64 {
+    pub(crate) fn direct_budget(&self) -> f64 {
         (self.direct_budget).unwrap_or(self.quality.direct_budget())
     }
 

@@ -38,7 +38,7 @@ pub enum Input<'a> {
 
 impl Input<'_> {
     /// Component `i`, in double.
-    pub fn get(&self, i: usize) -> DVec3 {
+    pub(crate) fn get(&self, i: usize) -> DVec3 {
         match self {
             Input::Double(x) => x[i],
             Input::Single(x) => x[i].as_dvec3(),
@@ -47,7 +47,7 @@ impl Input<'_> {
 }
 
 /// Solve A·x = b for x, with A given by `apply(x, out)`.
-pub fn gmres(
+pub(crate) fn gmres(
     apply: impl Fn(Input, &mut [DVec3]),
     b: &[DVec3],
     weights: &[f64],

@@ -378,7 +378,7 @@ pub struct RunRecord<'a> {
 
 /// An `Option` field that must be present (possibly `null`): serde would otherwise read a
 /// missing `Option` as `None`.
-pub fn required<'de, D: Deserializer<'de>, T: Deserialize<'de>>(
+pub(crate) fn required<'de, D: Deserializer<'de>, T: Deserialize<'de>>(
     d: D,
 ) -> Result<Option<T>, D::Error> {
     Option::<T>::deserialize(d)

@@ -54,7 +54,7 @@ pub struct Budget {
 }
 
 /// The patch and probe limits for `settings` on this machine.
-pub fn limits(settings: &Settings) -> (f64, f64) {
+pub(crate) fn limits(settings: &Settings) -> (f64, f64) {
     let free = (crate::machine::memory() * RAM_SHARE - BYTES_BASE).max(BYTES_PER_PATCH);
     (
         settings
@@ -139,7 +139,7 @@ fn gib(bytes: f64) -> String {
 
 /// Check the scene against the limits at the patch size `h` (the quality's when
 /// `settings.patch_size` is `None`), before meshing.
-pub fn check(scene: &Scene, settings: &Settings, h: f64) -> Result<Budget> {
+pub(crate) fn check(scene: &Scene, settings: &Settings, h: f64) -> Result<Budget> {
     let (max_patches, max_probes) = limits(settings);
     let memory = crate::machine::memory();
     let why = match settings.max_patches {
@@ -296,7 +296,7 @@ pub const DOMINANT_SHARE: f64 = 0.99;
 /// a ground plane kilometres wide) holds more than [`DOMINANT_SHARE`] of the area, so the rest of
 /// the scene gets patches over ten times larger than it would alone; `None` otherwise.
 /// `areas` are the surfaces' areas (m²), in scene order.
-pub fn dominant_surface(
+pub(crate) fn dominant_surface(
     scene: &Scene,
     areas: &[f64],
     target_patches: f64,

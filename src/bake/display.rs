@@ -17,7 +17,7 @@ use crate::summary::{ExposureMode, ExposureRecord};
 use glam::DVec3;
 
 /// k such that COLOR_0 = shoulder(k·E), and what the summary records of it.
-pub fn exposure(exposure: Exposure, s: &Solution) -> (f64, ExposureRecord) {
+pub(crate) fn exposure(exposure: Exposure, s: &Solution) -> (f64, ExposureRecord) {
     let (k, mode) = match exposure {
         Exposure::White { lux } => (1.0 / lux, ExposureMode::Fixed),
         Exposure::Auto => {
@@ -65,7 +65,7 @@ fn percentile_illuminance(s: &Solution, q: f64) -> f64 {
 }
 
 /// The display colour at a receiver with illuminance `e` and exitance `m` (both RGB).
-pub fn color(e: DVec3, m: DVec3, material: &Material, k: f64) -> [f32; 3] {
+pub(crate) fn color(e: DVec3, m: DVec3, material: &Material, k: f64) -> [f32; 3] {
     let value = if material.emission.is_some() {
         m / luma(material.display_base()).max(0.05)
     } else {
@@ -76,7 +76,7 @@ pub fn color(e: DVec3, m: DVec3, material: &Material, k: f64) -> [f32; 3] {
 
 /// The display colour of a surface showing luminance `l` (RGB, cd/m²) over a white base: the
 /// colour a surface of reflectance 1 under illuminance π·L shows, shoulder(k·π·L).
-pub fn luminance_color(l: DVec3, k: f64) -> [f32; 3] {
+pub(crate) fn luminance_color(l: DVec3, k: f64) -> [f32; 3] {
     (l * std::f64::consts::PI * k)
         .to_array()
         .map(|x| shoulder(x) as f32)

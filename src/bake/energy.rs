@@ -26,7 +26,7 @@ use glam::DVec3;
 
 /// `flux`: what the lights and luminaires sent into the patches (its per-patch part may be
 /// spent: only the back faces' and each source's totals are read).
-pub fn balance(
+pub(crate) fn balance(
     meshed: &Meshed,
     occ: &Occluder,
     flux: &PatchFlux,
@@ -120,7 +120,7 @@ const ESCAPE_SALT: u64 = 0x5E5C_A9E0_0000_0000;
 
 /// What the summary says about a source, given the flux it put onto surfaces (lm) and the
 /// closure factor applied to it (`bake::direct::closure`).
-pub fn source_record(
+pub(crate) fn source_record(
     source: &DirectSource,
     scene: &Scene,
     received: f64,
@@ -173,7 +173,7 @@ pub fn source_record(
 pub const WARN_BALANCE: f64 = 1e-3;
 
 /// The warning for an energy balance error above [`WARN_BALANCE`] (or one that is not finite).
-pub fn warning(e: &EnergyBalance) -> Option<String> {
+pub(crate) fn warning(e: &EnergyBalance) -> Option<String> {
     let r = e.balance_error_relative;
     if r.is_finite() && r <= WARN_BALANCE {
         return None;

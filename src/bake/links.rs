@@ -29,7 +29,7 @@ pub struct Rows {
 
 /// Patch `p` reflects nothing and emits nothing into the patch field: its exitance stays zero,
 /// so nobody gathers from nodes of such patches alone (only what they cover counts).
-pub fn black(rho: &[DVec3], exitance: &[DVec3], p: usize) -> bool {
+pub(crate) fn black(rho: &[DVec3], exitance: &[DVec3], p: usize) -> bool {
     rho[p] == DVec3::ZERO && exitance[p] == DVec3::ZERO
 }
 
@@ -47,7 +47,7 @@ pub struct Inputs<'s> {
 }
 
 /// Every receiver's row.
-pub fn stage(i: &Inputs) -> Rows {
+pub(crate) fn stage(i: &Inputs) -> Rows {
     gathered(i, None).0
 }
 

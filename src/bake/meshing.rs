@@ -50,7 +50,7 @@ const SAMPLED: usize = 128;
 /// The largest gap between parallel faces that counts as contact for patch size `h` (m): a
 /// quarter of it. Closer than that, the mesh cannot resolve the light between the faces (it
 /// is a sliver's); relative to h, so a scene behaves alike at every scale.
-pub fn contact_gap(h: f64) -> f64 {
+pub(crate) fn contact_gap(h: f64) -> f64 {
     0.25 * h
 }
 
@@ -70,7 +70,7 @@ pub struct Meshed<'a> {
 
 /// Mesh the scene for patch size `h` and set its light sources on the mesh (`tau_direct`: the
 /// far-field ratio for emitting surfaces).
-pub fn stage<'a>(
+pub(crate) fn stage<'a>(
     scene: &'a Scene,
     settings: &Settings,
     h: f64,
@@ -103,7 +103,7 @@ pub fn stage<'a>(
 
 /// How `settings` has direct light summed: the light cut's fraction and the direct-light
 /// budget.
-pub fn cut_settings(settings: &Settings) -> CutSettings {
+pub(crate) fn cut_settings(settings: &Settings) -> CutSettings {
     CutSettings {
         fraction: settings.light_cut,
         budget: settings.direct_budget(),
@@ -120,7 +120,7 @@ pub struct Saved {
 
 impl Meshed<'_> {
     /// The patch size h the mesh was made for (m; recovered from the contact gap it set).
-    pub fn patch_size(&self) -> f64 {
+    pub(crate) fn patch_size(&self) -> f64 {
         self.contacts.gap_m / contact_gap(1.0)
     }
 
@@ -135,7 +135,7 @@ impl Meshed<'_> {
 }
 
 /// [`stage`]'s result from a [`Saved`] mesh of `scene`: the same sources set on it the same way.
-pub fn restore<'a>(
+pub(crate) fn restore<'a>(
     scene: &'a Scene,
     settings: &Settings,
     saved: Saved,
@@ -161,7 +161,7 @@ pub fn restore<'a>(
 /// materials whose sources differ (`bake fit` lights one mesh by one group of sources at a
 /// time). Punctual lights of zero intensity are left out (they would cost rays for nothing).
 /// `cut`: the light cut's fraction and the direct-light budget (`direct::cut`).
-pub fn relight<'a>(
+pub(crate) fn relight<'a>(
     base: &Meshed,
     scene: &'a Scene,
     tau_direct: f64,

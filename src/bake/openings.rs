@@ -23,7 +23,7 @@ use glam::{DVec2, DVec3};
 const SEGMENTS: usize = 32;
 
 /// The openings' meshes at exposure `k` (COLOR_0 = shoulder(k·E)).
-pub fn meshes(scene: &Scene, k: f64) -> Vec<OpeningMesh> {
+pub(crate) fn meshes(scene: &Scene, k: f64) -> Vec<OpeningMesh> {
     if scene.luminaires.is_empty() {
         return Vec::new();
     }

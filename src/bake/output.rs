@@ -9,7 +9,7 @@ use crate::solution::Solution;
 use glam::DVec3;
 
 /// Shape the solution for the exporter: one baked surface per patch group.
-pub fn surfaces(s: &Solution, scale: f64) -> Vec<BakedSurface> {
+pub(crate) fn surfaces(s: &Solution, scale: f64) -> Vec<BakedSurface> {
     let (scene, mesh) = (s.scene(), s.mesh());
     mesh.groups
         .iter()

@@ -38,7 +38,7 @@ pub struct Run {
 
 impl Run {
     /// Run `work`, adding its wall-clock time to `stage`.
-    pub fn time<T>(&mut self, stage: Stage, work: impl FnOnce() -> T) -> T {
+    pub(crate) fn time<T>(&mut self, stage: Stage, work: impl FnOnce() -> T) -> T {
         let start = Instant::now();
         let out = work();
         let s = &mut self.seconds;
@@ -56,7 +56,7 @@ impl Run {
     }
 
     /// Attribute the rays `occ` traced since the last call to `stage`.
-    pub fn rays(&mut self, stage: RayStage, occ: &Occluder) {
+    pub(crate) fn rays(&mut self, stage: RayStage, occ: &Occluder) {
         let now = occ.rays_traced();
         let r = &mut self.rays;
         *match stage {

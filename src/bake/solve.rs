@@ -50,7 +50,7 @@ pub struct LinkCounts {
 
 impl Radiosity {
     /// Cuttle's first reflected flux (lm, photometric): Σ ρ × direct flux onto each patch.
-    pub fn first_reflected_flux(&self, meshed: &Meshed) -> f64 {
+    pub(crate) fn first_reflected_flux(&self, meshed: &Meshed) -> f64 {
         meshed
             .mesh
             .patches
@@ -62,7 +62,7 @@ impl Radiosity {
 }
 
 /// `light_flux`: the direct flux of lights and luminaires into each patch's front (lm, RGB).
-pub fn stage(
+pub(crate) fn stage(
     meshed: &Meshed,
     rows: Rows,
     light_flux: Vec<DVec3>,
@@ -78,7 +78,7 @@ pub fn stage(
 /// a receiver that is not enclosed and that send light, rays shared by an estimate of what each
 /// sends (emitted, and the first reflection of the direct flux); 0 elsewhere. Empty when every
 /// receiver is enclosed.
-pub fn open_fractions(
+pub(crate) fn open_fractions(
     meshed: &Meshed,
     occ: &Occluder,
     rows: &Rows,
@@ -111,7 +111,7 @@ const BALANCE_SALT: u64 = 0xBA1A_0000_0000_0000;
 /// mesh lit by other sources (its emitting patches and its direct flux). The operator is built
 /// from `rows` and balanced once, for `base` (which patches are black), so the solutions add:
 /// the light of two groups of sources together is the sum of their solutions.
-pub fn stage_many(
+pub(crate) fn stage_many(
     base: &Meshed,
     rows: Rows,
     rhs: Vec<(&Meshed, Vec<DVec3>)>,
@@ -217,7 +217,7 @@ pub fn stage_many(
 }
 
 /// The warning for a solve that stopped before reaching `tolerance` (`None` when it converged).
-pub fn warning(stats: &SolveStats, tolerance: f64) -> Option<String> {
+pub(crate) fn warning(stats: &SolveStats, tolerance: f64) -> Option<String> {
     (!stats.converged).then(|| {
         format!(
             "the solver stopped at {} iterations with relative residual {:.2e} (tolerance \

@@ -12,7 +12,7 @@ pub const FACE_COS: f64 = 0.99;
 
 /// `name[+y]` → (`name`, Some(+Y)); `name` → (`name`, None); an unknown face is an error
 /// message listing the six.
-pub fn split_face(key: &str) -> Result<(&str, Option<DVec3>), String> {
+pub(crate) fn split_face(key: &str) -> Result<(&str, Option<DVec3>), String> {
     let Some(open) = key.strip_suffix(']').and_then(|k| k.rfind('[')) else {
         return Ok((key, None));
     };
@@ -27,7 +27,7 @@ pub fn split_face(key: &str) -> Result<(&str, Option<DVec3>), String> {
 }
 
 /// Whether triangle `j` of `p` faces `d` (its normal within ~8° of it; no area: no).
-pub fn faces(p: &Primitive, j: usize, d: DVec3) -> bool {
+pub(crate) fn faces(p: &Primitive, j: usize, d: DVec3) -> bool {
     let [a, b, c] = p.triangles[j].map(|v| p.positions[v as usize]);
     let cross = (b - a).cross(c - a);
     cross.length() > 0.0 && cross.normalize().dot(d.normalize()) >= FACE_COS

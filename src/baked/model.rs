@@ -115,7 +115,7 @@ pub struct Primitive {
 
 impl Primitive {
     /// Whether triangle `j` is part of what another surface covers.
-    pub fn is_covered(&self, j: usize) -> bool {
+    pub(crate) fn is_covered(&self, j: usize) -> bool {
         self.covered_from.is_some_and(|k| j >= k as usize)
     }
 }
@@ -168,7 +168,7 @@ pub struct Lightmap {
 
 impl Lightmap {
     /// Photometric luminance Y of texel `k` (cd/m²): 0.2126 R + 0.7152 G + 0.0722 B.
-    pub fn luminance_y(&self, k: usize) -> f64 {
+    pub(crate) fn luminance_y(&self, k: usize) -> f64 {
         let [r, g, b] = self.luminance[k].map(f64::from);
         crate::scene::luma(DVec3::new(r, g, b))
     }
@@ -206,7 +206,7 @@ pub struct PlanePoint {
 }
 
 impl PlanePoint {
-    pub fn new(position: DVec3, total: f64, direct: f64, indirect: f64) -> Self {
+    pub(crate) fn new(position: DVec3, total: f64, direct: f64, indirect: f64) -> Self {
         PlanePoint {
             position,
             total: total as f32,
@@ -239,7 +239,7 @@ impl BakedOutput {
     }
 
     /// The node's name, or `node N`.
-    pub fn node_name(&self, i: usize) -> String {
+    pub(crate) fn node_name(&self, i: usize) -> String {
         self.nodes[i]
             .name
             .clone()
@@ -248,7 +248,7 @@ impl BakedOutput {
 
     /// The node's names joined by `/` from its root (`desk_dark/top`): linear in its depth (at
     /// most the node count, should the file's parents form a cycle).
-    pub fn node_path(&self, mut i: usize) -> String {
+    pub(crate) fn node_path(&self, mut i: usize) -> String {
         let mut names = vec![self.node_name(i)];
         while let Some(p) = self.nodes[i].parent {
             if names.len() > self.nodes.len() {
@@ -262,7 +262,7 @@ impl BakedOutput {
     }
 
     /// The material's name, or `material N`.
-    pub fn material_name(&self, i: usize) -> String {
+    pub(crate) fn material_name(&self, i: usize) -> String {
         self.materials[i]
             .name
             .clone()
@@ -271,7 +271,7 @@ impl BakedOutput {
 }
 
 /// Each node's parent, from the nodes' children lists.
-pub fn parents(
+pub(crate) fn parents(
     children: impl Iterator<Item = impl AsRef<[usize]>>,
     n: usize,
 ) -> Vec<Option<usize>> {

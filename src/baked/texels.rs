@@ -22,7 +22,7 @@ pub(super) struct Scratch {
 }
 
 impl Scratch {
-    pub fn new(w: u32, h: u32) -> Self {
+    pub(crate) fn new(w: u32, h: u32) -> Self {
         Scratch {
             best: vec![(0.0, u32::MAX); w as usize * h as usize],
             touched: Vec::new(),
@@ -165,7 +165,7 @@ impl Lightmap {
 impl Primitive {
     /// The world point (m) of `texel`'s centre on its triangle: the centre's barycentric
     /// coordinates clamped onto the triangle; a triangle without UV area gives its centroid.
-    pub fn texel_point(&self, lightmap: &Lightmap, texel: Texel) -> DVec3 {
+    pub(crate) fn texel_point(&self, lightmap: &Lightmap, texel: Texel) -> DVec3 {
         let tri = self.triangles[texel.triangle as usize].map(|v| v as usize);
         let world = tri.map(|v| self.positions[v]);
         let centroid = (world[0] + world[1] + world[2]) / 3.0;

@@ -60,7 +60,7 @@ struct Point {
 /// A triangle with no edge as long as `whole_below` (m) is not cut: smaller than a patch, it is
 /// covered as a whole on a side where covers hold most of it (tessellated clutter — a chair's
 /// tubes under its seat — would otherwise become a patch per sliver).
-pub fn cut(
+pub(crate) fn cut(
     surface: &Surface,
     covers: &[Cover],
     seams: &[Seam],
@@ -269,7 +269,7 @@ fn on_seam(seam: &Seam, a: DVec3, b: DVec3, eps: f64) -> bool {
 /// covered triangles (`all_sides` covered: under a wall standing where the partition ends)
 /// join nothing. Run once the covered sides are known.
 /// Returns the number of copies made.
-pub fn part_creases(out: &mut CutSurface, all_sides: u8) -> usize {
+pub(crate) fn part_creases(out: &mut CutSurface, all_sides: u8) -> usize {
     if out.creases.is_empty() {
         return 0;
     }
@@ -673,7 +673,7 @@ fn lex_less(a: DVec3, b: DVec3) -> bool {
 }
 
 /// Split a convex polygon of plain points by `dist = 0` (see [`clip_points`]).
-pub fn clip(poly: &[DVec3], dist: impl Fn(DVec3) -> f64, eps: f64) -> (Vec<DVec3>, Vec<DVec3>) {
+pub(crate) fn clip(poly: &[DVec3], dist: impl Fn(DVec3) -> f64, eps: f64) -> (Vec<DVec3>, Vec<DVec3>) {
     let lerp = |a: &DVec3, b: &DVec3| {
         let (a, b) = if lex_less(*b, *a) { (b, a) } else { (a, b) };
         let (da, db) = (dist(*a), dist(*b));
@@ -727,7 +727,7 @@ fn clip_with<V: Copy>(
 }
 
 /// Area (m²) and centroid of a planar convex polygon with unit normal `n`.
-pub fn area_centroid(poly: &[DVec3], n: DVec3) -> (f64, DVec3) {
+pub(crate) fn area_centroid(poly: &[DVec3], n: DVec3) -> (f64, DVec3) {
     let (mut area, mut centre) = (0.0, DVec3::ZERO);
     for i in 1..poly.len().saturating_sub(1) {
         let a = (poly[i] - poly[0]).cross(poly[i + 1] - poly[0]).dot(n) / 2.0;

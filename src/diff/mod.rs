@@ -77,7 +77,7 @@ impl Mode {
     }
 
     /// Whether the mode pairs nodes, primitives and vertices one to one.
-    pub fn by_vertex(self) -> bool {
+    pub(crate) fn by_vertex(self) -> bool {
         matches!(self, Mode::Vertices | Mode::Texels | Mode::Samples)
     }
 }
@@ -143,7 +143,7 @@ impl Quantity {
     ];
 
     /// The JSON name.
-    pub fn key(self) -> &'static str {
+    pub(crate) fn key(self) -> &'static str {
         match self {
             Quantity::Illuminance => "illuminance",
             Quantity::IlluminanceDirect => "illuminanceDirect",
@@ -179,7 +179,7 @@ impl Quantity {
         }
     }
 
-    pub fn unit(self) -> &'static str {
+    pub(crate) fn unit(self) -> &'static str {
         match self {
             Quantity::Luminance => "cd/m²",
             _ => "lx",

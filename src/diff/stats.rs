@@ -33,7 +33,7 @@ pub(super) struct Check {
 
 impl Tolerance {
     /// A non-finite value on either side fails, even against the same value on the other.
-    pub fn check(&self, a: f64, b: f64) -> Check {
+    pub(crate) fn check(&self, a: f64, b: f64) -> Check {
         let finite = a.is_finite() && b.is_finite();
         let abs = if finite { (a - b).abs() } else { f64::INFINITY };
         let scale = if finite { b.abs().max(self.floor) } else { 1.0 };
@@ -136,14 +136,14 @@ pub(super) struct Worst {
 }
 
 impl Worst {
-    pub fn new(n: usize) -> Self {
+    pub(crate) fn new(n: usize) -> Self {
         Worst {
             n: n.max(1),
             list: Vec::new(),
         }
     }
 
-    pub fn push(&mut self, c: Candidate) {
+    pub(crate) fn push(&mut self, c: Candidate) {
         self.list.push(c);
         if self.list.len() >= 4 * self.n + 64 {
             self.trim();
@@ -158,7 +158,7 @@ impl Worst {
     }
 
     /// At most N candidates, worst first.
-    pub fn finish(mut self) -> Vec<Candidate> {
+    pub(crate) fn finish(mut self) -> Vec<Candidate> {
         self.trim();
         self.list.sort_by(worse);
         self.list
@@ -178,7 +178,7 @@ pub(super) struct Columns {
 
 impl Columns {
     /// Start a run of values belonging to `node` and/or `material` (closes the previous run).
-    pub fn run(&mut self, node: Option<usize>, material: Option<usize>) {
+    pub(crate) fn run(&mut self, node: Option<usize>, material: Option<usize>) {
         self.close();
         self.open = Some((node, material, self.abs.len()));
     }
@@ -190,7 +190,7 @@ impl Columns {
     }
 
     /// Test one value; a differing one becomes a candidate for the worst places.
-    pub fn push(&mut self, c: Check, worst: &mut Worst, at: (usize, Loc), (a, b): (f64, f64)) {
+    pub(crate) fn push(&mut self, c: Check, worst: &mut Worst, at: (usize, Loc), (a, b): (f64, f64)) {
         self.abs.push(c.abs);
         self.rel.push(c.rel);
         self.failed.push(!c.pass);
@@ -209,7 +209,7 @@ impl Columns {
     /// The figures over all values, per node group (`nodes` of them) and per material group
     /// (`materials` of them; groups without values left out). Names come from `node_name` and
     /// `material_name`.
-    pub fn groups(
+    pub(crate) fn groups(
         mut self,
         nodes: &[String],
         materials: &[String],

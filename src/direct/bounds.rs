@@ -35,7 +35,7 @@ pub struct AngleBounds {
 }
 
 impl AngleBounds {
-    pub fn new(intensity: impl Fn(DVec3) -> f64 + Sync) -> Self {
+    pub(crate) fn new(intensity: impl Fn(DVec3) -> f64 + Sync) -> Self {
         // The 721 × 360 samples in parallel (rows in order), then their maxima per cell.
         let rows: Vec<Vec<f64>> = (0..=720usize)
             .into_par_iter()
@@ -92,7 +92,7 @@ impl AngleBounds {
     /// Lower and upper bounds of the distribution over the directions within `radius` (rad) of
     /// the unit world direction `dir` (placed by `world_from_photometric`), widened as
     /// [`AngleBounds::over_cone`] widens.
-    pub fn range_over_cone(
+    pub(crate) fn range_over_cone(
         &self,
         world_from_photometric: &DMat3,
         dir: DVec3,
@@ -141,7 +141,7 @@ impl AngleBounds {
     /// Is the bound over the cone of [`AngleBounds::over_cone`] above zero: can any light leave
     /// in those directions? The same answer as `over_cone(..) > 0.0`, without looking at C where
     /// every C sector of the γ bands is lit (a downlight seen from below: most queries).
-    pub fn lights_cone(&self, world_from_photometric: &DMat3, dir: DVec3, radius: f64) -> bool {
+    pub(crate) fn lights_cone(&self, world_from_photometric: &DMat3, dir: DVec3, radius: f64) -> bool {
         let g = gamma_deg(world_from_photometric.transpose() * dir);
         let widen = radius.to_degrees() + C_MARGIN;
         let (k, a, b) = band_runs((g - widen, g + widen));
@@ -152,7 +152,7 @@ impl AngleBounds {
 
     /// Bound over the spherical triangle with unit world corner directions `dirs` (its exact
     /// range of γ, interior and edges included, widened only by the table's sampling step).
-    pub fn over_triangle(
+    pub(crate) fn over_triangle(
         &self,
         world_from_photometric: &DMat3,
         dirs: &[DVec3; 3],
@@ -335,7 +335,7 @@ impl<'a> ProfileBounds<'a> {
     }
 
     /// The bounds of profile `profile` (an index into `Scene::profiles`).
-    pub fn get(&self, profile: usize) -> Arc<AngleBounds> {
+    pub(crate) fn get(&self, profile: usize) -> Arc<AngleBounds> {
         self.built[profile]
             .get_or_init(|| {
                 let photometry = &self.scene.profiles[profile].photometry;

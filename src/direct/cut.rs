@@ -379,7 +379,7 @@ fn luminaire<'s, 'a>(sources: &'s [DirectSource<'a>], k: u32) -> Option<&'s Sour
 /// The cone from a box to a target of radius `r` around `c` (m): every direction from a point of
 /// the box to a point of the target lies within it, when the box's and the target's radii
 /// together stay below half the distance.
-pub fn cone(lo: DVec3, hi: DVec3, c: DVec3, r: f64) -> Option<(DVec3, f64)> {
+pub(crate) fn cone(lo: DVec3, hi: DVec3, c: DVec3, r: f64) -> Option<(DVec3, f64)> {
     let d = c - (lo + hi) * 0.5;
     let dist = d.length();
     let r = r + (hi - lo).length() * 0.5;

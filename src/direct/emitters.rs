@@ -16,7 +16,7 @@ use glam::DVec3;
 use std::f64::consts::PI;
 
 /// Emitted exitance per patch (lm/m², linear RGB scaled so luminance Y is photometric).
-pub fn patch_exitance(scene: &Scene, mesh: &PatchMesh) -> Vec<DVec3> {
+pub(crate) fn patch_exitance(scene: &Scene, mesh: &PatchMesh) -> Vec<DVec3> {
     let mut material_area = vec![0.0; scene.materials.len()];
     for g in &mesh.groups {
         material_area[g.material] += g.area;
@@ -46,7 +46,7 @@ pub fn patch_exitance(scene: &Scene, mesh: &PatchMesh) -> Vec<DVec3> {
 
 /// The Lambertian part of `emitted`: zero for patches whose material emits through a profile
 /// (those are direct sources, `direct::profiled`).
-pub fn diffuse_part(scene: &Scene, mesh: &PatchMesh, emitted: &[DVec3]) -> Vec<DVec3> {
+pub(crate) fn diffuse_part(scene: &Scene, mesh: &PatchMesh, emitted: &[DVec3]) -> Vec<DVec3> {
     mesh.patches
         .iter()
         .zip(emitted)

@@ -22,12 +22,12 @@ pub type Bounds = (DVec3, DVec3);
 pub struct Solids(Vec<Option<Bounds>>);
 
 impl Solids {
-    pub fn new(scene: &Scene) -> Self {
+    pub(crate) fn new(scene: &Scene) -> Self {
         Solids(scene.surfaces.par_iter().map(solid_bounds).collect())
     }
 
     /// The box of surface `s` when it closes a solid with its fronts facing out.
-    pub fn of(&self, s: usize) -> Option<Bounds> {
+    pub(crate) fn of(&self, s: usize) -> Option<Bounds> {
         self.0[s]
     }
 }
@@ -110,7 +110,7 @@ fn solid_bounds(s: &Surface) -> Option<Bounds> {
 }
 
 /// Do boxes `a` and `b` overlap (touching counts)?
-pub fn overlap(a: Bounds, b: Bounds) -> bool {
+pub(crate) fn overlap(a: Bounds, b: Bounds) -> bool {
     a.0.cmple(b.1).all() && b.0.cmple(a.1).all()
 }
 

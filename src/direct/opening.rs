@@ -32,7 +32,7 @@ pub struct Opening<'a> {
 }
 
 /// The openings with area of `scene`'s luminaires, in luminaire order.
-pub fn all<'a>(scene: &'a Scene, bounds: &ProfileBounds) -> Vec<Opening<'a>> {
+pub(crate) fn all<'a>(scene: &'a Scene, bounds: &ProfileBounds) -> Vec<Opening<'a>> {
     (scene.luminaires.iter().enumerate())
         .zip(Source::all(scene, bounds))
         .filter_map(|((luminaire, l), source)| {
@@ -53,7 +53,7 @@ pub fn all<'a>(scene: &'a Scene, bounds: &ProfileBounds) -> Vec<Opening<'a>> {
 impl Opening<'_> {
     /// The luminance RGB (cd/m²) the opening shows to an eye looking along the unit world
     /// direction `dir` (from the eye toward the opening); zero where it has no projected area.
-    pub fn luminance(&self, dir: DVec3) -> DVec3 {
+    pub(crate) fn luminance(&self, dir: DVec3) -> DVec3 {
         let d = self.source.world_from_photometric.transpose() * dir;
         let area = self.projected_area(d);
         match area > 0.0 {
@@ -123,7 +123,7 @@ impl Opening<'_> {
     }
 
     /// The opening's area projected on a plane normal to the unit `d` (photometric frame), m².
-    pub fn projected_area(&self, d: DVec3) -> f64 {
+    pub(crate) fn projected_area(&self, d: DVec3) -> f64 {
         let (l, w, h) = (2.0 * self.half.x, 2.0 * self.half.y, 2.0 * self.half.z);
         if self.round {
             let (a, b) = (self.half.x, self.half.y);

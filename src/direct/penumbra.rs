@@ -32,7 +32,7 @@ pub struct Ratios {
 /// Integrate the opening with half sizes `half` over its visibility from `p`: `world` maps a
 /// point of the opening (photometric X, Y) to world space, `sees` traces from `p` to a world
 /// point, `emit(q, share, fraction)` receives each piece.
-pub fn integrate(
+pub(crate) fn integrate(
     half: [f64; 2],
     p: DVec3,
     ratios: &Ratios,

@@ -46,7 +46,7 @@ pub struct Surface<'a> {
 impl<'a> Surface<'a> {
     /// One source per material with a profiled emission; `exitance` is each patch's emitted
     /// exitance (lm/m², RGB) as if it were Lambertian; each profile's bounds from `bounds`.
-    pub fn all(
+    pub(crate) fn all(
         scene: &'a Scene,
         mesh: &PatchMesh,
         exitance: &[DVec3],
@@ -97,7 +97,7 @@ impl<'a> Surface<'a> {
     }
 
     /// Illuminance (lx, photometric) at `p` with unit normal `n`.
-    pub fn illuminance(&self, occ: &Occluder, p: DVec3, n: DVec3) -> f64 {
+    pub(crate) fn illuminance(&self, occ: &Occluder, p: DVec3, n: DVec3) -> f64 {
         let mut e = 0.0;
         for patch in &self.patches {
             for (q, share) in split(&patch.corners, p) {
@@ -123,7 +123,7 @@ impl<'a> Surface<'a> {
 
     /// The sub-patches seen from `p` as point sources: position, unit direction from `p`, and
     /// the illuminance each gives on a plane facing it (lx, unshadowed).
-    pub fn point_sources(&self, p: DVec3) -> Vec<(Option<DVec3>, DVec3, f64)> {
+    pub(crate) fn point_sources(&self, p: DVec3) -> Vec<(Option<DVec3>, DVec3, f64)> {
         let mut out = Vec::new();
         for patch in &self.patches {
             for (q, share) in split(&patch.corners, p) {
@@ -144,7 +144,7 @@ impl<'a> Surface<'a> {
     }
 
     /// `(front, back)` flux (lm) into a triangle patch of the scene.
-    pub fn patch_flux(&self, occ: &Occluder, corners: &[DVec3; 3], normal: DVec3) -> (f64, f64) {
+    pub(crate) fn patch_flux(&self, occ: &Occluder, corners: &[DVec3; 3], normal: DVec3) -> (f64, f64) {
         let c = (corners[0] + corners[1] + corners[2]) / 3.0;
         let budget = 1e-6 * self.flux;
         let mut total = (0.0, 0.0);

@@ -18,7 +18,7 @@ use glam::DVec3;
 use std::f64::consts::PI;
 
 /// Intensity (cd) of a point or spot light in unit direction `dir` (pointing away from it).
-pub fn intensity(light: &Light, dir: DVec3) -> f64 {
+pub(crate) fn intensity(light: &Light, dir: DVec3) -> f64 {
     match light.kind {
         LightKind::Point => light.intensity,
         LightKind::Spot {
@@ -40,7 +40,7 @@ fn spot_ramp(inner: f64, outer: f64) -> (f64, f64) {
 
 /// Luminous flux (lm, photometric) a point or spot light emits; `None` for directional lights,
 /// whose flux is whatever the scene intercepts.
-pub fn emitted_flux(light: &Light) -> Option<f64> {
+pub(crate) fn emitted_flux(light: &Light) -> Option<f64> {
     match light.kind {
         LightKind::Point => Some(4.0 * PI * light.intensity),
         LightKind::Spot {
@@ -57,7 +57,7 @@ pub fn emitted_flux(light: &Light) -> Option<f64> {
 }
 
 /// Illuminance (lx, photometric) at point `p` with unit normal `n`.
-pub fn illuminance(light: &Light, occ: &Occluder, p: DVec3, n: DVec3) -> f64 {
+pub(crate) fn illuminance(light: &Light, occ: &Occluder, p: DVec3, n: DVec3) -> f64 {
     match light.kind {
         LightKind::Directional => {
             let to_light = -light.direction;
@@ -87,7 +87,7 @@ pub fn illuminance(light: &Light, occ: &Occluder, p: DVec3, n: DVec3) -> f64 {
 
 /// Flux (lm, photometric) the light sends onto the front of a triangle patch, and onto its back
 /// (absorbed when the patch is single-sided): `(front, back)`; see [`flux::patch_flux`].
-pub fn patch_flux(
+pub(crate) fn patch_flux(
     light: &Light,
     occ: &Occluder,
     corners: &[DVec3; 3],
@@ -103,7 +103,7 @@ pub fn patch_flux(
 
 /// The flux below which [`patch_flux`] stops refining: a millionth of what the light sends into
 /// a scene of this diagonal (m).
-pub fn refinement_budget(light: &Light, diagonal: f64) -> f64 {
+pub(crate) fn refinement_budget(light: &Light, diagonal: f64) -> f64 {
     1e-6 * emitted_flux(light).unwrap_or(light.intensity * diagonal * diagonal)
 }
 

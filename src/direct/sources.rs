@@ -22,7 +22,7 @@ pub enum DirectSource<'a> {
 impl<'a> DirectSource<'a> {
     /// The scene's lights, its luminaires, then its profiled emitting surfaces (`exitance`: what
     /// each patch emits, as if Lambertian).
-    pub fn all(
+    pub(crate) fn all(
         scene: &'a Scene,
         mesh: &PatchMesh,
         exitance: &[DVec3],
@@ -53,7 +53,7 @@ impl<'a> DirectSource<'a> {
     }
 
     /// Point-like beams of this source reaching `p` (shadows included; see `Solution::beams`).
-    pub fn beams(&self, occ: &Occluder, p: DVec3) -> Vec<(DVec3, f64)> {
+    pub(crate) fn beams(&self, occ: &Occluder, p: DVec3) -> Vec<(DVec3, f64)> {
         self.point_sources(p)
             .into_iter()
             .filter_map(|(q, dir_from_p, e_normal)| {
@@ -69,7 +69,7 @@ impl<'a> DirectSource<'a> {
     /// The point-like pieces of this source as seen from `p`: position (None for a directional
     /// light), unit direction from `p` toward it, and the illuminance it gives on a plane facing
     /// it (lx, photometric, unshadowed).
-    pub fn point_sources(&self, p: DVec3) -> Vec<(Option<DVec3>, DVec3, f64)> {
+    pub(crate) fn point_sources(&self, p: DVec3) -> Vec<(Option<DVec3>, DVec3, f64)> {
         let toward = |q: DVec3, i: f64| {
             let d = q - p;
             let dist2 = d.length_squared();
@@ -97,7 +97,7 @@ impl<'a> DirectSource<'a> {
     }
 
     /// Relative RGB colour (luminance 1).
-    pub fn color(&self) -> DVec3 {
+    pub(crate) fn color(&self) -> DVec3 {
         match self {
             DirectSource::Punctual(l) => l.color,
             DirectSource::Luminaire(s) => s.color,
@@ -106,7 +106,7 @@ impl<'a> DirectSource<'a> {
     }
 
     /// Illuminance (lx, photometric) at point `p` with unit normal `n`.
-    pub fn illuminance(&self, occ: &Occluder, p: DVec3, n: DVec3) -> f64 {
+    pub(crate) fn illuminance(&self, occ: &Occluder, p: DVec3, n: DVec3) -> f64 {
         match self {
             DirectSource::Punctual(l) => punctual::illuminance(l, occ, p, n),
             DirectSource::Luminaire(s) => s.illuminance(occ, p, n),
@@ -138,7 +138,7 @@ impl<'a> DirectSource<'a> {
 
     /// `(front, back)` flux (lm, photometric) into a triangle patch (`known`: as for
     /// [`DirectSource::illuminance_faces`]).
-    pub fn patch_flux(
+    pub(crate) fn patch_flux(
         &self,
         occ: &Occluder,
         corners: &[DVec3; 3],
@@ -158,7 +158,7 @@ impl<'a> DirectSource<'a> {
     /// Does the source lie wholly behind the plane through `c` with unit normal `n` — so that
     /// there it can light only a patch's back — and, when `solid` is given, wholly outside that
     /// box? Conservative: profiled emitting surfaces always answer no.
-    pub fn behind_and_outside(&self, c: DVec3, n: DVec3, solid: Option<enclosed::Bounds>) -> bool {
+    pub(crate) fn behind_and_outside(&self, c: DVec3, n: DVec3, solid: Option<enclosed::Bounds>) -> bool {
         // Runs for every patch and source: no allocation.
         let corners: [DVec3; 4] = match self {
             // At infinity: outside every box.
@@ -179,7 +179,7 @@ impl<'a> DirectSource<'a> {
     }
 
     /// Emitted flux (lm); `None` for a directional light (it emits what the scene intercepts).
-    pub fn emitted_flux(&self) -> Option<f64> {
+    pub(crate) fn emitted_flux(&self) -> Option<f64> {
         match self {
             DirectSource::Punctual(l) => punctual::emitted_flux(l),
             DirectSource::Luminaire(s) => Some(s.flux),
@@ -189,7 +189,7 @@ impl<'a> DirectSource<'a> {
 
     /// Flux that leaves the scene without touching a surface: a 64 × 128 grid of equal
     /// solid-angle cells (uniform in cos θ and φ), each weighted by the intensity at its centre.
-    pub fn escaping_flux(&self, occ: &Occluder) -> f64 {
+    pub(crate) fn escaping_flux(&self, occ: &Occluder) -> f64 {
         let (position, intensity): (DVec3, Box<dyn Fn(DVec3) -> f64 + Sync + '_>) = match self {
             DirectSource::Punctual(l) if l.kind == LightKind::Directional => return 0.0,
             DirectSource::Punctual(l) => (l.position, Box::new(move |d| punctual::intensity(l, d))),

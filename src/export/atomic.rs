@@ -119,7 +119,7 @@ impl Drop for Batch {
 }
 
 /// The folder a file is written to (`.` for a bare name).
-pub(crate) fn folder(path: &Path) -> PathBuf {
+pub fn folder(path: &Path) -> PathBuf {
     match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
         _ => PathBuf::from("."),
@@ -195,13 +195,13 @@ pub fn check_writable(dir: &Path) -> std::result::Result<(), String> {
 
 /// Remove a file as a cleanup step (counted by the fault hook); a failure is ignored (the file is
 /// a leftover the next run removes).
-pub(crate) fn remove_leftover(path: &Path) {
+pub fn remove_leftover(path: &Path) {
     fault::step("remove", path);
     let _ = fs::remove_file(path);
 }
 
 /// Remove the temporaries in `dir` that processes no longer running left behind (killed).
-pub(crate) fn remove_stale_temporaries(dir: &Path) {
+pub fn remove_stale_temporaries(dir: &Path) {
     let Ok(entries) = fs::read_dir(dir) else {
         return;
     };
@@ -280,7 +280,7 @@ pub mod fault {
 
     /// One step: `kind` is `write`, `rename` or `remove`, `path` the file concerned.
     #[cfg(feature = "fault-injection")]
-    pub(crate) fn step(kind: &str, path: &Path) {
+    pub fn step(kind: &str, path: &Path) {
         static STEPS: AtomicU64 = AtomicU64::new(0);
         let Some((at, pause)) = setting() else {
             return;

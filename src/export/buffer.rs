@@ -84,23 +84,23 @@ impl Binary {
     }
 
     /// A float VEC3 vertex attribute; `min_max` adds the bounds (required for POSITION).
-    pub fn vec3(&mut self, values: &[[f32; 3]], min_max: bool) -> usize {
+    pub(crate) fn vec3(&mut self, values: &[[f32; 3]], min_max: bool) -> usize {
         self.float_accessor(values, "VEC3", min_max)
     }
 
     /// A float VEC2 vertex attribute (texture coordinates).
-    pub fn vec2(&mut self, values: &[[f32; 2]]) -> usize {
+    pub(crate) fn vec2(&mut self, values: &[[f32; 2]]) -> usize {
         self.float_accessor(values, "VEC2", false)
     }
 
     /// A float SCALAR vertex attribute.
-    pub fn scalar(&mut self, values: &[f32]) -> usize {
+    pub(crate) fn scalar(&mut self, values: &[f32]) -> usize {
         let wrapped: Vec<[f32; 1]> = values.iter().map(|&v| [v]).collect();
         self.float_accessor(&wrapped, "SCALAR", false)
     }
 
     /// Triangle indices: unsigned short when `vertex_count` < 65536, else unsigned int.
-    pub fn indices(&mut self, triangles: &[[u32; 3]], vertex_count: usize) -> usize {
+    pub(crate) fn indices(&mut self, triangles: &[[u32; 3]], vertex_count: usize) -> usize {
         let flat = triangles.iter().flatten();
         let (bytes, component): (Vec<u8>, u32) = if vertex_count < 65536 {
             let b = flat.flat_map(|&i| (i as u16).to_le_bytes()).collect();
@@ -113,17 +113,17 @@ impl Binary {
     }
 
     /// Encoded image bytes as a bufferView without target; returns the view index.
-    pub fn image(&mut self, bytes: &[u8]) -> usize {
+    pub(crate) fn image(&mut self, bytes: &[u8]) -> usize {
         self.blob(bytes)
     }
 
     /// Any other bytes (photometric files) as a bufferView without target; returns its index.
-    pub fn blob(&mut self, bytes: &[u8]) -> usize {
+    pub(crate) fn blob(&mut self, bytes: &[u8]) -> usize {
         self.push_view(bytes, None)
     }
 
     /// The buffer bytes (length a multiple of 4), the bufferViews and the accessors.
-    pub fn finish(self) -> (Vec<u8>, Vec<Value>, Vec<Value>) {
+    pub(crate) fn finish(self) -> (Vec<u8>, Vec<Value>, Vec<Value>) {
         (self.data, self.views, self.accessors)
     }
 }

@@ -31,7 +31,7 @@ pub fn gltf(doc: &Document, bin_uri: &str) -> Vec<u8> {
 }
 
 /// The `.glb` file's bytes; `path` names the file in errors.
-pub fn glb(doc: &Document, path: &Path) -> Result<Vec<u8>> {
+pub(crate) fn glb(doc: &Document, path: &Path) -> Result<Vec<u8>> {
     let mut root = doc.root.clone();
     if !doc.bin.is_empty() {
         root.insert("buffers".into(), json!([{ "byteLength": doc.bin.len() }]));

@@ -38,7 +38,7 @@ pub fn png_rgb8(img: &Rgb8Image) -> Result<Vec<u8>, String> {
 }
 
 /// The PNG bytes of `atlas.display`; an error message when the atlas is inconsistent.
-pub fn png(atlas: &Atlas) -> Result<Vec<u8>, String> {
+pub(crate) fn png(atlas: &Atlas) -> Result<Vec<u8>, String> {
     let n = atlas.width as usize * atlas.height as usize;
     if n == 0 || atlas.display.len() != n {
         return Err(format!(
@@ -61,7 +61,7 @@ pub fn png(atlas: &Atlas) -> Result<Vec<u8>, String> {
 }
 
 /// A linear component as an 8-bit sRGB-encoded byte (`picture::srgb8`).
-pub fn srgb8(linear: f32) -> u8 {
+pub(crate) fn srgb8(linear: f32) -> u8 {
     crate::picture::srgb8(f64::from(linear))
 }
 

@@ -28,7 +28,7 @@ pub struct Document {
 }
 
 /// Build the document for `scene` baked as `result`; `lightmap_uris[k]` is atlas k's EXR file.
-pub fn build(
+pub(crate) fn build(
     scene: &Scene,
     result: &BakeResult,
     options: &ExportOptions,

@@ -8,7 +8,7 @@
 use serde_json::{Map, Value};
 
 /// `extras` with `luxbake` set as its `"luxbake"` key.
-pub fn with_luxbake(extras: Option<&Value>, luxbake: Value) -> Value {
+pub(crate) fn with_luxbake(extras: Option<&Value>, luxbake: Value) -> Value {
     let mut map = match extras {
         Some(Value::Object(m)) => m.clone(),
         None | Some(Value::Null) => Map::new(),

@@ -21,7 +21,7 @@ pub struct LocalFrame {
 
 impl LocalFrame {
     /// `None` when `world_from_local` is singular or not finite.
-    pub fn new(world_from_local: DMat4) -> Option<LocalFrame> {
+    pub(crate) fn new(world_from_local: DMat4) -> Option<LocalFrame> {
         let det = world_from_local.determinant();
         if !det.is_finite() || det.abs() < 1e-300 {
             return None;
@@ -51,7 +51,7 @@ pub struct LocalPrimitive {
 }
 
 /// Convert `baked` into `frame`'s local space; `what` names it in errors.
-pub fn to_local(baked: &BakedSurface, frame: &LocalFrame, what: &str) -> Result<LocalPrimitive> {
+pub(crate) fn to_local(baked: &BakedSurface, frame: &LocalFrame, what: &str) -> Result<LocalPrimitive> {
     let n = baked.positions.len();
     let bad = |m: String| Error::Bake(format!("{what}: {m}"));
     let check_len = |name: &str, len: usize| {

@@ -54,7 +54,7 @@ pub struct Glyphs {
 
 impl Glyphs {
     /// Set up glyphs of scale `s` for `probes`, appending their two materials to `materials`.
-    pub fn new(s: f64, probes: &[ProbeResult], materials: &mut Vec<Value>) -> Glyphs {
+    pub(crate) fn new(s: f64, probes: &[ProbeResult], materials: &mut Vec<Value>) -> Glyphs {
         let reference = probes
             .iter()
             .map(|r| r.metrics.scalar)
@@ -72,7 +72,7 @@ impl Glyphs {
     }
 
     /// The sizes of one probe's glyph.
-    pub fn sizes(&self, r: &ProbeResult) -> Sizes {
+    pub(crate) fn sizes(&self, r: &ProbeResult) -> Sizes {
         let s = self.scale;
         let (sym, mag) = (r.metrics.symmetric_mean, r.metrics.vector_magnitude);
         let rel = |e: f64| {
@@ -91,7 +91,7 @@ impl Glyphs {
     /// Add probe `r`'s glyph: its mesh (vertices mapped by `frame`, from probe-centred probe axes
     /// into the space of the node that will hold the glyph node) and the glyph node, named after
     /// the probe. Returns the node's index.
-    pub fn add(
+    pub(crate) fn add(
         &self,
         r: &ProbeResult,
         frame: DMat4,

@@ -39,7 +39,7 @@ pub struct Variants {
 
 impl Variants {
     /// The variants `result` needs (none unless `baked`); the first gets index `first`.
-    pub fn plan(scene: &Scene, result: &BakeResult, baked: bool, first: usize) -> Result<Self> {
+    pub(crate) fn plan(scene: &Scene, result: &BakeResult, baked: bool, first: usize) -> Result<Self> {
         let mut index = BTreeMap::new();
         if !baked {
             return Ok(Variants { index });
@@ -70,12 +70,12 @@ impl Variants {
     }
 
     /// The material index of `material`'s variant for atlas `k`.
-    pub fn get(&self, material: usize, k: usize) -> Option<usize> {
+    pub(crate) fn get(&self, material: usize, k: usize) -> Option<usize> {
         self.index.get(&(material, k)).copied()
     }
 
     /// The variants' JSON, in index order; `back_baked` as for [`material::materials`].
-    pub fn materials(
+    pub(crate) fn materials(
         &self,
         scene: &Scene,
         back_baked: &[bool],

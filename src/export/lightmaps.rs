@@ -39,7 +39,7 @@ pub struct Arrays<'a> {
 }
 
 /// Add every atlas's display texture; `uris[k]` is atlas k's EXR file, relative to the output.
-pub fn add(
+pub(crate) fn add(
     lightmaps: Option<&Lightmaps>,
     summary: &RunSummary,
     uris: &[String],

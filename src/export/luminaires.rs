@@ -45,7 +45,7 @@ pub struct Profiles {
 }
 
 /// Embed every profile of `scene` into `binary` and sort them into the two root lists.
-pub fn profiles(scene: &Scene, binary: &mut Binary) -> Profiles {
+pub(crate) fn profiles(scene: &Scene, binary: &mut Binary) -> Profiles {
     let mut out = Profiles::default();
     let emitting: Vec<usize> = scene
         .materials
@@ -90,7 +90,7 @@ fn is_ies(bytes: &[u8]) -> bool {
 
 impl Profiles {
     /// The output `LUXBAKE_luminaire.profiles` index of scene profile `profile`, if it has one.
-    pub fn luxbake_index(&self, profile: usize) -> Option<usize> {
+    pub(crate) fn luxbake_index(&self, profile: usize) -> Option<usize> {
         match self.slots.get(profile)? {
             Slot::Luxbake(k) => Some(*k),
             Slot::Ies(_) => None,
@@ -98,7 +98,7 @@ impl Profiles {
     }
 
     /// The root extension objects that are not empty, by name.
-    pub fn root_extensions(&self) -> Vec<(&'static str, Value)> {
+    pub(crate) fn root_extensions(&self) -> Vec<(&'static str, Value)> {
         let mut out = Vec::new();
         if !self.ies.is_empty() {
             out.push((EXT_LIGHTS_IES, json!({ "lights": self.ies })));
@@ -111,7 +111,7 @@ impl Profiles {
 
     /// The luminaire extension objects of each node (empty for nodes without a luminaire; the
     /// first luminaire of a node wins).
-    pub fn node_extensions(&self, scene: &Scene) -> Vec<Vec<(&'static str, Value)>> {
+    pub(crate) fn node_extensions(&self, scene: &Scene) -> Vec<Vec<(&'static str, Value)>> {
         let mut out = vec![Vec::new(); scene.nodes.len()];
         for l in &scene.luminaires {
             let (Some(slot), Some(node)) = (self.slots.get(l.profile), out.get_mut(l.node)) else {

@@ -24,7 +24,7 @@ pub const LUXBAKE_MATERIAL: &str = "LUXBAKE_material";
 
 /// The `materials` array; `back_baked[i]` tells whether material `i` got back-side primitives.
 /// `profiles` gives the output index of emission profiles.
-pub fn materials(
+pub(crate) fn materials(
     scene: &Scene,
     back_baked: &[bool],
     options: &ExportOptions,
@@ -42,7 +42,7 @@ pub fn materials(
 }
 
 /// Material `m` written lit (PBR, as `--keep-lit-materials` writes it), whatever the options.
-pub fn lit(m: &Material, back_baked: bool, profiles: &Profiles) -> Value {
+pub(crate) fn lit(m: &Material, back_baked: bool, profiles: &Profiles) -> Value {
     let options = ExportOptions {
         unlit: false,
         probe_glyphs: None,
@@ -192,7 +192,7 @@ fn texture_info(t: &TextureRef, scale_key: Option<&str>) -> Value {
 }
 
 /// The `textures`, `images` (embedded into `binary`) and `samplers` arrays, in scene order.
-pub fn textures(scene: &Scene, binary: &mut Binary) -> (Vec<Value>, Vec<Value>, Vec<Value>) {
+pub(crate) fn textures(scene: &Scene, binary: &mut Binary) -> (Vec<Value>, Vec<Value>, Vec<Value>) {
     let textures = scene
         .textures
         .iter()

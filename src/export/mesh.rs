@@ -65,7 +65,7 @@ fn index_results(scene: &Scene, result: &BakeResult) -> Result<Vec<[Option<usize
 
 /// Build every node's mesh, writing the vertex data into `binary`; without `with_values`, only
 /// the geometry (no COLOR_0, `_ILLUMINANCE`, `_ILLUMINANCE_DIRECT` or `_LUMINANCE`).
-pub fn build(
+pub(crate) fn build(
     scene: &Scene,
     result: &BakeResult,
     binary: &mut Binary,

@@ -123,7 +123,7 @@ pub struct Prepared<'p> {
 impl<'p> Prepared<'p> {
     /// The output in memory only, to be read back: nothing is staged and the lightmaps' URIs
     /// are `<stem>.lightmap<k>.exr` without a hash.
-    pub fn new(
+    pub(crate) fn new(
         path: &'p Path,
         scene: &Scene,
         result: &'p BakeResult,
@@ -178,12 +178,12 @@ impl<'p> Prepared<'p> {
     }
 
     /// The atlases the EXR files will be written from (`None` without lightmaps).
-    pub fn lightmaps(&self) -> Option<&crate::result::Lightmaps> {
+    pub(crate) fn lightmaps(&self) -> Option<&crate::result::Lightmaps> {
         self.result.lightmaps.as_ref()
     }
 
     /// The output as one `.glb` file's bytes (the same document whatever the output's format).
-    pub fn glb(&self) -> Result<Vec<u8>> {
+    pub(crate) fn glb(&self) -> Result<Vec<u8>> {
         container::glb(&self.doc, self.path)
     }
 

@@ -24,7 +24,7 @@ pub const LIGHTS: &str = "KHR_lights_punctual";
 
 /// The `nodes` array; `node_mesh[i]` is node `i`'s mesh index, `node_extensions[i]` the
 /// luminaire extension objects of node `i`.
-pub fn nodes(
+pub(crate) fn nodes(
     scene: &Scene,
     node_mesh: &[Option<usize>],
     node_extensions: &[Vec<(&'static str, Value)>],
@@ -99,7 +99,7 @@ fn transform(local: &LocalTransform, out: &mut Map<String, Value>) {
 
 /// The single scene: name, root nodes and extras with the run summary (`None`: the scene's
 /// extras as they are, for an unbaked scene).
-pub fn scene(scene: &Scene, summary: Option<&RunSummary>) -> Value {
+pub(crate) fn scene(scene: &Scene, summary: Option<&RunSummary>) -> Value {
     let mut out = Map::new();
     if let Some(name) = &scene.name {
         out.insert("name".into(), json!(name));
@@ -118,7 +118,7 @@ pub fn scene(scene: &Scene, summary: Option<&RunSummary>) -> Value {
 }
 
 /// The root `KHR_lights_punctual` object (`{"lights": [...]}`), or `None` without lights.
-pub fn lights(scene: &Scene) -> Option<Value> {
+pub(crate) fn lights(scene: &Scene) -> Option<Value> {
     if scene.lights.is_empty() {
         return None;
     }

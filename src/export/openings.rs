@@ -22,7 +22,7 @@ pub struct Arrays<'a> {
 }
 
 /// Append `openings` to the document.
-pub fn add(scene: &Scene, openings: &[OpeningMesh], binary: &mut Binary, out: Arrays) {
+pub(crate) fn add(scene: &Scene, openings: &[OpeningMesh], binary: &mut Binary, out: Arrays) {
     if openings.is_empty() {
         return;
     }

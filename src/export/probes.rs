@@ -34,7 +34,7 @@ pub struct Arrays<'a> {
 }
 
 /// The group node a non-node probe goes under.
-pub fn layer(origin: &ProbeOrigin) -> Option<String> {
+pub(crate) fn layer(origin: &ProbeOrigin) -> Option<String> {
     match origin {
         ProbeOrigin::Node { .. } => None,
         ProbeOrigin::Grid { layer } => Some(layer.clone()),
@@ -44,7 +44,7 @@ pub fn layer(origin: &ProbeOrigin) -> Option<String> {
 }
 
 /// Add the probes (and their glyphs when `glyph_scale` is given) to the document.
-pub fn add(
+pub(crate) fn add(
     scene: &Scene,
     probes: &[ProbeResult],
     glyph_scale: Option<f64>,

@@ -8,7 +8,7 @@ use serde_json::Value;
 use std::path::Path;
 
 /// The summary as the JSON object the output holds.
-pub fn to_json(summary: &RunSummary) -> Value {
+pub(crate) fn to_json(summary: &RunSummary) -> Value {
     serde_json::to_value(summary).expect("the run summary serialises")
 }
 

@@ -47,7 +47,7 @@ enum Side {
 
 impl Target {
     /// Decide the format for `path`.
-    pub fn for_path(path: &Path) -> Result<Target> {
+    pub(crate) fn for_path(path: &Path) -> Result<Target> {
         let ext = path
             .extension()
             .and_then(|e| e.to_str())
@@ -86,7 +86,7 @@ impl Target {
     }
 
     /// Atlas `k`'s URI in an output only read back, never written (no hash).
-    pub fn unstaged_lightmap_uri(&self, k: usize) -> String {
+    pub(crate) fn unstaged_lightmap_uri(&self, k: usize) -> String {
         percent_encode(&format!("{}.lightmap{k}.exr", self.stem))
     }
 

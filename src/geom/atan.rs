@@ -31,7 +31,7 @@ const SERIES: [f64; 12] = [
 
 /// The angle (rad) of the point (x, y), as `y.atan2(x)`.
 #[inline]
-pub fn atan2(y: f64, x: f64) -> f64 {
+pub(crate) fn atan2(y: f64, x: f64) -> f64 {
     let (ax, ay) = (x.abs(), y.abs());
     let (num, den, steep) = if ay > ax {
         (ax, ay, true)

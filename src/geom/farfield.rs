@@ -34,7 +34,7 @@ impl AreaMoments {
 
     /// Moments of one triangle with unit normal `normal` (the covariance of a uniform triangle is
     /// (1/12)·Σ (vᵢ − m)(vᵢ − m)ᵀ).
-    pub fn triangle(v: &[DVec3; 3], area: f64, normal: DVec3) -> Self {
+    pub(crate) fn triangle(v: &[DVec3; 3], area: f64, normal: DVec3) -> Self {
         let m = (v[0] + v[1] + v[2]) / 3.0;
         let mut second = DMat3::ZERO;
         for &vi in v {
@@ -49,7 +49,7 @@ impl AreaMoments {
     }
 
     /// Moments of the union of two disjoint sets.
-    pub fn combine(&self, other: &AreaMoments) -> Self {
+    pub(crate) fn combine(&self, other: &AreaMoments) -> Self {
         let area = self.area + other.area;
         if area <= 0.0 {
             return AreaMoments::ZERO;
@@ -70,7 +70,7 @@ impl AreaMoments {
 
     /// Second-order estimate of the form factor from `p` (unit normal `n`) to this area, signed:
     /// positive when the area faces `p` and lies above its tangent plane.
-    pub fn form_factor(&self, p: DVec3, n: DVec3) -> f64 {
+    pub(crate) fn form_factor(&self, p: DVec3, n: DVec3) -> f64 {
         if self.area <= 0.0 {
             return 0.0;
         }
@@ -101,7 +101,7 @@ impl AreaMoments {
     /// Gradient, with respect to the source point, of the form-factor density at the centroid.
     /// For exitance B varying over the area, ∫B·f dA ≈ B̄·F + ∇f(c)·∫(B − B̄)(x − c) dA: the
     /// first-order correction that removes the O((r/d)²) bias of using the mean alone.
-    pub fn density_gradient(&self, p: DVec3, n: DVec3) -> DVec3 {
+    pub(crate) fn density_gradient(&self, p: DVec3, n: DVec3) -> DVec3 {
         if self.area <= 0.0 {
             return DVec3::ZERO;
         }

@@ -26,7 +26,7 @@ pub fn form_factor(p: DVec3, n: DVec3, verts: &[DVec3]) -> f64 {
 
 /// [`form_factor`] of a polygon already known to [`rises_above`] the receiver's plane (the test
 /// is not repeated).
-pub fn form_factor_rising(p: DVec3, n: DVec3, verts: &[DVec3]) -> f64 {
+pub(crate) fn form_factor_rising(p: DVec3, n: DVec3, verts: &[DVec3]) -> f64 {
     let mut clipped = [DVec3::ZERO; MAX_VERTS];
     let count = clip_to_hemisphere(p, n, verts, &mut clipped);
     if count < 3 {
@@ -43,7 +43,7 @@ pub fn form_factor_rising(p: DVec3, n: DVec3, verts: &[DVec3]) -> f64 {
 /// smooth-shaded surface: its shading normal differs from the facet's (by 10⁻⁶ rad for f32
 /// normals), the facet pokes above the receiver's plane by a hair, and the contour sum from a
 /// point inside the facet would see the whole hemisphere.
-pub fn rises_above(p: DVec3, n: DVec3, verts: &[DVec3]) -> bool {
+pub(crate) fn rises_above(p: DVec3, n: DVec3, verts: &[DVec3]) -> bool {
     let (mut height, mut reach) = (0.0f64, 0.0f64);
     for v in verts {
         height = height.max(n.dot(*v - p));
@@ -112,7 +112,7 @@ fn clip_to_hemisphere(p: DVec3, n: DVec3, verts: &[DVec3], out: &mut [DVec3; MAX
 }
 
 /// Solid angle (sr) subtended at `p` by the triangle `t` (Van Oosterom & Strackee), in [0, 2π].
-pub fn triangle_solid_angle(p: DVec3, t: &[DVec3; 3]) -> f64 {
+pub(crate) fn triangle_solid_angle(p: DVec3, t: &[DVec3; 3]) -> f64 {
     let a = t[0] - p;
     let b = t[1] - p;
     let c = t[2] - p;

@@ -8,7 +8,7 @@ use std::sync::OnceLock;
 
 /// Barycentric sample points on a triangle: the centroids of the 4^level sub-triangles of its
 /// uniform subdivision (level 0: the centroid). Each point stands for an equal area.
-pub fn triangle_points(level: u32) -> &'static [[f64; 3]] {
+pub(crate) fn triangle_points(level: u32) -> &'static [[f64; 3]] {
     static LEVELS: OnceLock<[Vec<[f64; 3]>; 3]> = OnceLock::new();
     let levels = LEVELS.get_or_init(|| [grid_centroids(1), grid_centroids(2), grid_centroids(4)]);
     &levels[level.min(2) as usize]
@@ -32,14 +32,14 @@ fn grid_centroids(n: usize) -> Vec<[f64; 3]> {
 
 /// `k × k` cosine-weighted directions over the hemisphere around `n`, one per cell of a stratified
 /// grid in (u, v) (each stands for an equal share of projected solid angle).
-pub fn cosine_directions(n: DVec3, k: usize) -> impl Iterator<Item = DVec3> {
+pub(crate) fn cosine_directions(n: DVec3, k: usize) -> impl Iterator<Item = DVec3> {
     shifted_cosine_directions(n, k, [0.5, 0.5])
 }
 
 /// [`cosine_directions`] with the point in each cell at `shift` (in [0, 1)², the cell's middle
 /// at [0.5, 0.5]). A shift drawn per use ([`unit_pair`]) makes the pattern's estimates unbiased
 /// when summed over many uses, where a fixed pattern repeats its error at every one.
-pub fn shifted_cosine_directions(
+pub(crate) fn shifted_cosine_directions(
     n: DVec3,
     k: usize,
     shift: [f64; 2],
@@ -56,7 +56,7 @@ pub fn shifted_cosine_directions(
 
 /// Two numbers in [0, 1) hashed from `seed` (SplitMix64's finaliser): a fixed, well-spread value
 /// per patch or ray pattern, so that results do not depend on the order of work.
-pub fn unit_pair(seed: u64) -> [f64; 2] {
+pub(crate) fn unit_pair(seed: u64) -> [f64; 2] {
     let mix = |x: u64| {
         let mut z = x.wrapping_add(0x9E37_79B9_7F4A_7C15);
         z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);

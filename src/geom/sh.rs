@@ -30,7 +30,7 @@ pub type Dist = [f64; DIST];
 const AXIS: f64 = 1e-6;
 
 /// A weight `a` at the unit normal `m`.
-pub fn dist_point(m: DVec3, a: f64) -> Dist {
+pub(crate) fn dist_point(m: DVec3, a: f64) -> Dist {
     let mut d = [0.0; DIST];
     for k in 0..3 {
         if (m[k].abs() - 1.0).abs() <= AXIS {
@@ -43,7 +43,7 @@ pub fn dist_point(m: DVec3, a: f64) -> Dist {
 }
 
 /// The weights that turn a [`Dist`] into Σⱼ wⱼ·max(0, mⱼ·w).
-pub fn dist_weights(w: DVec3) -> Dist {
+pub(crate) fn dist_weights(w: DVec3) -> Dist {
     let mut d = [0.0; DIST];
     for k in 0..3 {
         d[2 * k] = w[k].max(0.0);
@@ -54,13 +54,13 @@ pub fn dist_weights(w: DVec3) -> Dist {
 }
 
 /// Σⱼ Aⱼ·max(0, mⱼ·w) from a [`Dist`] of areas: the area shown toward `w`.
-pub fn dist_projected(d: &Dist, w: DVec3) -> f64 {
+pub(crate) fn dist_projected(d: &Dist, w: DVec3) -> f64 {
     let x = dist_weights(w);
     (0..DIST).map(|k| d[k] * x[k]).sum()
 }
 
 /// The nine basis functions at the unit vector `w`.
-pub fn basis(w: DVec3) -> Coeffs {
+pub(crate) fn basis(w: DVec3) -> Coeffs {
     let (x, y, z) = (w.x, w.y, w.z);
     [
         0.282_094_791_773_878_1,
@@ -90,7 +90,7 @@ pub const CLAMPED_COSINE: Coeffs = [
 
 /// The weights that turn a normal distribution's coefficients into Σⱼ wⱼ·max(0, mⱼ·w):
 /// Âₗ·Yₗₘ(w).
-pub fn projection_weights(w: DVec3) -> Coeffs {
+pub(crate) fn projection_weights(w: DVec3) -> Coeffs {
     let y = basis(w);
     std::array::from_fn(|k| y[k] * CLAMPED_COSINE[k])
 }
@@ -102,7 +102,7 @@ pub fn projected(coeffs: &Coeffs, w: DVec3) -> f64 {
 }
 
 /// Coefficients of a weight `a` at the unit normal `m`.
-pub fn point(m: DVec3, a: f64) -> Coeffs {
+pub(crate) fn point(m: DVec3, a: f64) -> Coeffs {
     basis(m).map(|y| y * a)
 }
 

@@ -23,7 +23,7 @@ pub(crate) struct Ctx {
 
 impl Ctx {
     /// Start importing `path`: check that it exists and record it as read.
-    pub fn new(path: &Path) -> Result<Self> {
+    pub(crate) fn new(path: &Path) -> Result<Self> {
         let canonical = path
             .canonicalize()
             .map_err(|e| Error::input(path, "", format!("cannot open the file: {e}")))?;
@@ -46,7 +46,7 @@ impl Ctx {
     }
 
     /// A document held in memory, named `name` in messages: it may reference no file.
-    pub fn in_memory(name: &Path) -> Self {
+    pub(crate) fn in_memory(name: &Path) -> Self {
         Ctx {
             file: name.to_path_buf(),
             dir: None,
@@ -57,7 +57,7 @@ impl Ctx {
     }
 
     /// The folder resources must resolve inside, or an error at `at` for a document in memory.
-    pub fn folder(&self, at: &str, what: &str) -> Result<&Path> {
+    pub(crate) fn folder(&self, at: &str, what: &str) -> Result<&Path> {
         self.dir.as_deref().ok_or_else(|| {
             self.err(
                 at,
@@ -67,17 +67,17 @@ impl Ctx {
     }
 
     /// An input error at `at` (a JSON pointer or other locator) in the current file.
-    pub fn err(&self, at: impl Into<String>, message: impl Into<String>) -> Error {
+    pub(crate) fn err(&self, at: impl Into<String>, message: impl Into<String>) -> Error {
         Error::input(&self.file, at, message)
     }
 
     /// Read the whole input file.
-    pub fn read_input(&self) -> Result<Vec<u8>> {
+    pub(crate) fn read_input(&self) -> Result<Vec<u8>> {
         super::files::read(&self.file).map_err(|e| self.err("", format!("cannot read the file: {e}")))
     }
 
     /// Note that a (canonical) file was read.
-    pub fn record(&mut self, canonical: PathBuf) {
+    pub(crate) fn record(&mut self, canonical: PathBuf) {
         if !self.input_files.contains(&canonical) {
             self.input_files.push(canonical);
         }
@@ -88,7 +88,7 @@ impl Ctx {
     }
 
     /// Warn once per `kind` (later warnings of the same kind are dropped).
-    pub fn warn_once(&mut self, kind: &str, message: impl Into<String>) {
+    pub(crate) fn warn_once(&mut self, kind: &str, message: impl Into<String>) {
         if self.warned.insert(kind.to_owned()) {
             self.warnings.push(message.into());
         }

@@ -41,7 +41,7 @@ pub struct SurfaceCharts {
 
 impl SurfaceCharts {
     /// The same charts at a texel `factor` times larger.
-    pub fn coarser(&self, factor: f64) -> Self {
+    pub(crate) fn coarser(&self, factor: f64) -> Self {
         let mut out = self.clone();
         for c in &mut out.charts {
             c.size /= factor;
@@ -63,7 +63,7 @@ const CLUTTER_COS: f64 = 0.6428;
 const PLANAR_COS: f64 = 0.99939;
 
 /// The charts of `s`, whose first `open` triangles receive light, at texel edge `t` (m).
-pub fn of(s: &BakedSurface, open: usize, t: f64) -> SurfaceCharts {
+pub(crate) fn of(s: &BakedSurface, open: usize, t: f64) -> SurfaceCharts {
     let covered = (open as u32..s.triangles.len() as u32).collect();
     let tris = &s.triangles[..open];
     if let Some(chart) = s.uv1.as_ref().and_then(|uv| input_layout(s, uv, tris, t)) {
@@ -213,7 +213,7 @@ impl<'a> Geometry<'a> {
 
 /// World-aligned axes of a plane with normal `n` (glTF +Y up): floors map +X right and +Z down
 /// the image (seen from above), walls horizontal right and −Y down (upright).
-pub fn axes(n: DVec3) -> (DVec3, DVec3) {
+pub(crate) fn axes(n: DVec3) -> (DVec3, DVec3) {
     let u = match n.y.abs() > 0.7 {
         true => (DVec3::X - n * n.x).normalize(),
         false => DVec3::Y.cross(n).normalize(),

@@ -10,7 +10,7 @@ use crate::result::Atlas;
 /// Rings of empty texels filled around each chart.
 const RINGS: usize = 2;
 
-pub fn dilate(a: &mut Atlas, mut filled: Vec<bool>) {
+pub(crate) fn dilate(a: &mut Atlas, mut filled: Vec<bool>) {
     let (w, h) = (a.width as usize, a.height as usize);
     for _ in 0..RINGS {
         let mut next = Vec::new();

@@ -51,7 +51,7 @@ pub type Display<'a> = dyn Fn(DVec3, DVec3, usize) -> [f32; 3] + Sync + 'a;
 const PAD: u32 = 1;
 
 /// Lay out and bake the lightmaps of `surfaces` (re-indexed in place).
-pub fn bake(
+pub(crate) fn bake(
     s: &Solution,
     surfaces: &mut [BakedSurface],
     o: &Options,

@@ -58,7 +58,7 @@ const FILL: f64 = 0.85;
 /// then trimmed to the extent used (width and height rounded up to a multiple of 4, at least 4).
 /// The usable square is `max_edge` rounded down to a multiple of 4. Zero-sized rectangles take
 /// no space: they are placed at (0, 0) of their group's atlas.
-pub fn pack(groups: &[Vec<Rect>], max_edge: u32) -> Result<Packing, TooBig> {
+pub(crate) fn pack(groups: &[Vec<Rect>], max_edge: u32) -> Result<Packing, TooBig> {
     let edge = max_edge.min(EDGE_CAP) / 4 * 4;
     let area = |g: &[Rect]| g.iter().map(|r| r.w as u64 * r.h as u64).sum::<u64>();
     let tallest = |g: &[Rect]| g.iter().map(|r| r.h).max().unwrap_or(0);

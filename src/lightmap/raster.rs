@@ -32,7 +32,7 @@ pub struct Sample {
 }
 
 /// Barycentric coordinates of `p` in triangle `t`; `None` when it has no area.
-pub fn barycentric(t: &[DVec2; 3], p: DVec2) -> Option<[f64; 3]> {
+pub(crate) fn barycentric(t: &[DVec2; 3], p: DVec2) -> Option<[f64; 3]> {
     let [a, b, c] = *t;
     let d = (b - a).perp_dot(c - a);
     if d.abs() < 1e-300 {
@@ -95,7 +95,7 @@ fn clipped_area(t: &[DVec2; 3], x0: f64, y0: f64) -> f64 {
 
 /// The part of convex polygon `poly` on one side of the line `axis = bound` (`below`: the side
 /// where the coordinate is at most `bound`).
-pub fn clip(poly: &[DVec2], axis: usize, bound: f64, below: bool) -> Vec<DVec2> {
+pub(crate) fn clip(poly: &[DVec2], axis: usize, bound: f64, below: bool) -> Vec<DVec2> {
     let inside = |p: &DVec2| {
         let v = p[axis];
         if below { v <= bound } else { v >= bound }
@@ -116,7 +116,7 @@ pub fn clip(poly: &[DVec2], axis: usize, bound: f64, below: bool) -> Vec<DVec2> 
 }
 
 /// Area of a simple polygon.
-pub fn area(poly: &[DVec2]) -> f64 {
+pub(crate) fn area(poly: &[DVec2]) -> f64 {
     if poly.len() < 3 {
         return 0.0;
     }
@@ -129,7 +129,7 @@ pub fn area(poly: &[DVec2]) -> f64 {
 /// Every texel bilinear filtering reads for a point of triangle `t` (its centre within one
 /// texel of it along both axes, so every texel it touches too) in a `width` × `height` grid:
 /// (texel index, sample, area in texels² of the triangle inside the texel).
-pub fn texels_of(
+pub(crate) fn texels_of(
     t: &[DVec2; 3],
     triangle: u32,
     width: u32,
@@ -173,7 +173,7 @@ pub fn texels_of(
 /// Whether `a` should replace `b` as a texel's sample: a centre on the triangle first, then the
 /// larger piece, then the nearer point, then the lower triangle index (a fixed order whatever
 /// the traversal).
-pub fn better(a: &Sample, b: &Sample) -> bool {
+pub(crate) fn better(a: &Sample, b: &Sample) -> bool {
     let key = |s: &Sample| {
         (
             s.centre,
@@ -187,7 +187,7 @@ pub fn better(a: &Sample, b: &Sample) -> bool {
 
 /// Whether a `[0, 1]²` layout is usable at `res` texels a side: UV charts (triangles joined by
 /// shared UV corners) at least two texels apart, no triangle over another.
-pub fn layout_is_clean(uv: &[DVec2], tris: &[[u32; 3]], res: u32) -> bool {
+pub(crate) fn layout_is_clean(uv: &[DVec2], tris: &[[u32; 3]], res: u32) -> bool {
     if (res as u64).pow(2) > 64 << 20 {
         return false;
     }

@@ -79,7 +79,7 @@ pub struct SurfaceMesh {
 
 /// Refine `m` (receiving light on the given sides: `+1` front, `−1` back) in place; returns how
 /// many edges were split.
-pub fn refine(m: &mut SurfaceMesh, signs: &[f64], a: &Adapt) -> usize {
+pub(crate) fn refine(m: &mut SurfaceMesh, signs: &[f64], a: &Adapt) -> usize {
     let mut split_total = 0;
     let sharp = a.sharp_below * 1.5 * (1.0 + 1e-9);
     let min_edge = if mean_longest_edge(m) > sharp {

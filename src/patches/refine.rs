@@ -45,7 +45,7 @@ impl Blend {
     }
 
     /// Interpolate a per-input-vertex attribute.
-    pub fn apply<T>(&self, data: &[T]) -> T
+    pub(crate) fn apply<T>(&self, data: &[T]) -> T
     where
         T: Copy + std::ops::Mul<f64, Output = T> + std::ops::Add<Output = T>,
     {
@@ -69,7 +69,7 @@ fn segments(len: f64, h: f64) -> f64 {
 /// How [`refine`] meshes triangle `p` at patch size `h`: `Some(side)` (the longest side,
 /// 0 = p0→p1, 1 = p1→p2, 2 = p2→p0) for a strip, `None` for the uniform grid; and how many
 /// triangles it makes (at most; the grid drops collapsed ones). Zero area: 0.
-pub fn triangle_patches(p: [DVec3; 3], h: f64) -> (Option<usize>, f64) {
+pub(crate) fn triangle_patches(p: [DVec3; 3], h: f64) -> (Option<usize>, f64) {
     let cross = (p[1] - p[0]).cross(p[2] - p[0]).length();
     if cross.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
         return (None, 0.0);
@@ -92,7 +92,7 @@ pub fn triangle_patches(p: [DVec3; 3], h: f64) -> (Option<usize>, f64) {
 }
 
 /// Refine `triangles` over `positions` so no patch edge is longer than about `h`.
-pub fn refine(positions: &[DVec3], triangles: &[[u32; 3]], h: f64) -> Refined {
+pub(crate) fn refine(positions: &[DVec3], triangles: &[[u32; 3]], h: f64) -> Refined {
     let mut out = Refined {
         positions: positions.to_vec(),
         origin: (0..positions.len() as u32).map(Blend::vertex).collect(),

@@ -33,7 +33,7 @@ pub struct Covers {
 }
 
 /// The uncut covers of surface `s` on its back (`back`) or front.
-pub fn covers(scene: &Scene, contacts: &Contacts, s: usize, back: bool) -> Covers {
+pub(crate) fn covers(scene: &Scene, contacts: &Contacts, s: usize, back: bool) -> Covers {
     let Some(uncut) = contacts.uncut.get(s) else {
         return Covers::default();
     };
@@ -91,7 +91,7 @@ impl Under {
 /// `into` (the tangent direction into the faces around it; any tangent where that is zero), a
 /// thousandth of `reach` past the outline; `None` when the point is under none of them or the
 /// way out is longer than half of `reach` (the longest edge around the vertex).
-pub fn step_out(
+pub(crate) fn step_out(
     covers: &Covers,
     p: DVec3,
     nudge: DVec3,

@@ -26,7 +26,7 @@ pub enum Symmetry {
 
 impl Symmetry {
     /// Human-readable name.
-    pub fn describe(self) -> &'static str {
+    pub(crate) fn describe(self) -> &'static str {
         match self {
             Symmetry::Axial => "axial (rotational)",
             Symmetry::Quadrant => "quadrant (C0-C180 and C90-C270)",

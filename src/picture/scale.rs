@@ -89,7 +89,7 @@ impl ColourScale {
 
     /// The legend's labels of [`ColourScale::levels`]: empty where the level is not labelled,
     /// "≤ lo" / "≥ hi" at an end beyond which values lie.
-    pub fn legend_labels(&self) -> Vec<String> {
+    pub(crate) fn legend_labels(&self) -> Vec<String> {
         let levels = self.levels();
         let last = levels.len() - 1;
         (levels.iter().enumerate())
@@ -104,7 +104,7 @@ impl ColourScale {
 
     /// Whether the legend labels the level `v`: every level of a linear scale; on a
     /// logarithmic one only 1, 2 and 5 × 10^k (whole decades, and their halves and fifths).
-    pub fn labelled(&self, v: f64) -> bool {
+    pub(crate) fn labelled(&self, v: f64) -> bool {
         if !self.log {
             return true;
         }
@@ -142,7 +142,7 @@ impl ColourScale {
 
     /// Where `v` lies on the scale: 0 at lo, 1 at hi (in log10 when logarithmic), clamped; NaN
     /// and (log) values ≤ 0 give 0.
-    pub fn position(&self, v: f64) -> f64 {
+    pub(crate) fn position(&self, v: f64) -> f64 {
         let p = if self.log {
             if v <= 0.0 {
                 return 0.0;
@@ -155,7 +155,7 @@ impl ColourScale {
     }
 
     /// The value at position t ∈ [0, 1] (the inverse of [`ColourScale::position`]).
-    pub fn value_at(&self, t: f64) -> f64 {
+    pub(crate) fn value_at(&self, t: f64) -> f64 {
         let t = t.clamp(0.0, 1.0);
         if self.log {
             10f64.powf(self.lo.log10() + t * (self.hi.log10() - self.lo.log10()))
@@ -165,7 +165,7 @@ impl ColourScale {
     }
 
     /// The band of `v` (0 … bands − 1; the top edge belongs to the last band).
-    pub fn band(&self, v: f64) -> u32 {
+    pub(crate) fn band(&self, v: f64) -> u32 {
         let n = self.bands();
         ((self.position(v) * f64::from(n)).floor() as u32).min(n - 1)
     }
@@ -207,13 +207,13 @@ impl ColourScale {
 
     /// A short plain number: three significant digits, no exponent, no trailing zeros
     /// ("0", "0.5", "12.5", "250", "1500").
-    pub fn label(&self, v: f64) -> String {
+    pub(crate) fn label(&self, v: f64) -> String {
         label(v)
     }
 }
 
 /// `v` with three significant digits as plain text (see [`ColourScale::label`]).
-pub fn label(v: f64) -> String {
+pub(crate) fn label(v: f64) -> String {
     if !v.is_finite() {
         return format!("{v}");
     }
@@ -232,7 +232,7 @@ pub fn label(v: f64) -> String {
 }
 
 /// The palette at t ∈ [0, 1], piecewise linear between the control points (sRGB).
-pub fn palette(t: f64) -> [u8; 3] {
+pub(crate) fn palette(t: f64) -> [u8; 3] {
     let t = if t.is_nan() { 0.0 } else { t.clamp(0.0, 1.0) };
     let x = t * (PALETTE.len() - 1) as f64;
     let i = (x.floor() as usize).min(PALETTE.len() - 2);
@@ -244,7 +244,7 @@ pub fn palette(t: f64) -> [u8; 3] {
 }
 
 /// The smallest 1, 2, 2.5 or 5 × 10^k ≥ v (v > 0), robust to rounding (1000 stays 1000).
-pub fn round_up(v: f64) -> f64 {
+pub(crate) fn round_up(v: f64) -> f64 {
     let k = v.log10().floor() as i32;
     for e in [k - 1, k, k + 1] {
         for m in [1.0, 2.0, 2.5, 5.0] {

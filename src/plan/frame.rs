@@ -19,7 +19,7 @@ pub struct Frame {
 
 impl Frame {
     /// The frame of a plane with unit normal `n`.
-    pub fn of_normal(n: DVec3) -> Frame {
+    pub(crate) fn of_normal(n: DVec3) -> Frame {
         if n.y.abs() > 0.9999 {
             return Frame {
                 normal: n,
@@ -36,17 +36,17 @@ impl Frame {
     }
 
     /// The point's page coordinates (m).
-    pub fn to_2d(&self, p: DVec3) -> DVec2 {
+    pub(crate) fn to_2d(&self, p: DVec3) -> DVec2 {
         DVec2::new(p.dot(self.right), p.dot(self.down))
     }
 
     /// Whether it is seen from above (horizontal).
-    pub fn from_above(&self) -> bool {
+    pub(crate) fn from_above(&self) -> bool {
         self.down == DVec3::Z && self.right == DVec3::X
     }
 
     /// The note under the title: how the plane is seen and which way the axes run.
-    pub fn note(&self) -> String {
+    pub(crate) fn note(&self) -> String {
         if self.from_above() {
             return "seen from above, +Y up (toward the viewer); x \u{2192}, z \u{2193}".into();
         }

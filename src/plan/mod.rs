@@ -47,14 +47,14 @@ pub enum Quantity {
 }
 
 impl Quantity {
-    pub fn unit(self) -> &'static str {
+    pub(crate) fn unit(self) -> &'static str {
         match self {
             Quantity::Illuminance => "lx",
             Quantity::Luminance => "cd/m²",
         }
     }
     /// The symbol in the title line.
-    pub fn symbol(self) -> &'static str {
+    pub(crate) fn symbol(self) -> &'static str {
         match self {
             Quantity::Illuminance => "E",
             Quantity::Luminance => "L",

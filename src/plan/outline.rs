@@ -51,7 +51,7 @@ pub fn slice(input: &BakedOutput, height: f64, frame: &Frame) -> Vec<[DVec2; 2]>
 }
 
 /// The edges that the `chosen` triangles of `prim` use once, in the frame.
-pub fn boundary(prim: &Primitive, chosen: &[usize], frame: &Frame) -> Vec<[DVec2; 2]> {
+pub(crate) fn boundary(prim: &Primitive, chosen: &[usize], frame: &Frame) -> Vec<[DVec2; 2]> {
     let mut count: BTreeMap<(u32, u32), (u32, [u32; 2])> = BTreeMap::new();
     for &t in chosen {
         let tri = prim.triangles[t];
@@ -69,7 +69,7 @@ pub fn boundary(prim: &Primitive, chosen: &[usize], frame: &Frame) -> Vec<[DVec2
 }
 
 /// Segments without zero-length ones and duplicates (endpoints compared at 10 µm), sorted.
-pub fn tidy(segments: Vec<[DVec2; 2]>) -> Vec<[DVec2; 2]> {
+pub(crate) fn tidy(segments: Vec<[DVec2; 2]>) -> Vec<[DVec2; 2]> {
     let key = |p: DVec2| ((p.x * 1e5).round() as i64, (p.y * 1e5).round() as i64);
     // Keyed by the endpoints in order (first the smaller): a BTreeMap sorts and deduplicates.
     let mut out: BTreeMap<[(i64, i64); 2], [DVec2; 2]> = BTreeMap::new();
@@ -89,6 +89,6 @@ pub fn tidy(segments: Vec<[DVec2; 2]>) -> Vec<[DVec2; 2]> {
 }
 
 /// A triangle's unit normal (zero when it has no area).
-pub fn normal(p: [DVec3; 3]) -> DVec3 {
+pub(crate) fn normal(p: [DVec3; 3]) -> DVec3 {
     (p[1] - p[0]).cross(p[2] - p[0]).normalize_or_zero()
 }

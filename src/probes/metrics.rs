@@ -51,7 +51,7 @@ pub struct Metrics {
 
 /// The metrics of a probe whose faces read `faces`; `toward` (probe axes) adds one more
 /// semi-cylindrical value.
-pub fn from_faces(faces: &[f64; 6], toward: Option<DVec3>) -> Metrics {
+pub(crate) fn from_faces(faces: &[f64; 6], toward: Option<DVec3>) -> Metrics {
     let [px, nx, py, ny, pz, nz] = *faces;
     let v = DVec3::new(nx - px, ny - py, nz - pz);
     let mag = v.length();

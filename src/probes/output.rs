@@ -53,7 +53,7 @@ pub fn bytes(format: Format, results: &[ProbeResult]) -> Vec<u8> {
 }
 
 /// The six values keyed by face name.
-pub fn faces(values: &[f64; 6]) -> Value {
+pub(crate) fn faces(values: &[f64; 6]) -> Value {
     Value::Object(
         FACE_NAMES
             .iter()
@@ -64,7 +64,7 @@ pub fn faces(values: &[f64; 6]) -> Value {
 }
 
 /// One probe's JSON object.
-pub fn record(r: &ProbeResult) -> Value {
+pub(crate) fn record(r: &ProbeResult) -> Value {
     let mut v = json!({
         "probe": r.probe,
         "faces": faces(&r.cubic.total),

@@ -34,7 +34,7 @@ pub struct Wanted<'a> {
 }
 
 /// All probes of a bake, in order: nodes, grid, explicit, working plane.
-pub fn all(scene: &Scene, wanted: Wanted, occ: &Occluder, progress: &dyn Progress) -> Vec<Probe> {
+pub(crate) fn all(scene: &Scene, wanted: Wanted, occ: &Occluder, progress: &dyn Progress) -> Vec<Probe> {
     let mut out = node_probes(scene);
     if let Some(g) = wanted.grid {
         out.extend(grid(
@@ -76,7 +76,7 @@ pub fn all(scene: &Scene, wanted: Wanted, occ: &Occluder, progress: &dyn Progres
 }
 
 /// Nodes whose `extras.probe` is `true` (or an object).
-pub fn node_probes(scene: &Scene) -> Vec<Probe> {
+pub(crate) fn node_probes(scene: &Scene) -> Vec<Probe> {
     let mut out = Vec::new();
     for (i, node) in scene.nodes.iter().enumerate() {
         let Some(extras) = &node.extras else { continue };
@@ -123,12 +123,12 @@ fn orthonormal(m: DMat3) -> DMat3 {
 /// Grid points along x and z (+Y up) over the box `lo`..`hi`: floor(extent / spacing) per axis,
 /// at least one; centred in the extent, so at least half a spacing from its edges and no point
 /// lies in a bounding wall. In f64: `bake::budget` counts before anything is allocated.
-pub fn grid_counts(lo: DVec3, hi: DVec3, spacing: f64) -> [f64; 2] {
+pub(crate) fn grid_counts(lo: DVec3, hi: DVec3, spacing: f64) -> [f64; 2] {
     [hi.x - lo.x, hi.z - lo.z].map(|extent| (extent / spacing).floor().max(1.0))
 }
 
 /// A horizontal grid of world-aligned probes `height` above the floor.
-pub fn grid(
+pub(crate) fn grid(
     scene: &Scene,
     occ: &Occluder,
     g: &ProbeGrid,

@@ -64,7 +64,7 @@ pub(super) struct Sums {
 
 impl Sums {
     /// Add primitive `p`, from its texels when it has some and `texels`.
-    pub fn add(&mut self, input: &BakedOutput, p: &Primitive, filter: &Filter, texels: bool) {
+    pub(crate) fn add(&mut self, input: &BakedOutput, p: &Primitive, filter: &Filter, texels: bool) {
         let rho = input
             .materials
             .get(p.material)
@@ -114,7 +114,7 @@ impl Sums {
     }
 
     /// What the sums were taken from.
-    pub fn source(&self) -> Source {
+    pub(crate) fn source(&self) -> Source {
         match (self.texels, self.vertices) {
             (true, false) => Source::Texels,
             (true, true) => Source::TexelsAndVertices,

@@ -134,7 +134,7 @@ pub fn targets(rows: &[TargetRow]) -> Section {
 }
 
 /// `pass`, `FAIL` or `—`.
-pub(crate) fn pass(p: Option<bool>) -> String {
+pub fn pass(p: Option<bool>) -> String {
     match p {
         Some(true) => "pass".into(),
         Some(false) => "FAIL".into(),
@@ -250,7 +250,7 @@ pub fn cubic(c: &Cubic) -> Vec<Section> {
 }
 
 /// Whole lx (never "-0").
-pub(crate) fn lux(x: f64) -> String {
+pub fn lux(x: f64) -> String {
     if x.abs() < 0.5 {
         "0".into()
     } else {

@@ -36,7 +36,7 @@ pub struct DirectLight<'a> {
 impl<'a> DirectLight<'a> {
     /// `exitance`: the Lambertian exitance of every patch of `mesh` (lm/m², RGB; zero for patches
     /// that emit none); `cut`: the light cut's fraction and the direct-light budget.
-    pub fn new(
+    pub(crate) fn new(
         sources: Vec<DirectSource<'a>>,
         mesh: &PatchMesh,
         exitance: &[DVec3],
@@ -60,18 +60,18 @@ impl<'a> DirectLight<'a> {
     }
 
     /// No source and no emitting surface.
-    pub fn is_dark(&self) -> bool {
+    pub(crate) fn is_dark(&self) -> bool {
         self.sources.is_empty() && self.emitter_tree.is_empty()
     }
 
     /// Some surface emits Lambertian light into the patch field.
-    pub fn has_emitting_surfaces(&self) -> bool {
+    pub(crate) fn has_emitting_surfaces(&self) -> bool {
         !self.emitter_tree.is_empty()
     }
 
     /// Direct illuminance (lx, RGB) on each plane of `r`, sharing what the sources can share
     /// between the planes (sub-sources, intensities, shadow rays).
-    pub fn at(&self, mesh: &PatchMesh, occ: &Occluder, r: &Receiver) -> Vec<DVec3> {
+    pub(crate) fn at(&self, mesh: &PatchMesh, occ: &Occluder, r: &Receiver) -> Vec<DVec3> {
         let (p, normals) = (r.point, r.planes.as_slice());
         // A sub-source's ray leaves `p` pulled off the first plane that faces it: a group's query
         // starts from every such point.

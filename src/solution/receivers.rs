@@ -42,7 +42,7 @@ impl Planes {
         out
     }
 
-    pub fn as_slice(&self) -> &[DVec3] {
+    pub(crate) fn as_slice(&self) -> &[DVec3] {
         &self.normals[..self.len]
     }
 }
@@ -63,7 +63,7 @@ pub struct PlaneLight {
 }
 
 impl PlaneLight {
-    pub fn total(&self) -> DVec3 {
+    pub(crate) fn total(&self) -> DVec3 {
         self.direct + self.indirect
     }
 }
@@ -119,7 +119,7 @@ const MIN_CHUNKS: usize = 64;
 /// when there are that many receivers) run in parallel and each
 /// receiver's value depends on it alone, so the result does not depend on the thread count;
 /// `progress` advances by a chunk's receivers as each finishes.
-pub fn map<T: Send>(
+pub(crate) fn map<T: Send>(
     set: &(impl Receivers + ?Sized),
     progress: &dyn Progress,
     read: impl Fn(usize, &Receiver) -> T + Sync,

@@ -13,7 +13,7 @@ impl Solution<'_> {
     /// (interpolated between the patch's vertices; 0 for the back of a single-sided face), and
     /// the distance to it; `None` when the ray leaves the scene. Direct sources are not included
     /// (points have no area; see [`Solution::beams`]).
-    pub fn luminance_toward(&self, p: DVec3, dir: DVec3) -> Option<(f64, f64)> {
+    pub(crate) fn luminance_toward(&self, p: DVec3, dir: DVec3) -> Option<(f64, f64)> {
         let (index, front) = self.surface_index();
         let hit = index.closest(p, dir)?;
         let mut patch = front[hit.triangle];
@@ -74,7 +74,7 @@ impl Solution<'_> {
 
     /// Point-like beams of direct light arriving at `p`: unit direction toward each (sub-)source
     /// and the illuminance it gives on a plane facing it (lx, photometric), shadows included.
-    pub fn beams(&self, p: DVec3) -> Vec<(DVec3, f64)> {
+    pub(crate) fn beams(&self, p: DVec3) -> Vec<(DVec3, f64)> {
         self.lights()
             .sources
             .iter()

@@ -69,7 +69,7 @@ pub struct Parts<'a> {
 }
 
 impl<'a> Solution<'a> {
-    pub fn new(p: Parts<'a>) -> Self {
+    pub(crate) fn new(p: Parts<'a>) -> Self {
         Solution {
             scene: p.scene,
             mesh: p.mesh,
@@ -85,7 +85,7 @@ impl<'a> Solution<'a> {
         }
     }
 
-    pub fn scene(&self) -> &'a Scene {
+    pub(crate) fn scene(&self) -> &'a Scene {
         self.scene
     }
 
@@ -93,11 +93,11 @@ impl<'a> Solution<'a> {
         &self.mesh
     }
 
-    pub fn occluder(&self) -> &Occluder {
+    pub(crate) fn occluder(&self) -> &Occluder {
         &self.occluder
     }
 
-    pub fn lights(&self) -> &DirectLight<'a> {
+    pub(crate) fn lights(&self) -> &DirectLight<'a> {
         &self.lights
     }
 
@@ -107,7 +107,7 @@ impl<'a> Solution<'a> {
     }
 
     /// All exitance patch `p` emits (lm/m², RGB).
-    pub fn emitted(&self, p: usize) -> DVec3 {
+    pub(crate) fn emitted(&self, p: usize) -> DVec3 {
         self.emitted[p]
     }
 
@@ -130,7 +130,7 @@ impl<'a> Solution<'a> {
 
     /// The inter-reflected illuminance on the plane through `point` with unit normal `n`
     /// (lx, RGB): what [`Solution::light_at`] gathers, without the direct light.
-    pub fn indirect_at(&self, point: DVec3, n: DVec3) -> DVec3 {
+    pub(crate) fn indirect_at(&self, point: DVec3, n: DVec3) -> DVec3 {
         self.gather(point, n, None)
     }
 
@@ -158,7 +158,7 @@ impl<'a> Solution<'a> {
 
     /// Cuttle's constant estimate of the indirect illuminance, FRF / (A·(1 − R)) (lx): the first
     /// reflected flux spread as in an integrating sphere of the room's area and mean reflectance.
-    pub fn cuttle_indirect(&self) -> f64 {
+    pub(crate) fn cuttle_indirect(&self) -> f64 {
         let (mut area, mut rho) = (0.0, 0.0);
         for p in &self.mesh.patches {
             let m = &self.scene.materials[self.mesh.groups[p.group as usize].material];

@@ -34,7 +34,7 @@ pub struct CoveredField {
 
 impl CoveredField {
     /// The covered triangles of `mesh`, or `None` when nothing is covered.
-    pub fn of(mesh: &PatchMesh) -> Option<CoveredField> {
+    pub(crate) fn of(mesh: &PatchMesh) -> Option<CoveredField> {
         let two_sided = double_sided_surfaces(mesh);
         let mut out = PatchMesh {
             patch_size: mesh.patch_size,
@@ -94,7 +94,7 @@ impl CoveredField {
     /// A gatherer of what these triangles cover, seen past `occluder`'s geometry, for receivers
     /// gathering at far-field acceptance `tau`: at [`TAU_FACTOR`] times it, since only the sum
     /// counts (on the 10⁴ floor that halves its rays and moves the energy balance by < 10⁻⁵).
-    pub fn gatherer<'a>(&'a self, occluder: &'a Occluder, tau: f64) -> Gatherer<'a> {
+    pub(crate) fn gatherer<'a>(&'a self, occluder: &'a Occluder, tau: f64) -> Gatherer<'a> {
         Gatherer {
             mesh: &self.mesh,
             tree: &self.tree,

@@ -26,7 +26,7 @@ pub struct ClusterSlots {
 
 impl ClusterSlots {
     /// Every inner node of a tree with curved clutter (none otherwise: no cluster links).
-    pub fn all(tree: &PatchTree) -> Self {
+    pub(crate) fn all(tree: &PatchTree) -> Self {
         match tree.has_curved() {
             true => ClusterSlots {
                 map: tree.slot.clone(),
@@ -38,7 +38,7 @@ impl ClusterSlots {
 
     /// The given nodes (any order, repeats allowed) of a tree of `nodes` nodes, numbered in node
     /// order.
-    pub fn named(nodes: usize, named: impl Iterator<Item = u32>) -> Self {
+    pub(crate) fn named(nodes: usize, named: impl Iterator<Item = u32>) -> Self {
         let mut map = vec![LEAF_SLOT; nodes];
         for i in named {
             map[i as usize] = 0;
@@ -59,7 +59,7 @@ impl ClusterSlots {
     }
 
     /// Node `i`'s index among the kept nodes, or `None`.
-    pub fn get(&self, i: usize) -> Option<usize> {
+    pub(crate) fn get(&self, i: usize) -> Option<usize> {
         match self.map[i] {
             LEAF_SLOT => None,
             s => Some(s as usize),
@@ -67,11 +67,11 @@ impl ClusterSlots {
     }
 
     /// Number of kept nodes.
-    pub fn len(&self) -> usize {
+    pub(crate) fn len(&self) -> usize {
         self.len
     }
 
-    pub fn is_empty(&self) -> bool {
+    pub(crate) fn is_empty(&self) -> bool {
         self.len == 0
     }
 }
@@ -158,7 +158,7 @@ pub struct NodeField<V: FieldValue = DVec3> {
 
 impl<V: FieldValue> NodeField<V> {
     /// Σ over leaf links of coefficient × the patch's exitance.
-    pub fn gather_leaves(&self, leaves: Leaves) -> V {
+    pub(crate) fn gather_leaves(&self, leaves: Leaves) -> V {
         leaves
             .iter()
             .map(|l| self.mean[l.node as usize] * l.coeff as f64)
@@ -168,7 +168,7 @@ impl<V: FieldValue> NodeField<V> {
     /// Σ over `links` of coefficient × mean + gradient · dipole (per channel).
     ///
     /// Panics on a cluster link to a node the field keeps no distribution for.
-    pub fn gather(&self, links: impl IntoIterator<Item = Link>) -> V {
+    pub(crate) fn gather(&self, links: impl IntoIterator<Item = Link>) -> V {
         let mut sum = V::ZERO;
         for l in links {
             let i = l.node as usize;
@@ -199,7 +199,7 @@ impl<V: FieldValue> NodeField<V> {
     /// same order, so the kept ones are bit for bit those of the full field), the pending
     /// children's on a stack: in a reverse pre-order sweep a node's left child was swept last
     /// and its right child's subtree just before, so their values are the stack's top two.
-    pub fn for_clusters(
+    pub(crate) fn for_clusters(
         tree: &impl Topology,
         mesh: &PatchMesh,
         patch_value: impl Fn(usize) -> V,
@@ -277,7 +277,7 @@ impl<V: FieldValue> NodeField<V> {
 impl NodeField {
     /// Summarise a per-patch quantity on every node of `tree` (bottom-up), with the normal
     /// distributions of every inner node (a field any new point may gather from).
-    pub fn new(tree: &PatchTree, mesh: &PatchMesh, patch_values: &[DVec3]) -> NodeField {
+    pub(crate) fn new(tree: &PatchTree, mesh: &PatchMesh, patch_values: &[DVec3]) -> NodeField {
         NodeField::for_clusters(tree, mesh, |p| patch_values[p], &ClusterSlots::all(tree))
     }
 }

@@ -25,7 +25,7 @@ pub struct Link {
 impl Link {
     /// A leaf or far-field link to a node of area `area` (m²): coefficient `coeff` > 0 and
     /// gradient `grad` (zero for a leaf).
-    pub fn far(node: u32, coeff: f64, grad: DVec3, area: f64) -> Self {
+    pub(crate) fn far(node: u32, coeff: f64, grad: DVec3, area: f64) -> Self {
         let rel = match coeff > 0.0 && area > 0.0 {
             true => grad * (moment_scale(area) / coeff),
             false => DVec3::ZERO,
@@ -38,7 +38,7 @@ impl Link {
     }
 
     /// A link to a leaf patch (uniform exitance: no gradient).
-    pub fn plain(node: u32, coeff: f64) -> Self {
+    pub(crate) fn plain(node: u32, coeff: f64) -> Self {
         Link {
             node,
             coeff: coeff as f32,
@@ -47,7 +47,7 @@ impl Link {
     }
 
     /// A cluster link: K > 0 and the unit direction `w` from the node to the receiver.
-    pub fn cluster_link(node: u32, k: f64, w: DVec3) -> Self {
+    pub(crate) fn cluster_link(node: u32, k: f64, w: DVec3) -> Self {
         Link {
             node,
             coeff: -k as f32,
@@ -56,19 +56,19 @@ impl Link {
     }
 
     /// A link from its stored parts ([`Link::stored`]).
-    pub fn from_stored(node: u32, coeff: f32, shape: u32) -> Self {
+    pub(crate) fn from_stored(node: u32, coeff: f32, shape: u32) -> Self {
         Link { node, coeff, shape }
     }
 
     /// The stored parts: node, coefficient, the shape's bits.
-    pub fn stored(&self) -> (u32, f32, u32) {
+    pub(crate) fn stored(&self) -> (u32, f32, u32) {
         (self.node, self.coeff, self.shape)
     }
 
     /// The stored vector: for a far-field link the gradient × A^(3/2) / coeff, so the gradient
     /// term is coeff × this · first moment / [`moment_scale`] (`NodeField` keeps its moments
     /// divided by it; the solver's transpose divides its sums per node).
-    pub fn relative(&self) -> DVec3 {
+    pub(crate) fn relative(&self) -> DVec3 {
         let exponent = (self.shape >> 27) as i32 - SHAPE_LOW;
         let unit = exp2(exponent) / SHAPE_STEPS;
         let component = |k: u32| (((self.shape >> (18 - 9 * k)) << 23) as i32 >> 23) as f64;
@@ -76,23 +76,23 @@ impl Link {
     }
 
     /// Whether the link carries a gradient (a far-field link) or direction (a cluster link).
-    pub fn has_shape(&self) -> bool {
+    pub(crate) fn has_shape(&self) -> bool {
         self.shape & 0x07ff_ffff != 0
     }
 
-    pub fn is_cluster(&self) -> bool {
+    pub(crate) fn is_cluster(&self) -> bool {
         self.coeff < 0.0
     }
 
     /// For a cluster link: K and the unit direction from the node to the receiver.
-    pub fn cluster(&self) -> (f64, DVec3) {
+    pub(crate) fn cluster(&self) -> (f64, DVec3) {
         (-self.coeff as f64, self.relative().normalize_or_zero())
     }
 }
 
 /// A^(3/2) of a node's area A (m²): what a far-field link's stored gradient is multiplied by,
 /// and the first moments it applies to divided by, to make both scale-free.
-pub fn moment_scale(area: f64) -> f64 {
+pub(crate) fn moment_scale(area: f64) -> f64 {
     area * area.sqrt()
 }
 
@@ -127,7 +127,7 @@ fn exp2(e: i32) -> f64 {
 }
 
 /// ⌈log₂ x⌉ for a positive normal `x`, exactly (from its bits: no rounding of a logarithm).
-pub fn ceil_log2(x: f64) -> i32 {
+pub(crate) fn ceil_log2(x: f64) -> i32 {
     let bits = x.to_bits();
     let exponent = ((bits >> 52) & 0x7ff) as i32 - 1023;
     exponent + (bits & 0x000f_ffff_ffff_ffff != 0) as i32

@@ -61,7 +61,7 @@ pub struct Blend {
 
 impl Blend {
     /// The rows receiver `r` reads, with their weights.
-    pub fn of(&self, r: usize) -> &[(u32, f32)] {
+    pub(crate) fn of(&self, r: usize) -> &[(u32, f32)] {
         &self.terms[self.at[r] as usize..self.at[r + 1] as usize]
     }
 }
@@ -86,7 +86,7 @@ pub struct RowRef<'a> {
 const CHUNK: usize = 64;
 
 impl ReceiverLinks {
-    pub fn build(gatherer: &Gatherer, receivers: &[Vertex]) -> Self {
+    pub(crate) fn build(gatherer: &Gatherer, receivers: &[Vertex]) -> Self {
         let points: Vec<(DVec3, DVec3)> = receivers.iter().map(|r| (r.point, r.normal)).collect();
         let mut links = ReceiverLinks::empty(gatherer.dark.is_some());
         let stats = links.append(gatherer, &points);
@@ -95,7 +95,7 @@ impl ReceiverLinks {
     }
 
     /// No rows yet; `dark`: the gatherer has black nodes.
-    pub fn empty(dark: bool) -> Self {
+    pub(crate) fn empty(dark: bool) -> Self {
         ReceiverLinks {
             chunks: Vec::new(),
             batches: Vec::new(),
@@ -110,7 +110,7 @@ impl ReceiverLinks {
 
     /// Gather rows at `points` (point, unit normal), appended as rows `rows()..`, in parallel
     /// over fixed chunks, kept in order: deterministic. Returns what each gather said.
-    pub fn append(&mut self, gatherer: &Gatherer, points: &[(DVec3, DVec3)]) -> Vec<RowStats> {
+    pub(crate) fn append(&mut self, gatherer: &Gatherer, points: &[(DVec3, DVec3)]) -> Vec<RowStats> {
         let built: Vec<(PackedRows, Vec<RowStats>)> = points
             .par_chunks(CHUNK)
             .map(|chunk| {
@@ -141,7 +141,7 @@ impl ReceiverLinks {
     }
 
     /// Append copies of `rows` (gathered elsewhere: another part's) as one batch.
-    pub fn append_rows(&mut self, rows: &[RowRef]) {
+    pub(crate) fn append_rows(&mut self, rows: &[RowRef]) {
         self.batches
             .push((self.rows() as u32, self.chunks.len() as u32));
         for chunk in rows.chunks(CHUNK) {
@@ -151,7 +151,7 @@ impl ReceiverLinks {
 
     /// Move batch `b` of `other` here as one batch, its rows numbered after these: the chunks
     /// themselves, not copies (`other` keeps that batch with no rows).
-    pub fn take_batch(&mut self, other: &mut ReceiverLinks, b: usize) {
+    pub(crate) fn take_batch(&mut self, other: &mut ReceiverLinks, b: usize) {
         let start = other.batches[b].1 as usize;
         let end = other
             .batches
@@ -167,7 +167,7 @@ impl ReceiverLinks {
     /// Set how receivers read the rows (`None`: receiver r reads row r, one stat per row) and
     /// their stats: a blended receiver's coverage, back and dark are its terms' weighted means;
     /// it is closed when all its terms are. `nodes`: the tree's node count.
-    pub fn finish(&mut self, blend: Option<Blend>, rows: &[RowStats], nodes: usize) {
+    pub(crate) fn finish(&mut self, blend: Option<Blend>, rows: &[RowStats], nodes: usize) {
         let per_receiver: Vec<RowStats> = match &blend {
             None => rows.to_vec(),
             Some(b) => (0..b.at.len() - 1)
@@ -204,7 +204,7 @@ impl ReceiverLinks {
     /// No rows at all, for `n` receivers over a tree of `nodes` nodes: a scene that is black
     /// throughout reflects nothing, so nothing needs gathering (each receiver covered by
     /// nothing, enclosed by nothing).
-    pub fn none(n: usize, nodes: usize) -> Self {
+    pub(crate) fn none(n: usize, nodes: usize) -> Self {
         let mut links = ReceiverLinks::empty(false);
         links.batches.push((0, 0));
         links.chunks = (0..n.div_ceil(CHUNK))
@@ -221,18 +221,18 @@ impl ReceiverLinks {
     }
 
     /// Did the gatherer have black nodes (so rows leave out what they cover)?
-    pub fn has_dark(&self) -> bool {
+    pub(crate) fn has_dark(&self) -> bool {
         !self.dark.is_empty()
     }
 
     /// Fraction of receiver `r`'s hemisphere covered by black nodes, which its row does not
     /// link (normalised like [`ReceiverLinks::back`]).
-    pub fn dark(&self, r: usize) -> f32 {
+    pub(crate) fn dark(&self, r: usize) -> f32 {
         self.dark.get(r).copied().unwrap_or(0.0)
     }
 
     /// Number of gathered rows.
-    pub fn rows(&self) -> usize {
+    pub(crate) fn rows(&self) -> usize {
         self.chunks.iter().map(|c| c.rows()).sum()
     }
 
@@ -242,7 +242,7 @@ impl ReceiverLinks {
     }
 
     /// Gathered row `g` (receiver g's own row when nothing is blended).
-    pub fn row(&self, g: usize) -> RowRef<'_> {
+    pub(crate) fn row(&self, g: usize) -> RowRef<'_> {
         let b = self
             .batches
             .partition_point(|&(first, _)| first as usize <= g)
@@ -270,7 +270,7 @@ impl ReceiverLinks {
 
     /// Per-receiver weights `at` carried to the rows they read (the blend's transpose), in
     /// receiver order: deterministic.
-    pub fn to_rows(&self, at: Vec<f64>) -> Vec<f64> {
+    pub(crate) fn to_rows(&self, at: Vec<f64>) -> Vec<f64> {
         let Some(b) = &self.blend else { return at };
         let mut out = vec![0.0; self.rows()];
         for (r, a) in at.iter().enumerate() {
@@ -282,17 +282,17 @@ impl ReceiverLinks {
     }
 
     /// Every far-field and cluster link of every row (the leaf links aside).
-    pub fn far_links(&self) -> impl Iterator<Item = Link> + '_ {
+    pub(crate) fn far_links(&self) -> impl Iterator<Item = Link> + '_ {
         (self.chunks.iter()).flat_map(|c| (0..c.rows()).flat_map(|j| c.row(j).1.iter()))
     }
 
     /// Number of links, leaves included.
-    pub fn link_count(&self) -> usize {
+    pub(crate) fn link_count(&self) -> usize {
         self.chunks.iter().map(|c| c.links()).sum()
     }
 
     /// E at every receiver from a node-summarised exitance field (RGB, or one channel).
-    pub fn apply<V: FieldValue>(&self, field: &NodeField<V>, out: &mut [V]) {
+    pub(crate) fn apply<V: FieldValue>(&self, field: &NodeField<V>, out: &mut [V]) {
         let gather = |g: usize| {
             let row = self.row(g);
             field.gather_leaves(row.leaves) + field.gather(row.far.iter())
@@ -373,12 +373,12 @@ pub struct Row {
 }
 
 /// The links seen from `p` (unit normal `n`), with the closure rule of this module.
-pub fn gather_row(gatherer: &Gatherer, p: DVec3, n: DVec3) -> Row {
+pub(crate) fn gather_row(gatherer: &Gatherer, p: DVec3, n: DVec3) -> Row {
     gather_row_shared(gatherer, p, n, None)
 }
 
 /// [`gather_row`] sharing shadow-ray answers with other rows at the same point (`shared`).
-pub fn gather_row_shared(
+pub(crate) fn gather_row_shared(
     gatherer: &Gatherer,
     p: DVec3,
     n: DVec3,

@@ -128,7 +128,7 @@ pub fn quantised(coeffs: &[f32]) -> Vec<f32> {
 }
 
 impl<'a> Leaves<'a> {
-    pub fn len(&self) -> usize {
+    pub(crate) fn len(&self) -> usize {
         self.coeffs.len()
     }
 
@@ -137,7 +137,7 @@ impl<'a> Leaves<'a> {
     }
 
     /// The links, in the order packed.
-    pub fn iter(self) -> impl Iterator<Item = Leaf> + 'a {
+    pub(crate) fn iter(self) -> impl Iterator<Item = Leaf> + 'a {
         let mut nodes = Nodes::new(self.nodes);
         let scale = self.scale;
         (self.coeffs.iter()).map(move |&c| Leaf {
@@ -148,7 +148,7 @@ impl<'a> Leaves<'a> {
 }
 
 impl<'a> FarLinks<'a> {
-    pub fn len(&self) -> usize {
+    pub(crate) fn len(&self) -> usize {
         self.coeffs.len()
     }
 
@@ -157,7 +157,7 @@ impl<'a> FarLinks<'a> {
     }
 
     /// The links, in the order packed.
-    pub fn iter(self) -> impl Iterator<Item = Link> + 'a {
+    pub(crate) fn iter(self) -> impl Iterator<Item = Link> + 'a {
         let mut nodes = Nodes::new(self.nodes);
         let scale = self.scale;
         (self.coeffs.iter().zip(self.shapes))
@@ -248,7 +248,7 @@ impl Default for PackedRows {
 
 impl PackedRows {
     /// No rows, with room for `leaves` leaf links and `far` others in `rows` rows.
-    pub fn with_capacity(rows: usize, leaves: usize, far: usize) -> Self {
+    pub(crate) fn with_capacity(rows: usize, leaves: usize, far: usize) -> Self {
         let mut at = Vec::with_capacity(rows + 1);
         at.push([0; 4]);
         PackedRows {
@@ -263,7 +263,7 @@ impl PackedRows {
     }
 
     /// Append one row: its leaf links and its other links.
-    pub fn push(&mut self, leaves: &[Leaf], far: &[Link]) {
+    pub(crate) fn push(&mut self, leaves: &[Leaf], far: &[Link]) {
         let coeffs: Vec<f32> = (leaves.iter().map(|l| l.coeff))
             .chain(far.iter().map(|l| l.coeff))
             .collect();
@@ -278,7 +278,7 @@ impl PackedRows {
     }
 
     /// Append a row packed elsewhere (its bytes copied).
-    pub fn push_packed(&mut self, leaves: Leaves, far: FarLinks) {
+    pub(crate) fn push_packed(&mut self, leaves: Leaves, far: FarLinks) {
         debug_assert_eq!(leaves.scale, far.scale);
         self.scales.push(leaves.scale);
         self.leaf_coeffs.extend_from_slice(leaves.coeffs);
@@ -299,22 +299,22 @@ impl PackedRows {
     }
 
     /// Release the spare capacity (the rows are complete).
-    pub fn shrink(&mut self) {
+    pub(crate) fn shrink(&mut self) {
         self.leaf_nodes.shrink_to_fit();
         self.far_nodes.shrink_to_fit();
     }
 
-    pub fn rows(&self) -> usize {
+    pub(crate) fn rows(&self) -> usize {
         self.at.len() - 1
     }
 
     /// Number of links in all rows, leaves included.
-    pub fn links(&self) -> usize {
+    pub(crate) fn links(&self) -> usize {
         self.leaf_coeffs.len() + self.far_coeffs.len()
     }
 
     /// Row `j`: its leaf links and its other links.
-    pub fn row(&self, j: usize) -> (Leaves<'_>, FarLinks<'_>) {
+    pub(crate) fn row(&self, j: usize) -> (Leaves<'_>, FarLinks<'_>) {
         let ([l0, b0, f0, c0], [l1, b1, f1, c1]) = (self.at[j], self.at[j + 1]);
         let span = |a: u32, b: u32| a as usize..b as usize;
         (

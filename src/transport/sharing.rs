@@ -87,7 +87,7 @@ struct Gathered {
 const NONE: u32 = u32::MAX;
 
 /// Rows for `receivers`, shared where [`Sharing`] allows (see the module doc).
-pub fn build(gatherer: &Gatherer, receivers: &[Vertex], sharing: &Sharing) -> ReceiverLinks {
+pub(crate) fn build(gatherer: &Gatherer, receivers: &[Vertex], sharing: &Sharing) -> ReceiverLinks {
     let all: Vec<u32> = (0..receivers.len() as u32).collect();
     assemble(
         vec![part(gatherer, receivers, &all, sharing)],
@@ -114,7 +114,7 @@ pub struct Part {
 
 impl Part {
     /// No rows for `subset`: nothing to gather (the scene is black throughout).
-    pub fn nothing(dark: bool, subset: &[u32]) -> Part {
+    pub(crate) fn nothing(dark: bool, subset: &[u32]) -> Part {
         Part {
             links: ReceiverLinks::empty(dark),
             stats: Vec::new(),
@@ -127,7 +127,7 @@ impl Part {
 }
 
 /// The [`Part`] of `subset` (ascending receiver indices, whole groups).
-pub fn part(gatherer: &Gatherer, receivers: &[Vertex], subset: &[u32], sharing: &Sharing) -> Part {
+pub(crate) fn part(gatherer: &Gatherer, receivers: &[Vertex], subset: &[u32], sharing: &Sharing) -> Part {
     let n = receivers.len();
     let mut links = ReceiverLinks::empty(gatherer.dark.is_some());
     if sharing.tolerance <= 0.0 {
@@ -240,7 +240,7 @@ pub fn part(gatherer: &Gatherer, receivers: &[Vertex], subset: &[u32], sharing: 
 /// one [`part`] of all of them numbers them: level by level, in receiver order within a level.
 /// So the links, and all that is computed from them, do not depend on how the receivers were
 /// split. `nodes`: the tree's node count.
-pub fn assemble(mut parts: Vec<Part>, n: usize, nodes: usize) -> ReceiverLinks {
+pub(crate) fn assemble(mut parts: Vec<Part>, n: usize, nodes: usize) -> ReceiverLinks {
     let whole = parts.len() == 1 && parts[0].receivers.len() == n;
     let (mut links, stats, numbering) = match whole {
         // One part of all receivers: its rows are numbered already.

@@ -20,7 +20,7 @@ use glam::{DVec2, DVec3};
 pub const GRID: usize = 16;
 
 /// V along +x, −x, +y, −y, +z, −z for the patches inside the box `lo..hi`.
-pub fn shares(mesh: &PatchMesh, patches: &[u32], lo: DVec3, hi: DVec3) -> [f32; 6] {
+pub(crate) fn shares(mesh: &PatchMesh, patches: &[u32], lo: DVec3, hi: DVec3) -> [f32; 6] {
     let mut out = [1.0f32; 6];
     for axis in 0..3 {
         let (u, v) = ((axis + 1) % 3, (axis + 2) % 3);
@@ -93,7 +93,7 @@ fn fill(q: &[DVec2; 3], covered: &mut [bool; GRID * GRID]) {
 }
 
 /// V(w) for the unit direction `w` from the six axis shares.
-pub fn share_toward(shares: &[f32; 6], w: DVec3) -> f64 {
+pub(crate) fn share_toward(shares: &[f32; 6], w: DVec3) -> f64 {
     (0..3)
         .map(|k| {
             let s = shares[2 * k + usize::from(w[k] < 0.0)] as f64;

@@ -37,7 +37,7 @@ pub struct Shared<'a> {
 }
 
 impl<'a> Shared<'a> {
-    pub fn new(
+    pub(crate) fn new(
         nodes: &'a [TreeNode],
         order: &'a [u32],
         slot: &'a Arc<[u32]>,

@@ -153,7 +153,7 @@ impl NodeBounds {
         }
     }
 
-    pub fn is_leaf(&self) -> bool {
+    pub(crate) fn is_leaf(&self) -> bool {
         self.children[0] == NO_CHILD
     }
 
@@ -161,7 +161,7 @@ impl NodeBounds {
     /// `p` with normal `n` the node reaches. The range is narrowed by a rounding tolerance
     /// (10⁻⁹ of the distance) so a node that touches the plane counts as touching at every scale,
     /// not as crossing it at some and not at others.
-    pub fn height_range(&self, p: DVec3, n: DVec3) -> (f64, f64) {
+    pub(crate) fn height_range(&self, p: DVec3, n: DVec3) -> (f64, f64) {
         let mid = n.dot(self.center - p);
         let half = n.abs().dot(self.half);
         let tol = 1e-9 * ((self.center - p).length() + self.radius);
@@ -175,7 +175,7 @@ impl NodeBounds {
     /// off by the horizon, and no direction in it rises above β + α, so the form factor is at
     /// most that area × sin(β + α) / π. (The flat disk's area bounds the cap's: r/(dist − r)
     /// exceeds the cap's true angular radius by a factor 1/(1 − r/dist) and more.)
-    pub fn horizon_bound(&self, p: DVec3, n: DVec3, dist: f64) -> f64 {
+    pub(crate) fn horizon_bound(&self, p: DVec3, n: DVec3, dist: f64) -> f64 {
         use std::f64::consts::{FRAC_PI_2, PI};
         let alpha = self.radius / (dist - self.radius);
         let beta = (n.dot(self.center - p) / dist).clamp(-1.0, 1.0).asin();
@@ -187,7 +187,7 @@ impl NodeBounds {
 
     /// `Some(true)` when every patch of the node faces point `p` (p is in front of each), `Some(false)`
     /// when every patch turns its back to it, `None` when mixed or too close to tell.
-    pub fn facing(&self, p: DVec3) -> Option<bool> {
+    pub(crate) fn facing(&self, p: DVec3) -> Option<bool> {
         let a = self.cone_axis;
         let (lo, hi) = self.height_range(p, a);
         // n·(p − x) for normals n within the cone around a: a·(p − x) ± |n − a|·|p − x|.
@@ -282,7 +282,7 @@ pub const LEAF_SLOT: u32 = u32::MAX;
 
 impl PatchTree {
     /// Does any node hold curved clutter (so receivers may link to it as a two-sided cluster)?
-    pub fn has_curved(&self) -> bool {
+    pub(crate) fn has_curved(&self) -> bool {
         self.curved
     }
 
@@ -290,13 +290,13 @@ impl PatchTree {
     /// built over), built on first use (a BVH over every patch; the build is single-threaded,
     /// obvhs having no `parallel` feature here, so threads that ask meanwhile wait for it and
     /// no rayon job can re-enter it).
-    pub fn own_hits(&self, mesh: &PatchMesh) -> Option<&OwnHits> {
+    pub(crate) fn own_hits(&self, mesh: &PatchMesh) -> Option<&OwnHits> {
         self.curved
             .then(|| self.own_hits.get_or_init(|| own_hits(mesh, &self.order)))
     }
 
     /// Build the hierarchy over `subset` (patch indices) of `mesh`.
-    pub fn build(mesh: &PatchMesh, subset: Vec<u32>) -> Self {
+    pub(crate) fn build(mesh: &PatchMesh, subset: Vec<u32>) -> Self {
         let mut tree = PatchTree::unbuilt(subset);
         if tree.order.is_empty() {
             return tree;
@@ -323,7 +323,7 @@ impl PatchTree {
     }
 
     /// The tree's [`Skeleton`]; the rest is freed before the skeleton's arrays are made.
-    pub fn into_skeleton(mut self) -> Skeleton {
+    pub(crate) fn into_skeleton(mut self) -> Skeleton {
         let nodes = std::mem::take(&mut self.nodes);
         let bounds = std::mem::take(&mut self.bounds);
         let order = std::mem::take(&mut self.order);
@@ -345,7 +345,7 @@ impl PatchTree {
 
     /// The tree `skeleton` was taken from, over the same `mesh`: its nodes as they were split,
     /// everything else computed again by the same sums as [`PatchTree::build`] (the same bits).
-    pub fn from_skeleton(skeleton: Skeleton, mesh: &PatchMesh) -> Self {
+    pub(crate) fn from_skeleton(skeleton: Skeleton, mesh: &PatchMesh) -> Self {
         let Skeleton {
             nodes,
             centroid,
@@ -477,7 +477,7 @@ impl PatchTree {
     /// floor has thousands astride desk panels and chair feet, and marking them doubled its
     /// links. Curved clutter (chairs) is one
     /// object: not tested. Deterministic: fixed points, at most nine rays per inner node.
-    pub fn mark_walled(&mut self, occ: &Occluder, room: f64) {
+    pub(crate) fn mark_walled(&mut self, occ: &Occluder, room: f64) {
         // 0.45 of the way to the surface a point's normal meets (`room` when none).
         let lift = |p: DVec3, n: DVec3| {
             0.45 * (occ.closest(p + n * (4.0 * occ.epsilon), n)).map_or(room, |h| h.distance)
@@ -516,19 +516,19 @@ impl PatchTree {
 
     /// Centroid and unit normal of node `i`'s representative `k` (at area quantile
     /// `REP_QUANTILES[k]`).
-    pub fn rep(&self, i: usize, k: usize) -> (DVec3, DVec3) {
+    pub(crate) fn rep(&self, i: usize, k: usize) -> (DVec3, DVec3) {
         let g = &self.leaf_geom[self.reps[i][k] as usize];
         let c = g.corners;
         ((c[0] + c[1] + c[2]) / 3.0, g.normal)
     }
 
     /// The patch at position `k` of leaf order's geometry.
-    pub fn leaf(&self, k: u32) -> &LeafGeom {
+    pub(crate) fn leaf(&self, k: u32) -> &LeafGeom {
         &self.leaf_geom[k as usize]
     }
 
     /// Inner node `i`'s area moments (panics on a leaf: leaves are never far-field sources).
-    pub fn moments(&self, i: usize) -> AreaMoments {
+    pub(crate) fn moments(&self, i: usize) -> AreaMoments {
         let m = &self.inner_moments[self.slot[i] as usize];
         let [xx, xy, xz, yy, yz, zz] = m.second;
         AreaMoments {
@@ -572,13 +572,13 @@ impl PatchTree {
         node.start + k as u32
     }
 
-    pub fn is_empty(&self) -> bool {
+    pub(crate) fn is_empty(&self) -> bool {
         self.nodes.is_empty()
     }
 
     /// Per node: does every one of its patches pass `patch` (given a patch index)? `None` when
     /// no patch does, so callers keep their plain path.
-    pub fn nodes_where(&self, patch: impl Fn(usize) -> bool) -> Option<Vec<bool>> {
+    pub(crate) fn nodes_where(&self, patch: impl Fn(usize) -> bool) -> Option<Vec<bool>> {
         let mut passing = Vec::with_capacity(self.order.len() + 1);
         passing.push(0u32);
         for &p in &self.order {
@@ -755,7 +755,7 @@ fn leaf_moments(mesh: &PatchMesh) -> Vec<AreaMoments> {
 }
 
 /// A leaf's normal distribution: its patch's area at its normal.
-pub fn leaf_sh(patch: &crate::patches::Patch) -> sh::Dist {
+pub(crate) fn leaf_sh(patch: &crate::patches::Patch) -> sh::Dist {
     sh::dist_point(patch.normal, patch.area)
 }
 

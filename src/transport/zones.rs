@@ -22,7 +22,7 @@ use rayon::prelude::*;
 const RAYS: usize = 2;
 
 /// Each patch's zone.
-pub fn of(mesh: &PatchMesh) -> Vec<u32> {
+pub(crate) fn of(mesh: &PatchMesh) -> Vec<u32> {
     let n = mesh.patches.len();
     if n == 0 {
         return Vec::new();

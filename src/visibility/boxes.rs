@@ -30,7 +30,7 @@ impl Boundable for Outward {
 
 impl BoxIndex {
     /// Index `boxes` (`(lo, hi)`, m).
-    pub fn new(boxes: Vec<(DVec3, DVec3)>) -> Self {
+    pub(crate) fn new(boxes: Vec<(DVec3, DVec3)>) -> Self {
         let outward: Vec<Outward> = boxes.iter().map(|&b| Outward(outward(b))).collect();
         let bvh = (!boxes.is_empty()).then(|| {
             build_bvh2(
@@ -43,7 +43,7 @@ impl BoxIndex {
     }
 
     /// The boxes that meet `lo..hi`, ascending, each once, into `out`.
-    pub fn near(&self, lo: DVec3, hi: DVec3, out: &mut Vec<u32>) {
+    pub(crate) fn near(&self, lo: DVec3, hi: DVec3, out: &mut Vec<u32>) {
         out.clear();
         let Some(bvh) = &self.bvh else {
             return;

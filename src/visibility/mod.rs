@@ -234,7 +234,7 @@ impl Occluder {
 
     /// An occluder over arbitrary world triangles (e.g. the refined patches, for closest-hit
     /// look-ups); zero-area triangles are left out. Hits report indices into `tris`.
-    pub fn from_triangles(tris: &[[DVec3; 3]], convex_empty: bool) -> Self {
+    pub(crate) fn from_triangles(tris: &[[DVec3; 3]], convex_empty: bool) -> Self {
         let mut occ = Self::with_shell(tris, None);
         occ.convex_empty = convex_empty;
         occ
@@ -331,7 +331,7 @@ impl Occluder {
 
     /// The nearest triangle a ray from `origin` along the unit `dir` hits: its index (as given to
     /// the constructor), distance (m) and unit geometric normal (by its winding).
-    pub fn closest(&self, origin: DVec3, dir: DVec3) -> Option<Hit> {
+    pub(crate) fn closest(&self, origin: DVec3, dir: DVec3) -> Option<Hit> {
         let ray = self.ray(origin, dir, f64::INFINITY);
         self.rays.add();
         self.nearest_of(|t| t.nearest(ray, intersect))
@@ -342,13 +342,13 @@ impl Occluder {
     /// culls the back faces of single-sided surfaces): index (as given to the constructor),
     /// distance (m) and unit geometric normal. The ray starts at `origin` itself, not pulled off
     /// anything, so of a front and a back triangle in one plane the front one is found.
-    pub fn closest_front(&self, origin: DVec3, dir: DVec3) -> Option<Hit> {
+    pub(crate) fn closest_front(&self, origin: DVec3, dir: DVec3) -> Option<Hit> {
         self.closest_facing(origin, dir, true)
     }
 
     /// [`Occluder::closest_front`] for the triangles whose BACK the ray meets (the front faces
     /// culled): the first back face along the ray.
-    pub fn closest_back(&self, origin: DVec3, dir: DVec3) -> Option<Hit> {
+    pub(crate) fn closest_back(&self, origin: DVec3, dir: DVec3) -> Option<Hit> {
         self.closest_facing(origin, dir, false)
     }
 
@@ -402,7 +402,7 @@ impl Occluder {
     }
 
     /// Count `n` rays traced elsewhere (by another process of a distributed bake) as traced here.
-    pub fn credit_rays(&self, n: u64) {
+    pub(crate) fn credit_rays(&self, n: u64) {
         let last = self.rays.shards.len() - 1;
         self.rays.shards[last].0.fetch_add(n, Ordering::Relaxed);
     }
@@ -437,7 +437,7 @@ impl Occluder {
     /// The first triangle (index as given to the constructor) that blocks the segment from `a`
     /// (surface normal `na`) to `b` (normal `nb`), ends pulled off their surfaces as in
     /// [`Occluder::clear`]; `None` when it is clear.
-    pub fn first_hit(&self, a: DVec3, na: DVec3, b: DVec3, nb: DVec3) -> Option<usize> {
+    pub(crate) fn first_hit(&self, a: DVec3, na: DVec3, b: DVec3, nb: DVec3) -> Option<usize> {
         let (from, to) = self.pulled_ends(a, na, b, nb);
         let dir = to - from;
         let len = dir.length();
@@ -459,7 +459,7 @@ impl Occluder {
     /// for the nearest hit cost more than any other kind of ray on the open-plan floors.
     /// Whenever `first_hit` names a triangle inside the sphere's bounds this names the same
     /// one; a triangle it names before the sphere is `Before` here.
-    pub fn first_hit_near(
+    pub(crate) fn first_hit_near(
         &self,
         (a, na): (DVec3, DVec3),
         (b, nb): (DVec3, DVec3),
@@ -506,7 +506,7 @@ impl Occluder {
     }
 
     /// Does a ray from point `a` (surface normal `na`) in direction `dir` leave the scene?
-    pub fn escapes(&self, a: DVec3, na: DVec3, dir: DVec3) -> bool {
+    pub(crate) fn escapes(&self, a: DVec3, na: DVec3, dir: DVec3) -> bool {
         let side = if na.dot(dir) >= 0.0 { 1.0 } else { -1.0 };
         self.rays.add();
         self.miss_all(self.ray(

@@ -36,7 +36,7 @@ pub struct Primitive<'f> {
 
 impl GltfFile {
     /// Open `path` (`.gltf` or `.glb`, checked by the caller).
-    pub fn open(path: &Path) -> Result<Self> {
+    pub(crate) fn open(path: &Path) -> Result<Self> {
         let ctx = Ctx::new(path)?;
         let bytes = ctx.read_input()?;
         Self::parse(ctx, &bytes)
@@ -62,22 +62,22 @@ impl GltfFile {
     }
 
     /// An error at `at` (a JSON pointer) in this file.
-    pub fn err(&self, at: impl Into<String>, message: impl Into<String>) -> Error {
+    pub(crate) fn err(&self, at: impl Into<String>, message: impl Into<String>) -> Error {
         self.ctx.err(at, message)
     }
 
-    pub fn path(&self) -> &Path {
+    pub(crate) fn path(&self) -> &Path {
         &self.ctx.file
     }
 
     /// The bytes a `uri` of the element at `at` refers to (`data:` or a file inside the file's
     /// folder, as every import reads them); `what` names it in messages.
-    pub fn resource(&mut self, uri: &str, at: &str, what: &str) -> Result<Vec<u8>> {
+    pub(crate) fn resource(&mut self, uri: &str, at: &str, what: &str) -> Result<Vec<u8>> {
         read_uri(&mut self.ctx, uri, at, what)
     }
 
     /// The whole JSON document.
-    pub fn json(&self) -> &Value {
+    pub(crate) fn json(&self) -> &Value {
         &self.raw
     }
 
@@ -87,24 +87,24 @@ impl GltfFile {
     }
 
     /// The root nodes of the file's scene.
-    pub fn roots(&self) -> &[usize] {
+    pub(crate) fn roots(&self) -> &[usize] {
         &self.hierarchy.roots
     }
 
     /// The nodes of the file's scene, in index order.
-    pub fn scene_nodes(&self) -> Vec<usize> {
+    pub(crate) fn scene_nodes(&self) -> Vec<usize> {
         let mut order = self.hierarchy.reachable.clone();
         order.sort_unstable();
         order
     }
 
     /// The scene's extras.
-    pub fn scene_extras(&self) -> Option<&Value> {
+    pub(crate) fn scene_extras(&self) -> Option<&Value> {
         self.hierarchy.extras.as_ref()
     }
 
     /// Every material's name, by index.
-    pub fn material_names(&self) -> Vec<Option<String>> {
+    pub(crate) fn material_names(&self) -> Vec<Option<String>> {
         self.doc
             .materials()
             .map(|m| m.name().map(str::to_owned))
@@ -128,7 +128,7 @@ impl GltfFile {
 
 impl Primitive<'_> {
     /// Made of triangles (a list, strip or fan).
-    pub fn is_triangles(&self) -> bool {
+    pub(crate) fn is_triangles(&self) -> bool {
         matches!(
             self.prim.mode(),
             Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan
@@ -147,12 +147,12 @@ impl Primitive<'_> {
         self.prim.get(&semantic)
     }
 
-    pub fn has(&self, name: &str) -> bool {
+    pub(crate) fn has(&self, name: &str) -> bool {
         self.attribute(name).is_some()
     }
 
     /// The vertex count (of `POSITION`).
-    pub fn vertex_count(&self) -> Result<usize> {
+    pub(crate) fn vertex_count(&self) -> Result<usize> {
         self.attribute("POSITION")
             .map(|a| a.count())
             .ok_or_else(|| {
@@ -208,7 +208,7 @@ impl Primitive<'_> {
     }
 
     /// Its material's index.
-    pub fn material(&self) -> Option<usize> {
+    pub(crate) fn material(&self) -> Option<usize> {
         self.prim.material().index()
     }
 }
