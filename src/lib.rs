@@ -38,7 +38,7 @@ pub mod settings;
 pub mod shardfile;
 pub mod sheet;
 pub mod solution;
-pub mod solve;
+pub mod gmres;
 pub mod summary;
 pub mod table;
 pub mod transport;

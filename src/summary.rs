@@ -8,7 +8,7 @@
 //! out ([`required`]).
 
 use crate::settings::{Exposure, ProbeGrid, Quality, QualityParams, Settings};
-pub use crate::solve::SolveStats;
+pub use crate::gmres::SolveStats;
 pub use crate::transport::operator::BalanceStats;
 use serde::{Deserialize, Deserializer, Serialize};
 

@@ -10,7 +10,7 @@
 use super::links::{self, Rows};
 use super::meshing::Meshed;
 use crate::scene::luma;
-use crate::solve::{self, SolveStats};
+use crate::gmres::{self, SolveStats};
 use crate::transport::escape;
 use crate::transport::operator::BalanceStats;
 use crate::transport::{operator::PatchOperator, tree::PatchTree};
@@ -151,13 +151,13 @@ pub(crate) fn stage_many(
         let b: Vec<DVec3> = (0..mesh.patches.len())
             .map(|i| rho[i] * direct_patch[i])
             .collect();
-        let apply = |x: solve::Input, out: &mut [DVec3]| {
+        let apply = |x: gmres::Input, out: &mut [DVec3]| {
             operator.apply_fn(|p| x.get(p), out);
             out.par_iter_mut()
                 .enumerate()
                 .for_each(|(i, o)| *o = x.get(i) - rho[i] * *o);
         };
-        let (reflected, stats) = solve::gmres(apply, &b, &areas, tolerance, 2_000, 40);
+        let (reflected, stats) = gmres::gmres(apply, &b, &areas, tolerance, 2_000, 40);
         let indirect_patch = operator.apply(&reflected);
         let indirect_vertex = operator.gather_receivers(&reflected);
         solved.push((
