@@ -196,4 +196,42 @@ mod tests {
         let linked: f64 = row.links.iter().map(|l| l.coeff as f64).sum();
         assert!(row.back < 1e-3 && (linked - 1.0).abs() < 1e-6, "{linked}");
     }
+
+    #[test]
+    fn a_receiver_beside_a_cracks_mouth_reads_the_room_not_the_crack() {
+        // A 1 m cube standing 1 mm over the floor of a closed room: its underside and the floor
+        // under it are covered. A floor point 2 mm outside its edge sees the underside over a
+        // few per cent of its hemisphere (Lambert's formula): the millimetres next to the mouth
+        // are lit like the room, so none of it counts as absorbed (below a tenth).
+        let mut b = SceneBuilder::new();
+        let grey = b.material("grey", 0.5);
+        b.axis_box("room", DVec3::ZERO, DVec3::new(4.0, 3.0, 4.0), true, grey);
+        let (lo, hi) = (DVec3::new(1.5, 1e-3, 1.5), DVec3::new(2.5, 1.0, 2.5));
+        b.axis_box("cube", lo, hi, false, grey);
+        let scene = b.build();
+        let occluder = Occluder::build(&scene, OccluderOptions::default());
+        let h = 0.5;
+        let contacts = crate::contacts::find(&scene, h / 4.0, &occluder);
+        let mesh = crate::patches::build_cut(&scene, h, None, &contacts);
+        let tree = PatchTree::build(&mesh, (0..mesh.patches.len() as u32).collect());
+        let field = CoveredField::of(&mesh).expect("the cube's underside and its footprint");
+        let (p, n) = (DVec3::new(2.502, 1e-4, 2.0), DVec3::Y);
+        let underside = [(lo.x, lo.z), (hi.x, lo.z), (hi.x, hi.z), (lo.x, hi.z)]
+            .map(|(x, z)| DVec3::new(x, lo.y, z));
+        let share = lambert::form_factor(p, n, &underside).abs();
+        assert!(share > 0.02 && share < 0.1, "{share}");
+        let covered = field.gatherer(&occluder, 0.3);
+        let gatherer = Gatherer {
+            mesh: &mesh,
+            tree: &tree,
+            tau: 0.3,
+            dark: None,
+            covered: Some(&covered),
+            ..covered
+        };
+        let row = gather_row(&gatherer, p, n);
+        let linked: f64 = row.links.iter().map(|l| l.coeff as f64).sum();
+        assert!(row.back < 1e-3, "absorbed {} at the mouth", row.back);
+        assert!((linked + row.back - 1.0).abs() < 1e-6, "{linked}");
+    }
 }
