@@ -327,3 +327,53 @@ fn a_furnished_room_closes_energy() {
     assert!(worst[0] <= 1e-4, "balance error {:.2e}", worst[0]);
     assert!(worst[1] <= 0.005, "Σ(1 − ρ)·E·A off Φ by {:.2e}", worst[1]);
 }
+
+/// A desk leg's foot (2 × 2 cm under a 0.7 m leg) is a cover smaller than a quarter patch: the
+/// floor is left uncut under it (no covered part on the floor), while the leg's own bottom face,
+/// closing the solid with nothing in front of it but the floor, is covered, so every value the
+/// leg shows comes from its lit sides (none reads the 0 lx of its foot).
+#[test]
+fn a_legs_foot_leaves_the_floor_uncut_and_covers_itself() {
+    use luxbake::fixtures::SceneBuilder;
+    let mut b = SceneBuilder::new();
+    let grey = b.material("grey", 0.5);
+    b.axis_box("room", DVec3::ZERO, DVec3::new(4.0, 3.0, 4.0), true, grey);
+    let (lo, hi) = (DVec3::new(2.0, 0.0, 2.0), DVec3::new(2.02, 0.7, 2.02));
+    b.axis_box("leg", lo, hi, false, grey);
+    b.point_light("lamp", DVec3::new(1.0, 2.5, 1.5), 10_000.0);
+    let scene = b.build();
+    let r = bake(&scene, &Settings::default(), &Silent).expect("bake");
+    let named = |name: &str| {
+        let node = scene.nodes.iter().position(|n| n.name.as_deref() == Some(name));
+        scene.nodes[node.unwrap_or_else(|| panic!("{name}"))].surfaces[0]
+    };
+    let floor = (0..6)
+        .map(|k| named(&format!("room_{k}")))
+        .find(|&s| scene.surfaces[s].positions.iter().all(|p| p.y == 0.0))
+        .expect("the floor");
+    let floor_parts: Vec<_> = r.surfaces.iter().filter(|s| s.surface == floor).collect();
+    assert!(!floor_parts.is_empty());
+    assert!(
+        floor_parts.iter().all(|s| s.covered_from.is_none()),
+        "the floor was cut under a 2 × 2 cm foot"
+    );
+    let legs: Vec<usize> = (0..6).map(|k| named(&format!("leg_{k}"))).collect();
+    let foot = legs
+        .iter()
+        .copied()
+        .find(|&s| scene.surfaces[s].positions.iter().all(|p| p.y == 0.0))
+        .expect("the leg's bottom face");
+    let foot_parts: Vec<_> = r.surfaces.iter().filter(|s| s.surface == foot).collect();
+    assert!(
+        !foot_parts.is_empty() && foot_parts.iter().all(|s| s.covered_from.is_some()),
+        "the leg's foot is not covered"
+    );
+    let shown = r
+        .surfaces
+        .iter()
+        .filter(|s| legs.contains(&s.surface) && s.covered_from.is_none());
+    let least = shown
+        .flat_map(|s| s.illuminance.iter().copied())
+        .fold(f32::INFINITY, f32::min);
+    assert!(least.is_finite() && least > 1.0, "the leg's minimum {least} lx");
+}
