@@ -6,8 +6,8 @@
 #
 #   sh bench/regenerate.sh quick     # about 13 min on 2 cores (build included): the cheap generated pages
 #   sh bench/regenerate.sh all       # quick + the long runs (the 10^6 floor, RADIANCE references,
-#                                    # pictures): about 5.5 h on 2 cores
-#   sh bench/regenerate.sh manual    # the measurements behind the hand-written pages (about 2.5 h);
+#                                    # pictures): about 7 h on 2 cores
+#   sh bench/regenerate.sh manual    # the measurements behind the hand-written pages (about 3.5 h);
 #                                    # their raw output goes to bench/work/manual/, the prose and
 #                                    # tables of those pages are edited from it by hand
 #   sh bench/regenerate.sh list      # print every step (time, files, command), run nothing
@@ -27,7 +27,11 @@ DRY=${DRY:-}
 
 step() {
     est=$1; files=$2; shift 2
-    printf '== [%s] %s\n     -> %s\n' "$est" "$*" "$files"
+    cmd=
+    for a in "$@"; do
+        case "$a" in *[[:space:]]*|'') cmd="$cmd '$a'" ;; *) cmd="$cmd $a" ;; esac
+    done
+    printf '== [%s]%s\n     -> %s\n' "$est" "$cmd" "$files"
     [ -n "$DRY" ] && return 0
     "$@"
 }
@@ -46,7 +50,7 @@ binary_at() {
 build() { step "3 min" "target/release/bake" cargo build --release --quiet --bin bake; }
 
 quick() {
-    step "4 min" "bench/results/closed_forms.md" \
+    step "4 min (+10 min for the first test build)" "bench/results/closed_forms.md" \
         python3 bench/closed_forms.py
     step "1 min" "bench/results/skips.md" \
         python3 bench/skips.py
@@ -67,14 +71,14 @@ quick() {
 long() {
     step "15 min" "bench/results/results.md bench/results/results.json bench/results/time_vs_error.svg bench/results/scaling.svg" \
         python3 bench/run.py
-    step "30 min" "bench/results/openplan-scaling/results.md bench/results/openplan-scaling/results.json bench/results/openplan-scaling/scaling.svg" \
+    step "90 min" "bench/results/openplan-scaling/results.md bench/results/openplan-scaling/results.json bench/results/openplan-scaling/scaling.svg" \
         python3 bench/run.py --scenes openplan --openplan-sizes small,medium,large --openplan-limit 4500 \
         --out bench/results/openplan-scaling --work "$W/openplan-scaling"
-    step "8 min" "bench/results/building/reference.json bench/results/building/results.md bench/results/building/results.json" \
+    step "8 min" "bench/results/building/reference.json bench/results/building/results.md bench/results/building/results.json (bench/results/building/README.md by hand)" \
         python3 bench/building.py --recompute --run default= --run "high=--quality high"
     step "5 min" "bench/results/contacts/bench/results.md bench/results/contacts/bench/results.json bench/results/contacts/bench/time_vs_error.svg" \
         python3 bench/run.py --scenes office,office-panels --out bench/results/contacts/bench --work "$W/contacts-bench"
-    step "3 min" "bench/results/contacts/after-*.png bench/results/contacts/after-profile.md" \
+    step "3 min" "bench/results/contacts/after-*.png bench/results/contacts/after-profile.md (bench/results/contacts/README.md by hand)" \
         sh bench/contacts.sh "$bake" after
     if [ -z "$DRY" ]; then b=$(binary_at b517572); else b='$(binary_at b517572)'; fi
     step "9 min" "bench/results/contacts/before-*.png bench/results/contacts/before-profile.md" \
@@ -82,13 +86,15 @@ long() {
     if [ -z "$DRY" ]; then b=$(binary_at 2f737ca); else b='$(binary_at 2f737ca)'; fi
     step "9 min" "bench/results/contacts/2f737ca-*.png bench/results/contacts/2f737ca-profile.md" \
         env AT=2f737ca sh bench/contacts.sh "$b" 2f737ca
-    step "30 min" "bench/results/lightmaps/cost.md bench/results/lightmaps/error.md bench/results/lightmaps/floor.md bench/results/lightmaps/*.png" \
+    step "30 min" "bench/results/lightmaps/cost.md bench/results/lightmaps/error.md bench/results/lightmaps/floor.md bench/results/lightmaps/*.png (bench/results/lightmaps/README.md by hand)" \
         sh bench/lightmaps.sh "$bake" "$W/lightmaps"
     step "6 min" "bench/results/lightmaps/cycles.md" \
         .venv-bpy/bin/python bench/cycles_lightmap.py --work "$W/cycles"
-    step "5 min" "bench/results/view/results.json (bench/results/view/README.md by hand)" \
+    step "5 min" "$W/view/results.json (bench/results/view/README.md by hand)" \
         bench/.venv/bin/python bench/view_rpict.py --repeats 5 \
-        --rpict "ab7:-ab 7 -ad 256 -as 64 -aa 0.2 -ar 32 -lw 2e-3" --out bench/results/view
+        --rpict "ab7:-ab 7 -ad 256 -as 64 -aa 0.2 -ar 32 -lw 2e-3" --out "$W/view"
+    step "0 s" "bench/results/view/results.json" \
+        cp "$W/view/results.json" bench/results/view/results.json
     step "25 min" "bench/data/openplan_small_plane_radiance.json $W/floor-accuracy/results.json (bench/results/floor-accuracy/README.md by hand)" \
         python3 bench/floor_accuracy.py --work "$W/floor-accuracy"
     step "20 min" "bench/results/floor-accuracy/surfaces.json (bench/results/floor-accuracy/inter-reflection.md by hand)" \
@@ -101,7 +107,7 @@ long() {
         bash bench/distributed.sh 300000 "$W/distributed-3e5"
     step "0 s" "bench/results/distributed/3e5-dask-timings.json" \
         cp "$W/distributed-3e5/dask-timings.json" bench/results/distributed/3e5-dask-timings.json
-    step "90 min" "bench/results/distributed/1e6-dask-timings.json (the 10^6-triangle floor, twice)" \
+    step "130 min" "bench/results/distributed/1e6-dask-timings.json (the 10^6-triangle floor: one single-process bake of about 68 min, then the distributed one)" \
         bash bench/distributed.sh large "$W/distributed-1e6"
     step "0 s" "bench/results/distributed/1e6-dask-timings.json" \
         cp "$W/distributed-1e6/dask-timings.json" bench/results/distributed/1e6-dask-timings.json
@@ -126,7 +132,7 @@ manual() {
         step "1 min" "$m/openplan-$size.gltf" \
             "$bake" generate openplan --size "$size" -o "$m/openplan-$size.gltf" -q
     done
-    step "20 min" "$m/openplan-*.glb $m/openplan-*.summary.json (bench/results/floor-stages.md by hand, with the builds it names: binary_at COMMIT)" \
+    step "80 min" "$m/openplan-*.glb $m/openplan-*.summary.json (bench/results/floor-stages.md by hand, with the builds it names: binary_at COMMIT)" \
         sh -c "for s in small medium large; do $bake $m/openplan-\$s.gltf -o $m/openplan-\$s.glb -q --summary-json $m/openplan-\$s.summary.json; done"
     step "10 min" "$m/direct-floor.txt (bench/results/direct-floor.md by hand)" \
         sh -c "for s in small medium large; do cargo run --release --quiet --example direct_floor -- $m/openplan-\$s.gltf 1 $m/openplan-\$s.glb; done > $m/direct-floor.txt"
