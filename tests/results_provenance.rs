@@ -17,7 +17,11 @@ fn repo() -> PathBuf {
 }
 
 fn git(args: &[&str]) -> Option<std::process::Output> {
-    Command::new("git").args(args).current_dir(repo()).output().ok()
+    Command::new("git")
+        .args(args)
+        .current_dir(repo())
+        .output()
+        .ok()
 }
 
 /// git and the repository's .git (a directory, or a file in a worktree), else a skip message.
@@ -27,7 +31,10 @@ fn git_available() -> Result<(), String> {
     }
     match git(&["rev-parse", "--git-dir"]) {
         Some(o) if o.status.success() => Ok(()),
-        Some(o) => Err(format!("git rev-parse failed: {}", String::from_utf8_lossy(&o.stderr))),
+        Some(o) => Err(format!(
+            "git rev-parse failed: {}",
+            String::from_utf8_lossy(&o.stderr)
+        )),
         None => Err("git cannot be run".into()),
     }
 }
@@ -48,7 +55,9 @@ fn is_commit(hash: &str) -> bool {
 }
 
 fn walk(dir: &Path, out: &mut Vec<PathBuf>) {
-    let Ok(entries) = std::fs::read_dir(dir) else { return };
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
     for e in entries.flatten() {
         let p = e.path();
         if p.is_dir() {
@@ -65,14 +74,21 @@ fn files_under(rel: &str, pred: impl Fn(&Path) -> bool) -> Vec<String> {
     let mut out: Vec<String> = all
         .into_iter()
         .filter(|p| pred(p))
-        .map(|p| p.strip_prefix(repo()).unwrap().to_string_lossy().replace('\\', "/"))
+        .map(|p| {
+            p.strip_prefix(repo())
+                .unwrap()
+                .to_string_lossy()
+                .replace('\\', "/")
+        })
         .collect();
     out.sort();
     out
 }
 
 fn has_ext(p: &Path, exts: &[&str]) -> bool {
-    p.extension().and_then(|e| e.to_str()).is_some_and(|e| exts.contains(&e))
+    p.extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| exts.contains(&e))
 }
 
 fn regenerate_script() -> String {
@@ -116,7 +132,9 @@ fn glob(pattern: &str, path: &str) -> bool {
 }
 
 fn named_in_script(paths: &[String], file: &str) -> bool {
-    paths.iter().any(|p| p == file || (p.contains('*') && glob(p, file)))
+    paths
+        .iter()
+        .any(|p| p == file || (p.contains('*') && glob(p, file)))
 }
 
 /// What a provenance line lacks: an existing commit, a date, a machine, a command.
@@ -133,7 +151,9 @@ fn provenance_problems(file: &str, text: &str) -> Vec<String> {
         .map(|(_, rest)| rest.chars().take_while(char::is_ascii_hexdigit).collect())
         .unwrap_or_default();
     if !(7..=40).contains(&hash.len()) {
-        out.push(format!("{file}: its provenance line names no commit hash (`commit HASH`)"));
+        out.push(format!(
+            "{file}: its provenance line names no commit hash (`commit HASH`)"
+        ));
     } else if !is_commit(&hash) {
         out.push(format!(
             "{file}: its provenance line's commit {hash} is not a commit of this repository \
@@ -141,16 +161,28 @@ fn provenance_problems(file: &str, text: &str) -> Vec<String> {
         ));
     }
     let has_date = line.as_bytes().windows(10).any(|w| {
-        w.iter().enumerate().all(|(k, c)| if k == 4 || k == 7 { *c == b'-' } else { c.is_ascii_digit() })
+        w.iter().enumerate().all(|(k, c)| {
+            if k == 4 || k == 7 {
+                *c == b'-'
+            } else {
+                c.is_ascii_digit()
+            }
+        })
     });
     if !has_date {
-        out.push(format!("{file}: its provenance line has no date (YYYY-MM-DD)"));
+        out.push(format!(
+            "{file}: its provenance line has no date (YYYY-MM-DD)"
+        ));
     }
     if !line.contains("machine: ") {
-        out.push(format!("{file}: its provenance line names no machine (`machine: …`)"));
+        out.push(format!(
+            "{file}: its provenance line names no machine (`machine: …`)"
+        ));
     }
     if !line.contains("regenerate: ") {
-        out.push(format!("{file}: its provenance line names no command (`regenerate: …`)"));
+        out.push(format!(
+            "{file}: its provenance line names no command (`regenerate: …`)"
+        ));
     }
     out
 }
@@ -175,8 +207,16 @@ fn results_pages_name_commit_date_machine_and_are_regenerated() {
             ));
         }
     }
-    assert!(problems.is_empty(), "{} problem(s):\n{}", problems.len(), problems.join("\n"));
-    println!("{} results pages: provenance and regenerate.sh entries present", pages.len());
+    assert!(
+        problems.is_empty(),
+        "{} problem(s):\n{}",
+        problems.len(),
+        problems.join("\n")
+    );
+    println!(
+        "{} results pages: provenance and regenerate.sh entries present",
+        pages.len()
+    );
 }
 
 /// The pictures a Markdown page shows: `](x.png)` and `src="x.png"` targets, relative to it.
@@ -193,7 +233,13 @@ fn shown_pictures(page: &str, text: &str) -> Vec<String> {
             (None, None) => break,
         };
         let tail = &rest[at + skip..];
-        let target = tail.split(end).next().unwrap_or("").split('#').next().unwrap_or("");
+        let target = tail
+            .split(end)
+            .next()
+            .unwrap_or("")
+            .split('#')
+            .next()
+            .unwrap_or("");
         let target = target.split_whitespace().next().unwrap_or("");
         if !target.contains("://") && has_ext(Path::new(target), &PICTURES) {
             let mut parts: Vec<String> = Vec::new();
@@ -238,14 +284,31 @@ fn manual_pictures_are_written_by_regenerate_sh() {
         .filter(|p| !named_in_script(&paths, p))
         .map(|p| format!("{p}: a picture of the manual that no step of bench/regenerate.sh writes"))
         .collect();
-    assert!(missing.is_empty(), "{} picture(s):\n{}", missing.len(), missing.join("\n"));
-    println!("{} manual pictures, each written by a step of bench/regenerate.sh", pictures.len());
+    assert!(
+        missing.is_empty(),
+        "{} picture(s):\n{}",
+        missing.len(),
+        missing.join("\n")
+    );
+    println!(
+        "{} manual pictures, each written by a step of bench/regenerate.sh",
+        pictures.len()
+    );
 }
 
 #[test]
 fn glob_patterns() {
-    assert!(glob("docs/renders/after-*.png", "docs/renders/after-office-vertex-view.png"));
-    assert!(!glob("docs/renders/after-*.png", "docs/renders/before-office-vertex-view.png"));
+    assert!(glob(
+        "docs/renders/after-*.png",
+        "docs/renders/after-office-vertex-view.png"
+    ));
+    assert!(!glob(
+        "docs/renders/after-*.png",
+        "docs/renders/before-office-vertex-view.png"
+    ));
     assert!(!glob("docs/*.png", "docs/renders/x.png"));
-    assert!(glob("docs/office-*.png", "docs/office-front-false-colour.png"));
+    assert!(glob(
+        "docs/office-*.png",
+        "docs/office-front-false-colour.png"
+    ));
 }
