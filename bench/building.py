@@ -32,6 +32,7 @@ import hashlib
 import json
 import math
 import os
+import shlex
 import subprocess
 import sys
 import time
@@ -41,6 +42,7 @@ ROOT = os.path.dirname(BENCH)
 sys.path.insert(0, BENCH)
 
 import measure  # noqa: E402
+import provenance  # noqa: E402
 import radiance  # noqa: E402
 from floor_accuracy import file_sha256, radiance_octree  # noqa: E402
 from run import PYRADIANCE, ensure_venv, machine  # noqa: E402
@@ -258,6 +260,7 @@ def evaluate(got, ref):
 def markdown(ref, runs, a, info):
     """results.md: the reference, then per run and plane the comparison."""
     L = [f"# Building floor: luxbake against converged RADIANCE", "",
+         provenance.line("python3 bench/building.py" + "".join(" " + shlex.quote(x) for x in sys.argv[1:]), "quick"), "",
          f"Written by `python3 bench/building.py{a.argv}` on "
          f"{datetime.date.today().isoformat()} at commit {info['gitCommit']} "
          f"(`bake --version`: {info['luxbake']}); machine: {info['cpu']}, {info['cores']} cores.",

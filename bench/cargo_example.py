@@ -11,6 +11,7 @@ BENCH = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(BENCH)
 sys.path.insert(0, BENCH)
 
+import provenance  # noqa: E402
 import run  # noqa: E402
 
 
@@ -38,11 +39,13 @@ def _release():
     return os.path.join(target, "release")
 
 
-def header(title, command, bake):
-    """The opening lines of a results file: what wrote it, when, on which machine and commit."""
+def header(title, command, bake, section="quick", at=None):
+    """The opening lines of a results file: what wrote it, when, on which machine and commit
+    (the provenance line first, bench/provenance.py; `at`: the commit the figures were measured
+    at when it is not HEAD, as for a table rewritten from stored runs)."""
     m = run.machine(bake, None)
     load = " / ".join(f"{x:.2f}" for x in os.getloadavg())
-    return [f"# {title}", "",
+    return [f"# {title}", "", provenance.line(command, section, at=at), "",
             f"Written by `{command}` on {datetime.date.today().isoformat()} at commit "
             f"{m['gitCommit']} (`bake --version`: {m['luxbake']}).", "",
             f"Machine: {m['cpu']}, {m['cores']} cores, {m['ramGiB']} GiB, {m['os']} "

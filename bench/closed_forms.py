@@ -17,6 +17,9 @@ import re
 import subprocess
 import sys
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import provenance  # noqa: E402
+
 BENCH = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(BENCH)
 
@@ -174,6 +177,7 @@ def main():
     if git("status", "--porcelain", "--untracked-files=no"):
         commit += " (with uncommitted changes)"
     out = ["# Tests against closed forms, measured", "",
+           provenance.line("python3 bench/closed_forms.py", "quick"), "",
            f"Written by `python3 bench/closed_forms.py` on {datetime.date.today().isoformat()} "
            f"at commit {commit}: `cargo test --release` of "
            + ", ".join(f"`{' '.join(r)}`" for r in RUNS) + " (default quality unless the "

@@ -7,6 +7,7 @@
 #
 # Writes bench/results/contacts/TAG-{picture-front,picture-grazing,picture-quad-front,cornell}.png
 # and TAG-profile.md; bakes go to WORK_DIR (default bench/work/contacts-TAG, not committed).
+# AT=HASH: the commit BINARY was built at, for TAG-profile.md's provenance line (default HEAD).
 # Fixed exposures (50 lx picture wall, 900 lx Cornell box; near the auto values of the b517572
 # bakes, 49.1 and 900.9 lx) so that images of two binaries share one scale.
 set -eu
@@ -43,6 +44,8 @@ $render "$work/baked-cornell.gltf" "$out/$tag-cornell.png" --eye 0.278,0.45,-0.7
 
 {
     echo "# Wall illuminance beside the picture: $tag"
+    echo
+    python3 "$bench/provenance.py" all "sh bench/contacts.sh $1 $tag"
     echo
     echo "Binary: \`$1\` ($("$bin" --version), sha256 $(sha256sum "$bin" | cut -c1-16)...)," \
         "default quality. \`python3 bench/contact_profile.py --reference baked-none.gltf" \

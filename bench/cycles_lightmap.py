@@ -188,7 +188,9 @@ def write(out, d, binary):
     lux, runs = d["luxbakeDefault"], d["cycles"]
     t_lux, e_lux = lux["wall"], lux["rms"]
     L = cargo_example.header("Lightmaps against Blender Cycles (office-panels, 5 cm texels)",
-                             "bench/cycles_lightmap.py", binary)
+                             ".venv-bpy/bin/python bench/cycles_lightmap.py", binary,
+                             section="all",
+                             at=f"{d['commit'][:7]} (measured at)" if "commit" in d else None)
     if "commit" in d:
         L += [f"The runs: at commit {d['commit']}, with `bench/cycles_lightmap.py` (this file is "
               "rewritten from their `results.json` by `--write-only`).", ""]

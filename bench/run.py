@@ -30,6 +30,7 @@ ROOT = os.path.dirname(BENCH)
 sys.path.insert(0, BENCH)
 
 import measure  # noqa: E402
+import provenance  # noqa: E402
 import radiance  # noqa: E402
 import scenes  # noqa: E402
 import svgplot  # noqa: E402
@@ -1127,9 +1128,22 @@ def panels_markdown(s, results):
     return L
 
 
+def provenance_line(results):
+    """bench/provenance.py's line from the run's own record (so `--replot` keeps the commit,
+    date and machine the figures were measured at)."""
+    m = results["machine"]
+    commit = m["gitCommit"].split()[0][:7]
+    dirty = ", with uncommitted changes" if "uncommitted" in m["gitCommit"] else ""
+    command = results["command"]
+    section = "quick" if " --scenes office-panels " in command + " " else "all"
+    return provenance.line(command, section, at=f"{commit} (measured at{dirty})",
+                           date=results["date"][:10],
+                           machine_text=f"{m['cores']} cores, {m['ramGiB']} GiB ({m['cpu']})")
+
+
 def write_markdown(results, out, rows):
     m = results["machine"]
-    L = ["# luxbake benchmark results", "",
+    L = ["# luxbake benchmark results", "", provenance_line(results), "",
          f"Written by `{results['command']}` on {results['date']} "
          f"(harness wall time {results['harnessSeconds'] / 60:.1f} min)." +
          (f" Tables, verdicts and plots rewritten from results.json (`--replot`, no new runs) "

@@ -28,6 +28,7 @@ import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import measure  # noqa: E402
+import provenance  # noqa: E402
 import scenes  # noqa: E402
 
 BENCH = os.path.dirname(os.path.abspath(__file__))
@@ -85,6 +86,7 @@ def main():
     ap.add_argument("--out", default=os.path.join(BENCH, "results", "skips.md"))
     a = ap.parse_args()
     lines = ["# Skipping what a scene does not need", "",
+             provenance.line("python3 bench/skips.py", "quick"), "",
              "Written by `python3 bench/skips.py`; wall and CPU time in s (fastest of three), "
              "same machine notes as results.md.", "",
              "| scene | variant | wall s | CPU s | patches | links | rays | error |",
