@@ -328,3 +328,54 @@ fn a_bake_under_a_100_000_deep_node_chain_bakes_reports_and_diffs() {
         .unwrap_or_else(|| panic!("no floor row"));
     assert!(row.contains("n0/n1/n2/"), "{}", &row[..100]);
 }
+
+/// The budget's memory model (64 MiB + 6 KiB a patch + 32 KiB a probe, docs/limits.md) is an
+/// upper bound of the peak resident memory measured per stage (`--summary-json`'s `memoryKib`)
+/// on the office (one thread) and a generated floor (two), with working planes; the
+/// ratio is printed (the model errs high, so a refusal never comes after the memory is gone).
+#[test]
+fn the_memory_model_bounds_the_measured_peak() {
+    use luxbake::bake::budget::{BYTES_BASE, BYTES_PER_PATCH, BYTES_PER_PROBE};
+    let dir = scratch("limits-memory-model");
+    let floor = dir.join("floor.gltf");
+    let run = bake(["generate", "openplan", "--triangles", "3000", "-q", "-o", s(&floor)]);
+    assert!(run.ok(), "{}", run.stderr);
+    let office = Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/office/office.gltf");
+    let runs = [("office", office.as_path(), "1"), ("floor", floor.as_path(), "2")];
+    for (name, input, threads) in runs {
+        {
+            let (out, json) = (dir.join("lit.glb"), dir.join(format!("{name}-{threads}.json")));
+            let csv = dir.join("probes.csv");
+            let run = bake([
+                s(input),
+                "-o",
+                s(&out),
+                "-q",
+                "--working-plane",
+                "0.75",
+                "--threads",
+                threads,
+                "--summary-json",
+                s(&json),
+                "--probes-out",
+                s(&csv),
+            ]);
+            assert!(run.ok(), "{}", run.stderr);
+            let sum = summary(&json);
+            let probes = std::fs::read_to_string(&csv).unwrap().lines().count() as f64 - 1.0;
+            let peak_kib = (sum["memoryKib"].as_array().unwrap().iter())
+                .map(|m| m["peakKib"].as_f64().unwrap())
+                .fold(0.0, f64::max);
+            let patches = sum["counts"]["patches"].as_f64().unwrap();
+            let model = BYTES_BASE + BYTES_PER_PATCH * patches + BYTES_PER_PROBE * probes;
+            let peak = peak_kib * 1024.0;
+            eprintln!(
+                "{name} at {threads} thread(s): {patches} patches, {probes} probes, peak {:.0} MiB, model {:.0} MiB ({:.2}x)",
+                peak / 1048576.0,
+                model / 1048576.0,
+                model / peak
+            );
+            assert!(peak > 0.0 && peak <= model, "{name}: peak {peak} B above the model's {model} B");
+        }
+    }
+}
