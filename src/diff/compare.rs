@@ -6,7 +6,7 @@
 use super::lightmaps::{explain, plan};
 use super::matching::{Matched, match_outputs};
 use super::stats::{Candidate, Check, Columns, Loc, Tolerance, Worst, percentile};
-use super::surfaces;
+use super::surfaces::{self, Push};
 use super::{BakedOutput, Diff, Mismatch, Mode, Options, Place, Quantity, QuantityDiff};
 use crate::baked::Texel;
 use crate::probes::FACE_NAMES;
@@ -79,6 +79,15 @@ fn group_means(a: &BakedOutput, b: &BakedOutput, m: &Matched, texels: bool) -> G
     GroupMeans { nodes, materials }
 }
 
+/// Quantity `q`'s tolerance in its unit.
+fn tolerance(q: Quantity, options: &Options, floor: f64) -> Tolerance {
+    Tolerance {
+        atol: q.in_unit(options.atol),
+        rtol: options.rtol,
+        floor: q.in_unit(floor),
+    }
+}
+
 /// Compare A (the candidate) with B (the reference). `names` are the two files' names for the
 /// output.
 pub fn compare(
@@ -91,88 +100,22 @@ pub fn compare(
     let plan = plan(a, b, &m, options)?;
     let mode = plan.mode;
     let floor = options.floor.unwrap_or_else(|| default_floor(b));
-    let (ra, rb) = (&a, &b);
-    let means = (mode == Mode::Means).then(|| group_means(ra, rb, &m, plan.texel_means));
-    let node_names: Vec<String> = m.nodes.iter().map(|p| p.name.clone()).collect();
-    let probe_names: Vec<String> = m.probes.iter().map(|p| p.name.clone()).collect();
+    let means = (mode == Mode::Means).then(|| group_means(a, b, &m, plan.texel_means));
+    let pair = Pair {
+        a,
+        b,
+        m: &m,
+        mode,
+        means: means.as_ref(),
+        node_names: m.nodes.iter().map(|p| p.name.clone()).collect(),
+        probe_names: m.probes.iter().map(|p| p.name.clone()).collect(),
+    };
 
     let mut worst = Worst::new(options.worst);
     let mut quantities = Vec::with_capacity(Quantity::ALL.len());
     for (qi, q) in Quantity::ALL.into_iter().enumerate() {
-        let tolerance = Tolerance {
-            atol: q.in_unit(options.atol),
-            rtol: options.rtol,
-            floor: q.in_unit(floor),
-        };
-        let mut cols = Columns::default();
-        // The working plane's values are also probe faces: no second entry among the worst.
-        let mut elsewhere = Worst::new(1);
-        let w = if q == Quantity::WorkingPlane {
-            &mut elsewhere
-        } else {
-            &mut worst
-        };
-        let mut push = |cols: &mut Columns, loc: Loc, x: f64, y: f64| {
-            cols.push(tolerance.check(x, y), w, (qi, loc), (x, y));
-        };
-        match q {
-            Quantity::ProbeFaces | Quantity::WorkingPlane => {
-                for (k, pp) in m.probes.iter().enumerate() {
-                    let (fa, fb) = (&a.probes[pp.a].faces, &b.probes[pp.b].faces);
-                    if q == Quantity::ProbeFaces {
-                        cols.run(Some(k), None);
-                        for f in 0..6 {
-                            push(&mut cols, Loc::Probe { pair: k, face: f }, fa[f], fb[f]);
-                        }
-                    } else if pp.working_plane {
-                        push(&mut cols, Loc::Probe { pair: k, face: 2 }, fa[2], fb[2]);
-                    }
-                }
-            }
-            _ if mode.by_vertex() => {
-                let each = match mode {
-                    Mode::Texels => surfaces::texels,
-                    Mode::Samples => surfaces::samples,
-                    _ => surfaces::vertices,
-                };
-                each(q, ra, rb, &m, &mut cols, &mut push);
-            }
-            _ => {
-                if let Some(gm) = &means {
-                    for (k, (ma, mb)) in gm.nodes.iter().enumerate() {
-                        cols.run(Some(k), None);
-                        push(
-                            &mut cols,
-                            Loc::NodeMean { pair: k },
-                            ma.values[qi],
-                            mb.values[qi],
-                        );
-                    }
-                    for (g, pair) in gm.materials.iter().enumerate() {
-                        if let Some((ma, mb)) = pair {
-                            cols.run(None, Some(g));
-                            let (x, y) = (ma.values[qi], mb.values[qi]);
-                            push(&mut cols, Loc::MaterialMean { group: g }, x, y);
-                        }
-                    }
-                }
-            }
-        }
-        let (node_groups, material_groups): (&[String], &[String]) = match q {
-            Quantity::ProbeFaces => (&probe_names, &[]),
-            Quantity::WorkingPlane => (&[], &[]),
-            _ => (&node_names, &m.materials),
-        };
-        let (overall, by_node, by_material) = cols.groups(node_groups, material_groups);
-        quantities.push(QuantityDiff {
-            quantity: q.key(),
-            unit: q.unit(),
-            atol: tolerance.atol,
-            floor: tolerance.floor,
-            overall,
-            by_node,
-            by_material,
-        });
+        let tolerance = tolerance(q, options, floor);
+        quantities.push(pair.quantity(qi, q, tolerance, &mut worst));
     }
 
     let mut worst: Vec<Place> = worst
@@ -203,6 +146,107 @@ pub fn compare(
     })
 }
 
+/// What every quantity is compared over: both files, their matching, the mode, the group means
+/// (means mode only) and the groups' names.
+struct Pair<'a> {
+    a: &'a BakedOutput,
+    b: &'a BakedOutput,
+    m: &'a Matched,
+    mode: Mode,
+    means: Option<&'a GroupMeans>,
+    node_names: Vec<String>,
+    probe_names: Vec<String>,
+}
+
+impl Pair<'_> {
+    /// Quantity `q` (number `qi`) tested against `tolerance` and summarised; its failures are
+    /// offered to `worst`.
+    fn quantity(
+        &self,
+        qi: usize,
+        q: Quantity,
+        tolerance: Tolerance,
+        worst: &mut Worst,
+    ) -> QuantityDiff {
+        let mut cols = Columns::default();
+        // The working plane's values are also probe faces: no second entry among the worst.
+        let mut elsewhere = Worst::new(1);
+        let w = if q == Quantity::WorkingPlane {
+            &mut elsewhere
+        } else {
+            worst
+        };
+        let mut push = |cols: &mut Columns, loc: Loc, x: f64, y: f64| {
+            cols.push(tolerance.check(x, y), w, (qi, loc), (x, y));
+        };
+        self.values(qi, q, &mut cols, &mut push);
+        let (node_groups, material_groups): (&[String], &[String]) = match q {
+            Quantity::ProbeFaces => (&self.probe_names, &[]),
+            Quantity::WorkingPlane => (&[], &[]),
+            _ => (&self.node_names, &self.m.materials),
+        };
+        let (overall, by_node, by_material) = cols.groups(node_groups, material_groups);
+        QuantityDiff {
+            quantity: q.key(),
+            unit: q.unit(),
+            atol: tolerance.atol,
+            floor: tolerance.floor,
+            overall,
+            by_node,
+            by_material,
+        }
+    }
+
+    /// Pushes quantity `q`'s pairs of values in their fixed order: probe faces (or the working
+    /// plane's upward face), else the surfaces' values by the mode, else the group means.
+    fn values(&self, qi: usize, q: Quantity, cols: &mut Columns, push: &mut Push) {
+        let (a, b, m) = (self.a, self.b, self.m);
+        match q {
+            Quantity::ProbeFaces | Quantity::WorkingPlane => {
+                for (k, pp) in m.probes.iter().enumerate() {
+                    let (fa, fb) = (&a.probes[pp.a].faces, &b.probes[pp.b].faces);
+                    if q == Quantity::ProbeFaces {
+                        cols.run(Some(k), None);
+                        for f in 0..6 {
+                            push(cols, Loc::Probe { pair: k, face: f }, fa[f], fb[f]);
+                        }
+                    } else if pp.working_plane {
+                        push(cols, Loc::Probe { pair: k, face: 2 }, fa[2], fb[2]);
+                    }
+                }
+            }
+            _ if self.mode.by_vertex() => {
+                let each = match self.mode {
+                    Mode::Texels => surfaces::texels,
+                    Mode::Samples => surfaces::samples,
+                    _ => surfaces::vertices,
+                };
+                each(q, a, b, m, cols, push);
+            }
+            _ => {
+                if let Some(gm) = self.means {
+                    for (k, (ma, mb)) in gm.nodes.iter().enumerate() {
+                        cols.run(Some(k), None);
+                        push(
+                            cols,
+                            Loc::NodeMean { pair: k },
+                            ma.values[qi],
+                            mb.values[qi],
+                        );
+                    }
+                    for (g, pair) in gm.materials.iter().enumerate() {
+                        if let Some((ma, mb)) = pair {
+                            cols.run(None, Some(g));
+                            let (x, y) = (ma.values[qi], mb.values[qi]);
+                            push(cols, Loc::MaterialMean { group: g }, x, y);
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
 /// A candidate with its names and position.
 fn place(
     c: &Candidate,
@@ -213,19 +257,13 @@ fn place(
     means: Option<&GroupMeans>,
 ) -> Place {
     let q = Quantity::ALL[c.quantity];
-    let tolerance = Tolerance {
-        atol: q.in_unit(options.atol),
-        rtol: options.rtol,
-        floor: q.in_unit(floor),
-    };
     let Check {
         abs,
         rel,
         tolerance,
         pass,
         ..
-    } = tolerance.check(c.a, c.b);
-    let rb = &b;
+    } = tolerance(q, options, floor).check(c.a, c.b);
     let mut p = Place {
         quantity: q.key(),
         kind: "",
@@ -245,17 +283,28 @@ fn place(
         tolerance,
         pass,
     };
-    match c.loc {
+    locate(&mut p, c.loc, b, m, means);
+    p
+}
+
+/// Fills in `p`'s kind, names and position (in B) from where the value is.
+fn locate(p: &mut Place, loc: Loc, b: &BakedOutput, m: &Matched, means: Option<&GroupMeans>) {
+    // A value on primitive `primitive` of node pair `pair`: its kind, node, material, index.
+    let on_primitive = |p: &mut Place, kind: &'static str, pair: usize, primitive: usize| {
+        let prim = &b.primitives[m.nodes[pair].prims_b[primitive]];
+        p.kind = kind;
+        p.node = Some(m.nodes[pair].name.clone());
+        p.material = Some(m.materials[m.material_of_b[prim.material]].clone());
+        p.primitive = Some(primitive);
+        prim
+    };
+    match loc {
         Loc::Vertex {
             pair,
             primitive,
             vertex,
         } => {
-            let prim = &rb.primitives[m.nodes[pair].prims_b[primitive]];
-            p.kind = "vertex";
-            p.node = Some(m.nodes[pair].name.clone());
-            p.material = Some(m.materials[m.material_of_b[prim.material]].clone());
-            p.primitive = Some(primitive);
+            let prim = on_primitive(p, "vertex", pair, primitive);
             p.vertex = Some(vertex);
             p.position = prim.positions[vertex].to_array();
         }
@@ -264,11 +313,7 @@ fn place(
             primitive,
             texel,
         } => {
-            let prim = &rb.primitives[m.nodes[pair].prims_b[primitive]];
-            p.kind = "texel";
-            p.node = Some(m.nodes[pair].name.clone());
-            p.material = Some(m.materials[m.material_of_b[prim.material]].clone());
-            p.primitive = Some(primitive);
+            let prim = on_primitive(p, "texel", pair, primitive);
             if let Some(layout) = &prim.lightmap {
                 let lm = &b.lightmaps[layout.lightmap];
                 p.atlas = Some(lm.atlas);
@@ -294,11 +339,7 @@ fn place(
             primitive,
             point,
         } => {
-            let prim = &rb.primitives[m.nodes[pair].prims_b[primitive]];
-            p.kind = "sample";
-            p.node = Some(m.nodes[pair].name.clone());
-            p.material = Some(m.materials[m.material_of_b[prim.material]].clone());
-            p.primitive = Some(primitive);
+            let prim = on_primitive(p, "sample", pair, primitive);
             let n = prim.positions.len();
             if point < n {
                 p.vertex = Some(point);
@@ -329,5 +370,4 @@ fn place(
             p.position = centroid.unwrap_or(DVec3::ZERO).to_array();
         }
     }
-    p
 }

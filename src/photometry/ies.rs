@@ -184,12 +184,30 @@ fn count(tokens: &mut Tokens, what: &str, min: i64) -> Result<usize, ParseError>
     Ok(n as usize)
 }
 
-fn body(
-    year: u16,
-    keywords: Vec<(String, String)>,
-    tilt: Option<TiltTable>,
-    tokens: &mut Tokens,
-) -> Result<Parsed, ParseError> {
+/// The numbers between the tilt data and the angles.
+struct Header {
+    lamps: usize,
+    /// Lumens per lamp, and whether the file is in absolute photometry (−1).
+    lumens: f64,
+    absolute: bool,
+    /// The candela multiplier.
+    multiplier: f64,
+    /// Vertical and horizontal angle counts.
+    nv: usize,
+    nh: usize,
+    ty: PhotometricType,
+    /// Metres per unit of `dims` (width, length, height).
+    scale: f64,
+    dims: Vec<f64>,
+    ballast: f64,
+    /// The ballast-lamp photometric factor (1986/1991); else the future-use / file generation
+    /// type field.
+    second: f64,
+    watts: f64,
+}
+
+/// Reads the [`Header`], checking each number as it comes.
+fn header(old: bool, tokens: &mut Tokens) -> Result<Header, ParseError> {
     let lamps = count(tokens, "the number of lamps", 1)?;
     let (lumens, line) = tokens.number("the lumens per lamp")?;
     let absolute = lumens == -1.0;
@@ -227,7 +245,6 @@ fn body(
     };
     let (dims, _) = tokens.numbers(3, |i| ["the width", "the length", "the height"][i].into())?;
     let ballast = positive(tokens, "the ballast factor")?;
-    let old = year <= 1991;
     let second = if old {
         positive(tokens, "the ballast-lamp photometric factor")?
     } else {
@@ -236,6 +253,34 @@ fn body(
             .0
     };
     let (watts, _) = tokens.number("the input watts")?;
+    Ok(Header {
+        lamps,
+        lumens,
+        absolute,
+        multiplier,
+        nv,
+        nh,
+        ty,
+        scale,
+        dims,
+        ballast,
+        second,
+        watts,
+    })
+}
+
+/// The angles (with the lines they are on) and the candela values plane by plane, as read.
+struct Table {
+    v: Vec<f64>,
+    v_lines: Vec<usize>,
+    h: Vec<f64>,
+    h_lines: Vec<usize>,
+    cd: Vec<f64>,
+}
+
+/// Reads `nv` vertical and `nh` horizontal angles (each increasing) and the `nv × nh` candela
+/// values (each ≥ 0), which must end the file.
+fn table(tokens: &mut Tokens, nv: usize, nh: usize) -> Result<Table, ParseError> {
     let (v, v_lines) = tokens.numbers(nv, |i| format!("vertical angle {} of {nv}", i + 1))?;
     check_increasing(&v, &v_lines, "vertical angles")?;
     let (h, h_lines) = tokens.numbers(nh, |i| format!("horizontal angle {} of {nh}", i + 1))?;
@@ -263,9 +308,36 @@ fn body(
             ),
         ));
     }
-    let factor = multiplier
-        * ballast
-        * if old { second } else { 1.0 }
+    Ok(Table {
+        v,
+        v_lines,
+        h,
+        h_lines,
+        cd,
+    })
+}
+
+/// Everything after the tilt data: the header numbers, the table in absolute candela on its
+/// grid, and the file's information.
+fn body(
+    year: u16,
+    keywords: Vec<(String, String)>,
+    tilt: Option<TiltTable>,
+    tokens: &mut Tokens,
+) -> Result<Parsed, ParseError> {
+    let old = year <= 1991;
+    let hd = header(old, tokens)?;
+    let (nv, ty) = (hd.nv, hd.ty);
+    let Table {
+        v,
+        v_lines,
+        h,
+        h_lines,
+        cd,
+    } = table(tokens, nv, hd.nh)?;
+    let factor = hd.multiplier
+        * hd.ballast
+        * if old { hd.second } else { 1.0 }
         * tilt.as_ref().map_or(1.0, |t| t.applied_factor);
     let planes: Vec<Plane> = h
         .iter()
@@ -298,13 +370,14 @@ fn body(
         lamp: find("LAMP"),
         test: find("TEST"),
         keywords,
-        lamp_count: lamps as u32,
-        rated_lumens: (!absolute).then_some(lumens * lamps as f64),
-        input_watts: Some(watts),
+        lamp_count: hd.lamps as u32,
+        rated_lumens: (!hd.absolute).then_some(hd.lumens * hd.lamps as f64),
+        input_watts: Some(hd.watts),
         tilt,
         declared_lorl_percent: None,
         declared_dff_percent: None,
     };
+    let (dims, scale) = (&hd.dims, hd.scale);
     Ok(Parsed {
         info,
         grid,

@@ -87,14 +87,8 @@ pub fn figure(v: f64) -> String {
 
 /// The plan laid out.
 pub fn draw(plan: &Plan) -> Drawing {
-    let size = plan.size as f64;
-    let text = ((size / 60.0).round() as u32).clamp(11, 40);
-    let big = text + text / 3;
-    let margin = (text as f64 * 1.5).round();
-    let field = &plan.field;
-    let extent = field.extent();
-    let k = size / extent.max_element();
-    let (pw, ph) = (extent.x * k, extent.y * k);
+    let page = Page::new(plan);
+    let (text, big, margin, left) = (page.text, page.big, page.margin, page.left);
     let unit = plan.quantity.unit();
     let sym = plan.quantity.symbol();
     let figures = format!(
@@ -106,33 +100,132 @@ pub fn draw(plan: &Plan) -> Drawing {
     );
     let title = format!("{}: {figures}", plan.name);
     let note = plan.frame.note();
-    let line = text as f64 * 1.6;
-    let top = margin + big as f64 + text as f64 * 0.6 + 2.0 * line + margin;
-    let left = margin;
     let mut items = Vec::new();
-    // The name on the first line, the figures and the note below it: three short lines, so the
-    // page's width is the plan's and the legend's, not a long title's.
+    heading(&page, [&plan.name, &figures, &note], &mut items);
+    let (mut cells, no_data) = field_cells(plan, &page);
+    for [a, b] in &plan.outline {
+        items.push(Item::Line {
+            points: vec![page.to_page(*a), page.to_page(*b)],
+            colour: BLACK,
+            width: 2.0,
+        });
+    }
+    contours(plan, &page, &mut items);
+    // A frame round the plan.
+    let plan_box = page.plan_box();
+    items.push(Item::Line {
+        points: vec![
+            plan_box[0],
+            DVec2::new(plan_box[1].x, plan_box[0].y),
+            plan_box[1],
+            DVec2::new(plan_box[0].x, plan_box[1].y),
+            plan_box[0],
+        ],
+        colour: [120, 120, 120],
+        width: 1.0,
+    });
+    let legend = legend(plan, &page, no_data, &mut cells, &mut items);
+    let y = scale_bar(plan, &page, &mut items);
+
+    let width = (legend.x + legend.label_w.max(legend.bar_w) + margin)
+        .max(left + width(&plan.name, big) + margin)
+        .max(left + width(&figures, text) + margin)
+        .max(left + width(&note, text) + margin)
+        .ceil();
+    let height = (y + margin).max(legend.bottom + margin).ceil();
+    Drawing {
+        width: width as u32,
+        height: height as u32,
+        title,
+        field: cells,
+        items,
+    }
+}
+
+/// The page's measures: text sizes (px), the margin, and where the plan sits at how many px per
+/// metre.
+struct Page {
+    text: u32,
+    big: u32,
+    margin: f64,
+    /// Page px per metre.
+    k: f64,
+    /// The plan's top-left corner on the page, and its width and height (px).
+    left: f64,
+    top: f64,
+    pw: f64,
+    ph: f64,
+    /// The field's origin (m), drawn at (left, top).
+    origin: DVec2,
+}
+
+impl Page {
+    /// The plan at `size / (longer side)` px per metre, under three lines of heading.
+    fn new(plan: &Plan) -> Page {
+        let size = plan.size as f64;
+        let text = ((size / 60.0).round() as u32).clamp(11, 40);
+        let big = text + text / 3;
+        let margin = (text as f64 * 1.5).round();
+        let extent = plan.field.extent();
+        let k = size / extent.max_element();
+        let (pw, ph) = (extent.x * k, extent.y * k);
+        let line = text as f64 * 1.6;
+        let top = margin + big as f64 + text as f64 * 0.6 + 2.0 * line + margin;
+        Page {
+            text,
+            big,
+            margin,
+            k,
+            left: margin,
+            top,
+            pw,
+            ph,
+            origin: plan.field.origin,
+        }
+    }
+
+    /// A point of the plane (m) on the page.
+    fn to_page(&self, p: DVec2) -> DVec2 {
+        DVec2::new(self.left, self.top) + (p - self.origin) * self.k
+    }
+
+    /// The plan's corners on the page: top-left, bottom-right.
+    fn plan_box(&self) -> [DVec2; 2] {
+        [
+            DVec2::new(self.left, self.top),
+            DVec2::new(self.left + self.pw, self.top + self.ph),
+        ]
+    }
+}
+
+/// The name on the first line, the figures and the note below it: three short lines, so the
+/// page's width is the plan's and the legend's, not a long title's.
+fn heading(page: &Page, [name, figures, note]: [&str; 3], items: &mut Vec<Item>) {
+    let (text, big, margin, left) = (page.text, page.big, page.margin, page.left);
+    let line = text as f64 * 1.6;
     items.push(Item::Text {
         x: left,
         y: margin,
         size: big,
-        text: plan.name.clone(),
+        text: name.to_string(),
         colour: BLACK,
         anchor: Anchor::Start,
     });
-    for (k, t) in [figures.clone(), note.clone()].into_iter().enumerate() {
+    for (k, t) in [figures, note].into_iter().enumerate() {
         items.push(Item::Text {
             x: left,
             y: margin + big as f64 + text as f64 * 0.6 + k as f64 * line,
             size: text,
-            text: t,
+            text: t.to_string(),
             colour: BLACK,
             anchor: Anchor::Start,
         });
     }
-    let to_page = |p: DVec2| DVec2::new(left, top) + (p - field.origin) * k;
+}
 
-    // The field: runs of one colour along each row.
+/// The field: runs of one colour along each row, and whether any cell has no data.
+fn field_cells(plan: &Plan, page: &Page) -> (Vec<Item>, bool) {
+    let (field, left, top) = (&plan.field, page.left, page.top);
     let mut cells = Vec::new();
     let colour = |v: f64| {
         if v.is_finite() {
@@ -141,7 +234,7 @@ pub fn draw(plan: &Plan) -> Drawing {
             NO_DATA
         }
     };
-    let ck = field.cell * k;
+    let ck = field.cell * page.k;
     let mut no_data = false;
     for r in 0..field.h {
         let row = &field.values[r * field.w..(r + 1) * field.w];
@@ -163,28 +256,27 @@ pub fn draw(plan: &Plan) -> Drawing {
             });
         }
     }
+    (cells, no_data)
+}
 
-    // The outline.
-    for [a, b] in &plan.outline {
-        items.push(Item::Line {
-            points: vec![to_page(*a), to_page(*b)],
-            colour: BLACK,
-            width: 2.0,
-        });
-    }
-
-    // Contours and their labels.
+/// The contours at the scale's levels inside the values' range, then their labels on white
+/// boxes.
+fn contours(plan: &Plan, page: &Page, items: &mut Vec<Item>) {
+    let (field, text) = (&plan.field, page.text);
+    let unit = plan.quantity.unit();
     let (lo, hi) = finite_range(&field.values);
-    let mut placed: Vec<[DVec2; 2]> = Vec::new();
-    let mut labels = Vec::new();
-    let plan_box = [DVec2::new(left, top), DVec2::new(left + pw, top + ph)];
+    let mut labels = Labels {
+        plan_box: page.plan_box(),
+        placed: Vec::new(),
+        labels: Vec::new(),
+    };
     for level in plan.scale.levels() {
         if !(level > lo && level < hi) {
             continue;
         }
         let mut lines: Vec<Vec<DVec2>> = isolines(&field.values, field.w, field.h, level)
             .into_iter()
-            .map(|l| l.into_iter().map(|g| to_page(field.at(g))).collect())
+            .map(|l| l.into_iter().map(|g| page.to_page(field.at(g))).collect())
             .collect();
         for l in &lines {
             items.push(Item::Line {
@@ -196,36 +288,9 @@ pub fn draw(plan: &Plan) -> Drawing {
         let label = format!("{} {unit}", plan.scale.label(level));
         let half = DVec2::new(width(&label, text) / 2.0 + 2.0, text as f64 / 2.0 + 1.0);
         lines.sort_by(|a, b| length(b).total_cmp(&length(a)));
-        let mut any = false;
-        for l in lines.iter().take(4) {
-            if length(l) < 3.0 * half.x {
-                continue;
-            }
-            let spot = [0.5, 0.25, 0.75, 0.125, 0.375, 0.625, 0.875]
-                .into_iter()
-                .map(|f| point_along(l, f))
-                .find(|&p| {
-                    let b = [p - half, p + half];
-                    inside(&b, &plan_box) && !placed.iter().any(|q| overlap(&b, q))
-                });
-            if let Some(p) = spot {
-                placed.push([p - half, p + half]);
-                labels.push((p, half, label.clone()));
-                any = true;
-            }
-        }
-        // A level none of whose lines had room for a label on a free spot: at its longest
-        // line's middle, if that overlaps no label either (else the legend alone names it).
-        if !any && let Some(l) = lines.first().filter(|l| l.len() > 1) {
-            let p = point_along(l, 0.5);
-            let b = [p - half, p + half];
-            if !placed.iter().any(|q| overlap(&b, q)) {
-                placed.push(b);
-                labels.push((p, half, label.clone()));
-            }
-        }
+        labels.level(&lines, half, &label);
     }
-    for (p, half, label) in labels {
+    for (p, half, label) in labels.labels {
         items.push(Item::Rect {
             x: p.x - half.x,
             y: p.y - half.y,
@@ -242,44 +307,77 @@ pub fn draw(plan: &Plan) -> Drawing {
             anchor: Anchor::Middle,
         });
     }
-    // A frame round the plan.
-    items.push(Item::Line {
-        points: vec![
-            plan_box[0],
-            DVec2::new(plan_box[1].x, plan_box[0].y),
-            plan_box[1],
-            DVec2::new(plan_box[0].x, plan_box[1].y),
-            plan_box[0],
-        ],
-        colour: [120, 120, 120],
-        width: 1.0,
-    });
+}
 
-    // The legend: the colour bar from hi (top) to lo, the levels beside it, the unit above.
-    let bar_x = left + pw + 2.0 * margin;
+/// Contour labels placed so far: each box, and (centre, half size, text).
+struct Labels {
+    plan_box: [DVec2; 2],
+    placed: Vec<[DVec2; 2]>,
+    labels: Vec<(DVec2, DVec2, String)>,
+}
+
+impl Labels {
+    /// Labels `label` (box half size `half`) on a level's `lines`, longest first: on each of the
+    /// four longest with room, at the first candidate point whose box is free and in the plan.
+    fn level(&mut self, lines: &[Vec<DVec2>], half: DVec2, label: &str) {
+        let mut any = false;
+        for l in lines.iter().take(4) {
+            if length(l) < 3.0 * half.x {
+                continue;
+            }
+            let spot = [0.5, 0.25, 0.75, 0.125, 0.375, 0.625, 0.875]
+                .into_iter()
+                .map(|f| point_along(l, f))
+                .find(|&p| {
+                    let b = [p - half, p + half];
+                    inside(&b, &self.plan_box) && !self.placed.iter().any(|q| overlap(&b, q))
+                });
+            if let Some(p) = spot {
+                self.placed.push([p - half, p + half]);
+                self.labels.push((p, half, label.to_string()));
+                any = true;
+            }
+        }
+        // A level none of whose lines had room for a label on a free spot: at its longest
+        // line's middle, if that overlaps no label either (else the legend alone names it).
+        if !any && let Some(l) = lines.first().filter(|l| l.len() > 1) {
+            let p = point_along(l, 0.5);
+            let b = [p - half, p + half];
+            if !self.placed.iter().any(|q| overlap(&b, q)) {
+                self.placed.push(b);
+                self.labels.push((p, half, label.to_string()));
+            }
+        }
+    }
+}
+
+/// Where the legend went: the colour bar's x and width, the widest of the bar and its labels,
+/// and its bottom (px).
+struct Legend {
+    x: f64,
+    bar_w: f64,
+    label_w: f64,
+    bottom: f64,
+}
+
+/// The legend right of the plan: the colour bar from hi (top) to lo (into `cells`), the levels
+/// beside it, the unit above, and a "no data" swatch under it if `no_data`.
+fn legend(
+    plan: &Plan,
+    page: &Page,
+    no_data: bool,
+    cells: &mut Vec<Item>,
+    items: &mut Vec<Item>,
+) -> Legend {
+    let (text, top) = (page.text, page.top);
+    let unit = plan.quantity.unit();
+    let sym = plan.quantity.symbol();
+    let bar_x = page.left + page.pw + 2.0 * page.margin;
     let bar_w = text as f64 * 1.5;
     let bar_top = top + text as f64 * 1.5;
-    let bar_h = (ph - text as f64 * 1.5).max(12.0 * text as f64);
+    let bar_h = (page.ph - text as f64 * 1.5).max(12.0 * text as f64);
     let s = &plan.scale;
-    let strips = 256;
-    let mut start = 0;
-    for i in 0..strips {
-        // Top strip = hi; each strip shows the colour at its centre's position on the scale, and
-        // strips of one colour (a band) are one rectangle.
-        let colour_of = |i: usize| s.colour(value_at(s, 1.0 - (i as f64 + 0.5) / strips as f64));
-        if i + 1 < strips && colour_of(i + 1) == colour_of(start) {
-            continue;
-        }
-        let y0 = bar_top + bar_h * start as f64 / strips as f64;
-        cells.push(Item::Rect {
-            x: bar_x,
-            y: y0,
-            w: bar_w,
-            h: bar_top + bar_h * (i + 1) as f64 / strips as f64 - y0,
-            fill: colour_of(start),
-        });
-        start = i + 1;
-    }
+    colour_bar(s, [bar_x, bar_top, bar_w, bar_h], cells);
     items.push(Item::Text {
         x: bar_x,
         y: top,
@@ -313,30 +411,62 @@ pub fn draw(plan: &Plan) -> Drawing {
             anchor: Anchor::Start,
         });
     }
-    let mut legend_bottom = bar_top + bar_h;
+    let mut bottom = bar_top + bar_h;
     if no_data {
         items.push(Item::Rect {
             x: bar_x,
-            y: legend_bottom + text as f64,
+            y: bottom + text as f64,
             w: bar_w,
             h: text as f64,
             fill: NO_DATA,
         });
         items.push(Item::Text {
             x: bar_x + bar_w + 8.0,
-            y: legend_bottom + text as f64,
+            y: bottom + text as f64,
             size: text,
             text: "no data".into(),
             colour: BLACK,
             anchor: Anchor::Start,
         });
-        legend_bottom += 2.0 * text as f64;
+        bottom += 2.0 * text as f64;
     }
+    Legend {
+        x: bar_x,
+        bar_w,
+        label_w,
+        bottom,
+    }
+}
 
-    // The scale bar.
-    let metres = scale_bar_length(extent.max_element());
-    let (x0, x1) = (left, left + metres * k);
-    let y = top + ph + margin;
+/// The colour bar of scale `s` at `[x, top, width, height]` (px), hi at the top, as 256 strips
+/// where strips of one colour (a band) are one rectangle.
+fn colour_bar(s: &ColourScale, [bar_x, bar_top, bar_w, bar_h]: [f64; 4], cells: &mut Vec<Item>) {
+    let strips = 256;
+    let mut start = 0;
+    for i in 0..strips {
+        // Top strip = hi; each strip shows the colour at its centre's position on the scale.
+        let colour_of = |i: usize| s.colour(value_at(s, 1.0 - (i as f64 + 0.5) / strips as f64));
+        if i + 1 < strips && colour_of(i + 1) == colour_of(start) {
+            continue;
+        }
+        let y0 = bar_top + bar_h * start as f64 / strips as f64;
+        cells.push(Item::Rect {
+            x: bar_x,
+            y: y0,
+            w: bar_w,
+            h: bar_top + bar_h * (i + 1) as f64 / strips as f64 - y0,
+            fill: colour_of(start),
+        });
+        start = i + 1;
+    }
+}
+
+/// The scale bar under the plan, about a quarter of its longer side; returns its y (px).
+fn scale_bar(plan: &Plan, page: &Page, items: &mut Vec<Item>) -> f64 {
+    let text = page.text;
+    let metres = scale_bar_length(plan.field.extent().max_element());
+    let (x0, x1) = (page.left, page.left + metres * page.k);
+    let y = page.top + page.ph + page.margin;
     let tick = text as f64 / 2.0;
     items.push(Item::Line {
         points: vec![
@@ -356,20 +486,7 @@ pub fn draw(plan: &Plan) -> Drawing {
         colour: BLACK,
         anchor: Anchor::Start,
     });
-
-    let width = (bar_x + label_w.max(bar_w) + margin)
-        .max(left + width(&plan.name, big) + margin)
-        .max(left + width(&figures, text) + margin)
-        .max(left + width(&note, text) + margin)
-        .ceil();
-    let height = (y + margin).max(legend_bottom + margin).ceil();
-    Drawing {
-        width: width as u32,
-        height: height as u32,
-        title,
-        field: cells,
-        items,
-    }
+    y
 }
 
 /// A text's width (px) on either page: the bitmap font's, or about 0.55 em a character for the

@@ -32,20 +32,61 @@ pub fn sample(input: &BakedOutput, key: &str, quantity: Quantity, cells: f64) ->
     let (node, face) =
         keys::split_face(key).map_err(|m| Error::Settings(format!("--surface {key}: {m}")))?;
     let i = find_node(input, node)?;
-    let path = input.node_path(i);
-    let prims: Vec<&Primitive> = input.primitives.iter().filter(|p| p.node == i).collect();
-    // The triangles drawn: all of the node's, or those of the face named.
-    let drawn = |p: &Primitive| -> Vec<usize> {
-        (0..p.triangles.len())
-            .filter(|&j| face.is_none_or(|d| keys::faces(p, j, d)))
-            .collect()
+    let at = Node {
+        input,
+        i,
+        path: input.node_path(i),
     };
-    let prims: Vec<(&Primitive, Vec<usize>)> = (prims.into_iter())
-        .map(|p| (p, drawn(p)))
-        .filter(|(_, t)| !t.is_empty())
-        .collect();
-    let not_planar = |why: &str| {
-        let faces = solid_faces(input, i);
+    let path = &at.path;
+    let prims = drawn(input, i, face);
+    if prims.is_empty() && face.is_some() {
+        return Err(at.error(format!(
+            "node '{path}' has no baked face facing {key}'s way"
+        )));
+    }
+    let Some((first, first_tris)) = prims.first() else {
+        return Err(at.error(format!(
+            "node '{path}' has no baked surface (no primitive with _ILLUMINANCE)"
+        )));
+    };
+    let (n, p0) =
+        largest(first, first_tris).ok_or_else(|| at.not_planar("its triangles have no area"))?;
+    let chosen = facing(&at, &prims, n, p0)?;
+    let frame = Frame::of_normal(n);
+    let mut field = grid(&chosen, &frame, cells);
+    let mut set = vec![false; field.w * field.h];
+    let mut edges = Vec::new();
+    for (p, tris) in &chosen {
+        fill(input, p, tris, &frame, quantity, &mut field, &mut set);
+        edges.extend(outline::boundary(p, tris, &frame));
+    }
+    let Some(figures) = figures(&field.values) else {
+        return Err(at.error(format!(
+            "node '{path}': no baked value to draw (all of it is covered)"
+        )));
+    };
+    // The title names the face drawn too.
+    let shown = format!("{path}{}", &key[node.len()..]);
+    Ok((shown, frame, field, outline::tidy(edges), figures))
+}
+
+/// The node drawn: its index and path, for the errors that name it.
+struct Node<'a> {
+    input: &'a BakedOutput,
+    i: usize,
+    path: String,
+}
+
+impl Node<'_> {
+    /// An error at the node.
+    fn error(&self, message: String) -> Error {
+        Error::input(&self.input.file, format!("/nodes/{}", self.i), message)
+    }
+
+    /// The node is not flat (`why`), with the faces it could be drawn by, if any.
+    fn not_planar(&self, why: &str) -> Error {
+        let path = &self.path;
+        let faces = solid_faces(self.input, self.i);
         let hint = match faces.is_empty() {
             true => String::new(),
             false => format!(
@@ -55,33 +96,39 @@ pub fn sample(input: &BakedOutput, key: &str, quantity: Quantity, cells: f64) ->
                     .join(", ")
             ),
         };
-        Error::input(
-            &input.file,
-            format!("/nodes/{i}"),
-            format!(
-                "node '{path}' is not planar ({why}): --surface draws one flat surface (a floor, \
-                 a wall, a table top modelled as a node of its own, or one face of a solid){hint}"
-            ),
-        )
-    };
-    if prims.is_empty() && face.is_some() {
-        return Err(Error::input(
-            &input.file,
-            format!("/nodes/{i}"),
-            format!("node '{path}' has no baked face facing {key}'s way"),
-        ));
+        self.error(format!(
+            "node '{path}' is not planar ({why}): --surface draws one flat surface (a floor, \
+             a wall, a table top modelled as a node of its own, or one face of a solid){hint}"
+        ))
     }
-    let Some((first, first_tris)) = prims.first() else {
-        return Err(Error::input(
-            &input.file,
-            format!("/nodes/{i}"),
-            format!("node '{path}' has no baked surface (no primitive with _ILLUMINANCE)"),
-        ));
+}
+
+/// Node `i`'s baked primitives with the triangles drawn: all of its own, or those of the face
+/// named; primitives left with none are dropped.
+fn drawn(input: &BakedOutput, i: usize, face: Option<DVec3>) -> Vec<(&Primitive, Vec<usize>)> {
+    let drawn = |p: &Primitive| -> Vec<usize> {
+        (0..p.triangles.len())
+            .filter(|&j| face.is_none_or(|d| keys::faces(p, j, d)))
+            .collect()
     };
-    let (n, p0) =
-        largest(first, first_tris).ok_or_else(|| not_planar("its triangles have no area"))?;
+    (input.primitives.iter())
+        .filter(|p| p.node == i)
+        .map(|p| (p, drawn(p)))
+        .filter(|(_, t)| !t.is_empty())
+        .collect()
+}
+
+/// The primitives whose triangles face `n` on the whole (a double-sided surface's back is
+/// skipped), once every triangle is found parallel to `n` and in the plane through `p0`
+/// (within 0.1 mm + 10⁻⁵ of the surface's size).
+fn facing<'a>(
+    at: &Node,
+    prims: &'a [(&'a Primitive, Vec<usize>)],
+    n: DVec3,
+    p0: DVec3,
+) -> Result<Vec<(&'a Primitive, &'a [usize])>> {
     let (mut lo, mut hi) = (DVec3::INFINITY, DVec3::NEG_INFINITY);
-    for (p, tris) in &prims {
+    for (p, tris) in prims {
         for &j in tris {
             for v in p.triangles[j] {
                 lo = lo.min(p.positions[v as usize]);
@@ -91,7 +138,7 @@ pub fn sample(input: &BakedOutput, key: &str, quantity: Quantity, cells: f64) ->
     }
     let tol = 1e-4 + 1e-5 * (hi - lo).length();
     let mut chosen = Vec::new();
-    for (p, tris) in &prims {
+    for (p, tris) in prims {
         let mut facing = 0.0;
         for &j in tris {
             let q = p.triangles[j].map(|v| p.positions[v as usize]);
@@ -100,10 +147,10 @@ pub fn sample(input: &BakedOutput, key: &str, quantity: Quantity, cells: f64) ->
                 continue;
             }
             if m.dot(n).abs() < 0.999 {
-                return Err(not_planar("its triangles face different ways"));
+                return Err(at.not_planar("its triangles face different ways"));
             }
             if q.iter().any(|x| (x - p0).dot(n).abs() > tol) {
-                return Err(not_planar("its triangles lie in parallel planes apart"));
+                return Err(at.not_planar("its triangles lie in parallel planes apart"));
             }
             facing += m.dot(n);
         }
@@ -111,9 +158,14 @@ pub fn sample(input: &BakedOutput, key: &str, quantity: Quantity, cells: f64) ->
             chosen.push((*p, tris.as_slice()));
         }
     }
-    let frame = Frame::of_normal(n);
+    Ok(chosen)
+}
+
+/// A field of no data over the triangles' extent in `frame`, in whole cells of a round size
+/// giving about `cells` along the longer side.
+fn grid(chosen: &[(&Primitive, &[usize])], frame: &Frame, cells: f64) -> Field {
     let (mut a, mut b) = (DVec2::INFINITY, DVec2::NEG_INFINITY);
-    for (p, tris) in &chosen {
+    for (p, tris) in chosen {
         for &j in *tris {
             for v in p.triangles[j] {
                 let q = frame.to_2d(p.positions[v as usize]);
@@ -127,38 +179,25 @@ pub fn sample(input: &BakedOutput, key: &str, quantity: Quantity, cells: f64) ->
     // Whole cells over the extent (an extent of 64.000001 cells is 64: f32 positions).
     let w = ((extent.x / cell - 1e-4).ceil() as usize).max(1);
     let h = ((extent.y / cell - 1e-4).ceil() as usize).max(1);
-    let mut field = Field {
+    Field {
         values: vec![f64::NAN; w * h],
         w,
         h,
         origin: a,
         cell,
-    };
-    let mut set = vec![false; w * h];
-    let mut edges = Vec::new();
-    for (p, tris) in &chosen {
-        fill(input, p, tris, &frame, quantity, &mut field, &mut set);
-        edges.extend(outline::boundary(p, tris, &frame));
     }
-    let values: Vec<f64> = field
-        .values
-        .iter()
-        .copied()
-        .filter(|v| v.is_finite())
-        .collect();
+}
+
+/// The mean, minimum and maximum of the cells with a value; `None` when no cell has one.
+fn figures(cells: &[f64]) -> Option<[f64; 3]> {
+    let values: Vec<f64> = cells.iter().copied().filter(|v| v.is_finite()).collect();
     if values.is_empty() {
-        return Err(Error::input(
-            &input.file,
-            format!("/nodes/{i}"),
-            format!("node '{path}': no baked value to draw (all of it is covered)"),
-        ));
+        return None;
     }
     let avg = values.iter().sum::<f64>() / values.len() as f64;
     let min = values.iter().copied().fold(f64::INFINITY, f64::min);
     let max = values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    // The title names the face drawn too.
-    let shown = format!("{path}{}", &key[node.len()..]);
-    Ok((shown, frame, field, outline::tidy(edges), [avg, min, max]))
+    Some([avg, min, max])
 }
 
 /// The faces (`+x` … `-z`) of node `i`'s baked triangles that have any, in that order: the

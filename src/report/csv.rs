@@ -5,8 +5,9 @@
 //! round-trip decimal); a missing value is an empty field; a surface row's last column is its
 //! `source` (`texels`, `vertices`, `texelsAndVertices`).
 
-use super::{Report, Row};
+use super::{PlaneRow, ProbeRow, ProbeSummary, Report, Row, TargetRow};
 
+/// The report as CSV: the sections present, in a fixed order, a blank line between tables.
 pub(super) fn render(report: &Report) -> String {
     let mut blocks = Vec::new();
     for (section, rows) in [
@@ -18,118 +19,139 @@ pub(super) fn render(report: &Report) -> String {
         }
     }
     if let Some(p) = &report.working_plane {
-        let mut out = line(&[
-            "section",
-            "height",
-            "spacing",
-            "border",
-            "points",
-            "pointsTotal",
-            "eAvg",
-            "eMin",
-            "eMax",
-            "eDirectAvg",
-            "eIndirectAvg",
-            "uniformity",
-            "uniformityD",
-        ]);
-        out += &line(&[
-            "workingPlane".into(),
-            opt(p.height),
-            opt(p.spacing),
-            num(p.border),
-            p.points.to_string(),
-            p.points_total.to_string(),
-            num(p.e_avg),
-            num(p.e_min),
-            num(p.e_max),
-            num(p.e_direct_avg),
-            num(p.e_indirect_avg),
-            num(p.uniformity),
-            num(p.uniformity_d),
-        ]);
-        blocks.push(out);
+        blocks.push(working_plane(p));
     }
     if let Some(targets) = &report.targets {
-        let mut out = line(&["section", "name", "target", "achieved", "ratio", "pass"]);
-        for t in targets {
-            out += &line(&[
-                "targets".into(),
-                t.name.clone(),
-                num(t.target),
-                opt(t.achieved),
-                opt(t.ratio),
-                t.pass.map(|p| p.to_string()).unwrap_or_default(),
-            ]);
-        }
-        blocks.push(out);
+        blocks.push(targets_table(targets));
     }
     if let Some(rows) = &report.luminaires {
         blocks.push(luminaires(rows));
     }
     if let Some(c) = &report.cubic {
         if let Some(w) = &c.working_plane {
-            let mut out = line(&[
-                "section",
-                "points",
-                "scalarAvg",
-                "cylindricalAvg",
-                "cylindricalToHorizontal",
-                "vectorScalarRatioAvg",
-                "vectorScalarRatioMin",
-                "vectorScalarRatioMax",
-                "altitudeAvgDeg",
-            ]);
-            out += &line(&[
-                "cubicWorkingPlane".into(),
-                w.points.to_string(),
-                num(w.scalar_avg),
-                num(w.cylindrical_avg),
-                num(w.cylindrical_to_horizontal),
-                num(w.vector_scalar_ratio_avg),
-                num(w.vector_scalar_ratio_min),
-                num(w.vector_scalar_ratio_max),
-                num(w.altitude_avg_deg),
-            ]);
-            blocks.push(out);
+            blocks.push(cubic_working_plane(w));
         }
         if !c.probes.is_empty() {
-            let mut out = line(&[
-                "section",
-                "name",
-                "x",
-                "y",
-                "z",
-                "horizontal",
-                "scalar",
-                "vectorMagnitude",
-                "vectorScalarRatio",
-                "altitudeDeg",
-                "azimuthDeg",
-                "cylindrical",
-            ]);
-            for p in &c.probes {
-                out += &line(&[
-                    "cubicProbes".into(),
-                    p.name.clone(),
-                    num(p.position[0]),
-                    num(p.position[1]),
-                    num(p.position[2]),
-                    num(p.horizontal),
-                    num(p.scalar),
-                    num(p.vector_magnitude),
-                    num(p.vector_scalar_ratio),
-                    num(p.altitude_deg),
-                    num(p.azimuth_deg),
-                    num(p.cylindrical),
-                ]);
-            }
-            blocks.push(out);
+            blocks.push(cubic_probes(&c.probes));
         }
     }
     blocks.join("\n")
 }
 
+/// The working plane's one row.
+fn working_plane(p: &PlaneRow) -> String {
+    let mut out = line(&[
+        "section",
+        "height",
+        "spacing",
+        "border",
+        "points",
+        "pointsTotal",
+        "eAvg",
+        "eMin",
+        "eMax",
+        "eDirectAvg",
+        "eIndirectAvg",
+        "uniformity",
+        "uniformityD",
+    ]);
+    out += &line(&[
+        "workingPlane".into(),
+        opt(p.height),
+        opt(p.spacing),
+        num(p.border),
+        p.points.to_string(),
+        p.points_total.to_string(),
+        num(p.e_avg),
+        num(p.e_min),
+        num(p.e_max),
+        num(p.e_direct_avg),
+        num(p.e_indirect_avg),
+        num(p.uniformity),
+        num(p.uniformity_d),
+    ]);
+    out
+}
+
+/// One row per target.
+fn targets_table(targets: &[TargetRow]) -> String {
+    let mut out = line(&["section", "name", "target", "achieved", "ratio", "pass"]);
+    for t in targets {
+        out += &line(&[
+            "targets".into(),
+            t.name.clone(),
+            num(t.target),
+            opt(t.achieved),
+            opt(t.ratio),
+            t.pass.map(|p| p.to_string()).unwrap_or_default(),
+        ]);
+    }
+    out
+}
+
+/// The cubic illumination summary over the working plane: one row.
+fn cubic_working_plane(w: &ProbeSummary) -> String {
+    let mut out = line(&[
+        "section",
+        "points",
+        "scalarAvg",
+        "cylindricalAvg",
+        "cylindricalToHorizontal",
+        "vectorScalarRatioAvg",
+        "vectorScalarRatioMin",
+        "vectorScalarRatioMax",
+        "altitudeAvgDeg",
+    ]);
+    out += &line(&[
+        "cubicWorkingPlane".into(),
+        w.points.to_string(),
+        num(w.scalar_avg),
+        num(w.cylindrical_avg),
+        num(w.cylindrical_to_horizontal),
+        num(w.vector_scalar_ratio_avg),
+        num(w.vector_scalar_ratio_min),
+        num(w.vector_scalar_ratio_max),
+        num(w.altitude_avg_deg),
+    ]);
+    out
+}
+
+/// The cubic illumination at each probe: one row per probe.
+fn cubic_probes(probes: &[ProbeRow]) -> String {
+    let mut out = line(&[
+        "section",
+        "name",
+        "x",
+        "y",
+        "z",
+        "horizontal",
+        "scalar",
+        "vectorMagnitude",
+        "vectorScalarRatio",
+        "altitudeDeg",
+        "azimuthDeg",
+        "cylindrical",
+    ]);
+    for p in probes {
+        out += &line(&[
+            "cubicProbes".into(),
+            p.name.clone(),
+            num(p.position[0]),
+            num(p.position[1]),
+            num(p.position[2]),
+            num(p.horizontal),
+            num(p.scalar),
+            num(p.vector_magnitude),
+            num(p.vector_scalar_ratio),
+            num(p.altitude_deg),
+            num(p.azimuth_deg),
+            num(p.cylindrical),
+        ]);
+    }
+    out
+}
+
+/// One row per surface group of `section` (`byMaterial` or `byNode`).
 fn surfaces(section: &str, rows: &[Row]) -> String {
     let mut out = line(&[
         "section",
@@ -168,6 +190,7 @@ fn surfaces(section: &str, rows: &[Row]) -> String {
     out
 }
 
+/// The luminaire schedule: one row per schedule line.
 fn luminaires(rows: &[super::ScheduleRow]) -> String {
     let mut out = line(&[
         "section",

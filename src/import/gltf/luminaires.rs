@@ -77,11 +77,9 @@ pub(super) fn luminaire(
     lux: Option<&Value>,
     counts: Counts,
 ) -> Result<Luminaire, Fail> {
-    let node_at = format!("/nodes/{node}");
-    let ies_at = format!("{node_at}/extensions/{EXT_LIGHTS_IES}");
-    let lux_at = format!("{node_at}/extensions/{LUXBAKE_LUMINAIRE}");
-    let ies = ies.map(|v| object(v, &ies_at)).transpose()?;
-    let lux = lux.map(|v| object(v, &lux_at)).transpose()?;
+    let at = Pointers::new(node);
+    let ies = ies.map(|v| object(v, &at.ies)).transpose()?;
+    let lux = lux.map(|v| object(v, &at.lux)).transpose()?;
     if let Some(lux) = lux {
         only_keys(
             lux,
@@ -96,90 +94,13 @@ pub(super) fn luminaire(
             ],
             "the extension",
         )
-        .map_err(|m| (lux_at.clone(), m))?;
+        .map_err(|m| (at.lux.clone(), m))?;
     }
-
-    let ies_profile = match ies {
-        None => None,
-        Some(ies) => {
-            let at = format!("{ies_at}/light");
-            let light = ies
-                .get("light")
-                .ok_or_else(|| (ies_at.clone(), "the extension has no 'light' index".into()))?;
-            let light = index(light, "light").map_err(|m| (at.clone(), m))?;
-            Some(counts.ies_light(light).ok_or_else(|| {
-                (
-                    at,
-                    format!(
-                        "refers to /extensions/{EXT_LIGHTS_IES}/lights/{light}, which does not \
-                         exist (the file has {} there)",
-                        counts.ies
-                    ),
-                )
-            })?)
-        }
-    };
-    let lux_profile = match lux.and_then(|l| l.get("profile")) {
-        None => None,
-        Some(p) => {
-            let at = format!("{lux_at}/profile");
-            let p = index(p, "profile").map_err(|m| (at.clone(), m))?;
-            Some(counts.luxbake_profile(p).ok_or_else(|| {
-                (
-                    at,
-                    format!(
-                        "refers to /extensions/{LUXBAKE_LUMINAIRE}/profiles/{p}, which does not \
-                         exist (the file has {} there)",
-                        counts.luxbake
-                    ),
-                )
-            })?)
-        }
-    };
-    let (profile, source_path) = match (ies_profile, lux_profile) {
-        (Some(p), None) => (p, ies_at.clone()),
-        (None, Some(p)) => (p, lux_at.clone()),
-        (Some(_), Some(_)) => {
-            return Err((
-                node_at,
-                format!(
-                    "the node gives its luminaire two profiles, {EXT_LIGHTS_IES}.light and \
-                     {LUXBAKE_LUMINAIRE}.profile; keep one (a {LUXBAKE_LUMINAIRE} beside \
-                     {EXT_LIGHTS_IES} must not have a profile)"
-                ),
-            ));
-        }
-        (None, None) => {
-            return Err((
-                lux_at,
-                format!(
-                    "the extension has no profile, and the node has no {EXT_LIGHTS_IES} light to \
-                     take one from; give 'profile'"
-                ),
-            ));
-        }
-    };
-
-    // Multipliers and raw colours of both objects multiply.
-    let mut multiplier = 1.0;
-    let mut raw_color = DVec3::ONE;
-    for (object, at) in [(ies, &ies_at), (lux, &lux_at)] {
-        let Some(object) = object else { continue };
-        if let Some(m) = object.get("multiplier") {
-            let m_at = format!("{at}/multiplier");
-            let m = number(m, "multiplier").map_err(|e| (m_at.clone(), e))?;
-            if !(m.is_finite() && m >= 0.0) {
-                return Err((m_at, format!("multiplier {m} must be finite and ≥ 0")));
-            }
-            multiplier *= m;
-        }
-        if let Some(c) = object.get("color") {
-            raw_color *= color(c, &format!("{at}/color"))?;
-        }
-    }
+    let (profile, source_path) = profile(&at, ies, lux, counts)?;
+    let (multiplier, raw_color) = multiplier_and_colour(&at, ies, lux)?;
     let color = normalise_color(raw_color).ok_or_else(|| {
         (
-            node_at.clone(),
+            at.node.clone(),
             format!(
                 "the colours of {EXT_LIGHTS_IES} and {LUXBAKE_LUMINAIRE} multiply to [{}, {}, \
                  {}], which has no luminance",
@@ -187,24 +108,14 @@ pub(super) fn luminaire(
             ),
         )
     })?;
-    let maintenance_factor = match lux.and_then(|l| l.get("maintenanceFactor")) {
-        None => 1.0,
-        Some(f) => {
-            let at = format!("{lux_at}/maintenanceFactor");
-            let f = number(f, "maintenanceFactor").map_err(|e| (at.clone(), e))?;
-            if !(f > 0.0 && f <= 1.0) {
-                return Err((at, format!("maintenanceFactor {f} must be in (0, 1]")));
-            }
-            f
-        }
-    };
+    let maintenance_factor = maintenance_factor(&at, lux)?;
     let opening = lux
         .and_then(|l| l.get("opening"))
-        .map(|o| opening(o, &format!("{lux_at}/opening")))
+        .map(|o| opening(o, &format!("{}/opening", at.lux)))
         .transpose()?;
     let world_from_photometric = photometric_frame(world).ok_or_else(|| {
         (
-            node_at.clone(),
+            at.node.clone(),
             "the node's world transform collapses its X or Z axis, so the luminaire has no \
              orientation"
                 .to_owned(),
@@ -230,6 +141,129 @@ pub(super) fn luminaire(
         opening,
         extensions,
     })
+}
+
+/// The JSON pointers of a luminaire node and of its two extension objects.
+struct Pointers {
+    node: String,
+    ies: String,
+    lux: String,
+}
+
+impl Pointers {
+    fn new(node: usize) -> Pointers {
+        let node_at = format!("/nodes/{node}");
+        Pointers {
+            ies: format!("{node_at}/extensions/{EXT_LIGHTS_IES}"),
+            lux: format!("{node_at}/extensions/{LUXBAKE_LUMINAIRE}"),
+            node: node_at,
+        }
+    }
+}
+
+/// An extension object, if given.
+type Object<'v> = Option<&'v Map<String, Value>>;
+
+/// The profile index and the luminaire's source path: from `EXT_lights_ies.light` or
+/// `LUXBAKE_luminaire.profile`, exactly one of them.
+fn profile(
+    at: &Pointers,
+    ies: Object,
+    lux: Object,
+    counts: Counts,
+) -> Result<(usize, String), Fail> {
+    let ies_profile = ies.map(|ies| ies_light(at, ies, counts)).transpose()?;
+    let lux_profile = match lux.and_then(|l| l.get("profile")) {
+        None => None,
+        Some(p) => {
+            let at = format!("{}/profile", at.lux);
+            let p = index(p, "profile").map_err(|m| (at.clone(), m))?;
+            Some(counts.luxbake_profile(p).ok_or_else(|| {
+                (
+                    at,
+                    format!(
+                        "refers to /extensions/{LUXBAKE_LUMINAIRE}/profiles/{p}, which does not \
+                         exist (the file has {} there)",
+                        counts.luxbake
+                    ),
+                )
+            })?)
+        }
+    };
+    match (ies_profile, lux_profile) {
+        (Some(p), None) => Ok((p, at.ies.clone())),
+        (None, Some(p)) => Ok((p, at.lux.clone())),
+        (Some(_), Some(_)) => Err((
+            at.node.clone(),
+            format!(
+                "the node gives its luminaire two profiles, {EXT_LIGHTS_IES}.light and \
+                 {LUXBAKE_LUMINAIRE}.profile; keep one (a {LUXBAKE_LUMINAIRE} beside \
+                 {EXT_LIGHTS_IES} must not have a profile)"
+            ),
+        )),
+        (None, None) => Err((
+            at.lux.clone(),
+            format!(
+                "the extension has no profile, and the node has no {EXT_LIGHTS_IES} light to \
+                 take one from; give 'profile'"
+            ),
+        )),
+    }
+}
+
+/// The profile `EXT_lights_ies.light` names (required in that object).
+fn ies_light(at: &Pointers, ies: &Map<String, Value>, counts: Counts) -> Result<usize, Fail> {
+    let light_at = format!("{}/light", at.ies);
+    let light = ies
+        .get("light")
+        .ok_or_else(|| (at.ies.clone(), "the extension has no 'light' index".into()))?;
+    let light = index(light, "light").map_err(|m| (light_at.clone(), m))?;
+    counts.ies_light(light).ok_or_else(|| {
+        (
+            light_at,
+            format!(
+                "refers to /extensions/{EXT_LIGHTS_IES}/lights/{light}, which does not \
+                 exist (the file has {} there)",
+                counts.ies
+            ),
+        )
+    })
+}
+
+/// The product of both objects' multipliers, and of their raw colours.
+fn multiplier_and_colour(at: &Pointers, ies: Object, lux: Object) -> Result<(f64, DVec3), Fail> {
+    let mut multiplier = 1.0;
+    let mut raw_color = DVec3::ONE;
+    for (object, at) in [(ies, &at.ies), (lux, &at.lux)] {
+        let Some(object) = object else { continue };
+        if let Some(m) = object.get("multiplier") {
+            let m_at = format!("{at}/multiplier");
+            let m = number(m, "multiplier").map_err(|e| (m_at.clone(), e))?;
+            if !(m.is_finite() && m >= 0.0) {
+                return Err((m_at, format!("multiplier {m} must be finite and ≥ 0")));
+            }
+            multiplier *= m;
+        }
+        if let Some(c) = object.get("color") {
+            raw_color *= color(c, &format!("{at}/color"))?;
+        }
+    }
+    Ok((multiplier, raw_color))
+}
+
+/// `LUXBAKE_luminaire.maintenanceFactor`, in (0, 1]; 1 when not given.
+fn maintenance_factor(at: &Pointers, lux: Object) -> Result<f64, Fail> {
+    match lux.and_then(|l| l.get("maintenanceFactor")) {
+        None => Ok(1.0),
+        Some(f) => {
+            let at = format!("{}/maintenanceFactor", at.lux);
+            let f = number(f, "maintenanceFactor").map_err(|e| (at.clone(), e))?;
+            if !(f > 0.0 && f <= 1.0) {
+                return Err((at, format!("maintenanceFactor {f} must be in (0, 1]")));
+            }
+            Ok(f)
+        }
+    }
 }
 
 fn object<'v>(v: &'v Value, at: &str) -> Result<&'v Map<String, Value>, Fail> {

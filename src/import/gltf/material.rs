@@ -31,6 +31,7 @@ use glam::DVec3;
 use serde_json::Value;
 use std::collections::HashMap;
 
+/// Every glTF material of `doc`, in index order.
 pub(super) fn materials(
     ctx: &mut Ctx,
     doc: &::gltf::Document,
@@ -38,30 +39,50 @@ pub(super) fn materials(
     images: &[Image],
     profiles: Counts,
 ) -> Result<Vec<Material>> {
-    let mut means = HashMap::new();
+    let mut means = TextureMeans {
+        images,
+        cache: HashMap::new(),
+    };
     doc.materials()
-        .map(|m| material(ctx, &m, raw, images, profiles, &mut means))
+        .map(|m| material(ctx, &m, raw, profiles, &mut means))
         .collect()
 }
 
+/// The mean linear colour of each base colour image, computed once per image.
+struct TextureMeans<'a> {
+    images: &'a [Image],
+    cache: HashMap<usize, DVec3>,
+}
+
+impl TextureMeans<'_> {
+    /// The mean of image `image`, the base colour texture of the material at `at`.
+    fn of(&mut self, ctx: &Ctx, at: &str, image: usize) -> Result<DVec3> {
+        Ok(match self.cache.get(&image) {
+            Some(&mean) => mean,
+            None => {
+                let mean = mean_linear_rgb(&self.images[image].bytes).map_err(|msg| {
+                    ctx.err(
+                        format!("{at}/pbrMetallicRoughness/baseColorTexture"),
+                        format!("cannot average /images/{image}: {msg}"),
+                    )
+                })?;
+                *self.cache.entry(image).or_insert(mean)
+            }
+        })
+    }
+}
+
+/// The glTF material `m`: its photometry for the bake and its display data.
 fn material(
     ctx: &mut Ctx,
     m: &::gltf::Material,
     raw: &Value,
-    images: &[Image],
     profiles: Counts,
-    means: &mut HashMap<usize, DVec3>,
+    means: &mut TextureMeans,
 ) -> Result<Material> {
     let index = m.index().unwrap_or_default();
     let at = format!("/materials/{index}");
-    // A luxbake output keeps the extension in extras when its materials were made unlit.
-    let ext_at = [
-        format!("{at}/extensions/{LUXBAKE_MATERIAL}"),
-        format!("{at}/extras/luxbake/original/{LUXBAKE_MATERIAL}"),
-    ]
-    .into_iter()
-    .find(|p| raw::cloned(raw, p).is_some())
-    .unwrap_or_else(|| format!("{at}/extensions/{LUXBAKE_MATERIAL}"));
+    let ext_at = extension_at(raw, &at);
     let extension = raw::cloned(raw, &ext_at);
     let ext = match &extension {
         Some(v) => Some(luxbake_ext::parse(v).map_err(|msg| ctx.err(&ext_at, msg))?),
@@ -89,47 +110,15 @@ fn material(
             ReflectanceSource::Extension,
             format!("set {LUXBAKE_MATERIAL}.reflectance below 1 (typical walls: 0.5–0.8)"),
         ),
-        None => {
-            let [r, g, b, _] = display.base_color_factor;
-            let mut color = DVec3::new(r, g, b);
-            let source =
-                |t: &TextureRef| raw::number(raw, &format!("/textures/{}/source", t.texture));
-            if let Some(image) = display.base_color_texture.as_ref().and_then(source) {
-                let image = image as usize;
-                let mean = match means.get(&image) {
-                    Some(&mean) => mean,
-                    None => {
-                        let mean = mean_linear_rgb(&images[image].bytes).map_err(|msg| {
-                            ctx.err(
-                                format!("{at}/pbrMetallicRoughness/baseColorTexture"),
-                                format!("cannot average /images/{image}: {msg}"),
-                            )
-                        })?;
-                        *means.entry(image).or_insert(mean)
-                    }
-                };
-                color *= mean;
-            }
-            let metallic = display.metallic_factor;
-            let metallic_given =
-                raw::number(raw, &format!("{at}/pbrMetallicRoughness/metallicFactor")).is_some();
-            if !metallic_given && color.max_element() > 0.0 {
-                ctx.warn(format!(
-                    "{at}: metallicFactor is not given and defaults to 1 (pure metal), so the \
-                     diffuse reflectance is 0 and the material is black in the bake; set \
-                     metallicFactor to 0 or give {LUXBAKE_MATERIAL}.reflectance"
-                ));
-            }
-            (
-                color * (1.0 - metallic),
-                ReflectanceSource::BaseColor,
-                format!(
-                    "the reflectance is baseColorFactor × mean of baseColorTexture × \
-                     (1 − metallicFactor); lower baseColorFactor or give \
-                     {LUXBAKE_MATERIAL}.reflectance explicitly (below 1)"
-                ),
-            )
-        }
+        None => (
+            base_colour_reflectance(ctx, raw, &at, &display, means)?,
+            ReflectanceSource::BaseColor,
+            format!(
+                "the reflectance is baseColorFactor × mean of baseColorTexture × \
+                 (1 − metallicFactor); lower baseColorFactor or give \
+                 {LUXBAKE_MATERIAL}.reflectance explicitly (below 1)"
+            ),
+        ),
     };
     check_reflectance(reflectance, &hint).map_err(|msg| ctx.err(&at, msg))?;
 
@@ -138,21 +127,7 @@ fn material(
             profile: emission_profile,
             ..e
         }),
-        None => {
-            let strength = display.emissive_strength.unwrap_or(1.0);
-            let emission = emission_from_rgb(DVec3::from_array(display.emissive_factor), strength)
-                .map_err(|msg| ctx.err(&at, msg))?;
-            if emission.is_some() && display.emissive_texture.is_some() {
-                ctx.warn_once(
-                    "emissive texture",
-                    format!(
-                        "{at}: emissiveTexture does not change the emitted luminance, which \
-                         comes from emissiveFactor × emissiveStrength only"
-                    ),
-                );
-            }
-            emission
-        }
+        None => emissive_factor(ctx, &at, &display)?,
     };
     Ok(Material {
         name: m.name().map(str::to_owned),
@@ -164,6 +139,64 @@ fn material(
         display,
         extras: raw::cloned(raw, &format!("{at}/extras")),
     })
+}
+
+/// Where the material at `at` keeps `LUXBAKE_material`: its extensions, or (a luxbake output
+/// whose materials were made unlit) its extras; the extensions' place when neither has it.
+fn extension_at(raw: &Value, at: &str) -> String {
+    [
+        format!("{at}/extensions/{LUXBAKE_MATERIAL}"),
+        format!("{at}/extras/luxbake/original/{LUXBAKE_MATERIAL}"),
+    ]
+    .into_iter()
+    .find(|p| raw::cloned(raw, p).is_some())
+    .unwrap_or_else(|| format!("{at}/extensions/{LUXBAKE_MATERIAL}"))
+}
+
+/// The reflectance without the extension: baseColorFactor × mean of baseColorTexture ×
+/// (1 − metallicFactor), with a warning when only a defaulted metallicFactor makes it black.
+fn base_colour_reflectance(
+    ctx: &mut Ctx,
+    raw: &Value,
+    at: &str,
+    display: &DisplayMaterial,
+    means: &mut TextureMeans,
+) -> Result<DVec3> {
+    let [r, g, b, _] = display.base_color_factor;
+    let mut color = DVec3::new(r, g, b);
+    let source = |t: &TextureRef| raw::number(raw, &format!("/textures/{}/source", t.texture));
+    if let Some(image) = display.base_color_texture.as_ref().and_then(source) {
+        color *= means.of(ctx, at, image as usize)?;
+    }
+    let metallic = display.metallic_factor;
+    let metallic_given =
+        raw::number(raw, &format!("{at}/pbrMetallicRoughness/metallicFactor")).is_some();
+    if !metallic_given && color.max_element() > 0.0 {
+        ctx.warn(format!(
+            "{at}: metallicFactor is not given and defaults to 1 (pure metal), so the \
+             diffuse reflectance is 0 and the material is black in the bake; set \
+             metallicFactor to 0 or give {LUXBAKE_MATERIAL}.reflectance"
+        ));
+    }
+    Ok(color * (1.0 - metallic))
+}
+
+/// The emission without the extension: Y(emissiveFactor) × emissive strength, coloured like
+/// the factor (a note once that emissiveTexture does not change it).
+fn emissive_factor(ctx: &mut Ctx, at: &str, display: &DisplayMaterial) -> Result<Option<Emission>> {
+    let strength = display.emissive_strength.unwrap_or(1.0);
+    let emission = emission_from_rgb(DVec3::from_array(display.emissive_factor), strength)
+        .map_err(|msg| ctx.err(at, msg))?;
+    if emission.is_some() && display.emissive_texture.is_some() {
+        ctx.warn_once(
+            "emissive texture",
+            format!(
+                "{at}: emissiveTexture does not change the emitted luminance, which \
+                 comes from emissiveFactor × emissiveStrength only"
+            ),
+        );
+    }
+    Ok(emission)
 }
 
 /// The spec's ranges of the material's factors: an out-of-range value is an error naming it.
