@@ -422,7 +422,7 @@ pub fn box_faces(lo: DVec3, hi: DVec3) -> [[DVec3; 4]; 6] {
 
 /// Unit directions of a latitude-longitude sphere (`rings` × `segments`, +Y the pole) and its
 /// triangles, unoriented.
-pub(crate) fn lat_long(rings: u32, segments: u32) -> (Vec<DVec3>, Vec<[u32; 3]>) {
+pub fn lat_long(rings: u32, segments: u32) -> (Vec<DVec3>, Vec<[u32; 3]>) {
     let mut dirs = Vec::new();
     for i in 0..=rings {
         let theta = std::f64::consts::PI * i as f64 / rings as f64;

@@ -13,7 +13,7 @@ pub struct Section {
 }
 
 /// The sections as Markdown or aligned tables, separated by blank lines.
-pub fn render(sections: &[Section], markdown: bool) -> String {
+pub(crate) fn render(sections: &[Section], markdown: bool) -> String {
     let blocks: Vec<String> = sections
         .iter()
         .map(|s| {
@@ -28,7 +28,7 @@ pub fn render(sections: &[Section], markdown: bool) -> String {
 }
 
 /// Title, header, a rule of dashes, rows; columns two spaces apart.
-pub fn aligned<S: AsRef<str>>(title: &str, headers: &[S], cells: &[Vec<String>]) -> String {
+pub(crate) fn aligned<S: AsRef<str>>(title: &str, headers: &[S], cells: &[Vec<String>]) -> String {
     let width = |s: &str| s.chars().count();
     let mut widths: Vec<usize> = headers.iter().map(|h| width(h.as_ref())).collect();
     for row in cells {
@@ -64,7 +64,7 @@ pub fn aligned<S: AsRef<str>>(title: &str, headers: &[S], cells: &[Vec<String>])
 }
 
 /// `### Title`, then a Markdown table (numbers right-aligned, `|` in cells escaped).
-pub fn markdown<S: AsRef<str>>(title: &str, headers: &[S], cells: &[Vec<String>]) -> String {
+pub(crate) fn markdown<S: AsRef<str>>(title: &str, headers: &[S], cells: &[Vec<String>]) -> String {
     let escape = |c: &str| c.replace('|', "\\|");
     let headers: Vec<&str> = headers.iter().map(|h| h.as_ref()).collect();
     let mut out = format!("### {title}\n\n");
@@ -81,7 +81,7 @@ pub fn markdown<S: AsRef<str>>(title: &str, headers: &[S], cells: &[Vec<String>]
 }
 
 /// One CSV record, fields quoted when they hold a comma, a quote or a line break.
-pub fn csv_record<S: AsRef<str>>(fields: &[S]) -> String {
+pub(crate) fn csv_record<S: AsRef<str>>(fields: &[S]) -> String {
     let quoted: Vec<String> = fields
         .iter()
         .map(|f| {

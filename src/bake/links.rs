@@ -55,7 +55,7 @@ pub(crate) fn stage(i: &Inputs) -> Rows {
 /// them, to be assembled with the other parts' by [`assembled`] (a distributed bake's task).
 /// Also the rays spent marking walls: every task and the merge trace them again (the same
 /// rays), so a task's own rays are the rest.
-pub fn part(i: &Inputs, subset: &[u32]) -> (Part, u64) {
+pub(crate) fn part(i: &Inputs, subset: &[u32]) -> (Part, u64) {
     let (rows, part) = gathered(i, Some(subset));
     (part.expect("a part was asked for"), rows.marking_rays)
 }
@@ -116,7 +116,7 @@ fn gathered(i: &Inputs, subset: Option<&[u32]>) -> (Rows, Option<Part>) {
 }
 
 /// The [`Rows`] of [`part`]s that together cover every receiver once: the same as [`stage`]'s.
-pub fn assembled(
+pub(crate) fn assembled(
     scene: &Scene,
     settings: &Settings,
     meshed: &Meshed,

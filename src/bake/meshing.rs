@@ -125,7 +125,7 @@ impl Meshed<'_> {
     }
 
     /// What [`restore`] needs (the light on the mesh is dropped).
-    pub fn into_saved(self) -> Saved {
+    pub(crate) fn into_saved(self) -> Saved {
         Saved {
             mesh: self.mesh,
             adaptive: self.adaptive,

@@ -249,7 +249,7 @@ fn check_scene(scene: &Scene, state: &State) -> Result<()> {
 }
 
 /// A 64-bit FNV-1a hash of the scene's surfaces: their positions, triangles and materials.
-pub fn scene_fingerprint(scene: &Scene) -> u64 {
+pub(crate) fn scene_fingerprint(scene: &Scene) -> u64 {
     let mut h = Fnv::default();
     h.eat(scene.surfaces.len() as u64);
     h.eat(scene.materials.len() as u64);
@@ -283,7 +283,7 @@ impl Fnv {
 
 /// A 64-bit FNV-1a hash of the mesh: every receiver's point, normal and group, every patch's
 /// vertices, group and area.
-pub fn fingerprint(mesh: &PatchMesh) -> u64 {
+pub(crate) fn fingerprint(mesh: &PatchMesh) -> u64 {
     let mut h = Fnv::default();
     h.eat(mesh.receivers.len() as u64);
     for v in &mesh.receivers {

@@ -154,12 +154,12 @@ impl Quantity {
     }
 
     /// The quantity with this JSON name.
-    pub fn from_key(key: &str) -> Option<Quantity> {
+    pub(crate) fn from_key(key: &str) -> Option<Quantity> {
         Quantity::ALL.into_iter().find(|q| q.key() == key)
     }
 
     /// The name in the text output (the glTF attribute).
-    pub fn label(self) -> &'static str {
+    pub(crate) fn label(self) -> &'static str {
         match self {
             Quantity::Illuminance => "_ILLUMINANCE",
             Quantity::IlluminanceDirect => "_ILLUMINANCE_DIRECT",
@@ -170,7 +170,7 @@ impl Quantity {
     }
 
     /// The name in the text output when `mode` compares lightmaps (the EXR channel).
-    pub fn label_in(self, mode: Mode) -> &'static str {
+    pub(crate) fn label_in(self, mode: Mode) -> &'static str {
         match (mode, self) {
             (Mode::Texels | Mode::Samples, Quantity::Illuminance) => "illuminance",
             (Mode::Texels | Mode::Samples, Quantity::IlluminanceDirect) => "illuminanceDirect",

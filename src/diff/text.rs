@@ -101,7 +101,7 @@ fn header(first: &[&str]) -> Vec<String> {
 /// `illuminance node floor primitive 0 atlas 0 texel (12, 40) at …`, `illuminance node floor
 /// primitive 0 triangle 3 centroid at …`, `probe probes/grid/p3 face +y at …`,
 /// `_ILLUMINANCE mean of node floor (centroid at …)`.
-pub fn place(p: &Place) -> String {
+pub(crate) fn place(p: &Place) -> String {
     let q = Quantity::from_key(p.quantity).map_or(p.quantity, |q| {
         let lightmap = matches!(p.kind, "texel" | "sample");
         q.label_in(if lightmap {
@@ -149,7 +149,7 @@ pub fn place(p: &Place) -> String {
 }
 
 /// The verdict line (without newline).
-pub fn verdict(d: &Diff) -> String {
+pub(crate) fn verdict(d: &Diff) -> String {
     match &d.worst_failure {
         None => format!("OK: all {} values within tolerance", d.values),
         Some(p) => {

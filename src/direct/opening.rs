@@ -63,7 +63,7 @@ impl Opening<'_> {
     }
 
     /// Where the ray p + t·d (photometric frame) first enters the opening, t ≥ 0.
-    pub fn entry(&self, p: DVec3, d: DVec3) -> Option<f64> {
+    pub(crate) fn entry(&self, p: DVec3, d: DVec3) -> Option<f64> {
         let h = self.half;
         let inside_xy = |q: DVec3| {
             if self.round {

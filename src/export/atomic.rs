@@ -79,7 +79,7 @@ impl Batch {
 
     /// Rename every staged file over its destination, in staging order. If a rename fails, the
     /// destinations renamed so far that did not exist before are removed again.
-    pub fn commit(mut self) -> Result<()> {
+    pub(crate) fn commit(mut self) -> Result<()> {
         let staged = std::mem::take(&mut self.staged);
         let existed: Vec<bool> = staged.iter().map(|(_, p)| p.exists()).collect();
         let mut temporaries = registry();
@@ -119,7 +119,7 @@ impl Drop for Batch {
 }
 
 /// The folder a file is written to (`.` for a bare name).
-pub fn folder(path: &Path) -> PathBuf {
+pub(crate) fn folder(path: &Path) -> PathBuf {
     match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
         _ => PathBuf::from("."),
@@ -183,7 +183,7 @@ fn fill(file: &mut File, bytes: &[u8], path: &Path) -> std::io::Result<()> {
 }
 
 /// Check that files can be created in `dir` (create and remove a temporary there).
-pub fn check_writable(dir: &Path) -> std::result::Result<(), String> {
+pub(crate) fn check_writable(dir: &Path) -> std::result::Result<(), String> {
     let (tmp, file) = create(&dir.join("luxbake-check")).map_err(|e| match e {
         Error::Output { message, .. } => message,
         e => e.to_string(),
@@ -195,13 +195,13 @@ pub fn check_writable(dir: &Path) -> std::result::Result<(), String> {
 
 /// Remove a file as a cleanup step (counted by the fault hook); a failure is ignored (the file is
 /// a leftover the next run removes).
-pub fn remove_leftover(path: &Path) {
+pub(crate) fn remove_leftover(path: &Path) {
     fault::step("remove", path);
     let _ = fs::remove_file(path);
 }
 
 /// Remove the temporaries in `dir` that processes no longer running left behind (killed).
-pub fn remove_stale_temporaries(dir: &Path) {
+pub(crate) fn remove_stale_temporaries(dir: &Path) {
     let Ok(entries) = fs::read_dir(dir) else {
         return;
     };
@@ -280,7 +280,7 @@ pub mod fault {
 
     /// One step: `kind` is `write`, `rename` or `remove`, `path` the file concerned.
     #[cfg(feature = "fault-injection")]
-    pub fn step(kind: &str, path: &Path) {
+    pub(crate) fn step(kind: &str, path: &Path) {
         static STEPS: AtomicU64 = AtomicU64::new(0);
         let Some((at, pause)) = setting() else {
             return;

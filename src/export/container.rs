@@ -16,7 +16,7 @@ const CHUNK_JSON: u32 = 0x4E4F_534A; // "JSON"
 const CHUNK_BIN: u32 = 0x004E_4942; // "BIN\0"
 
 /// The `.gltf` file's bytes; the buffer (if any) points at `bin_uri`.
-pub fn gltf(doc: &Document, bin_uri: &str) -> Vec<u8> {
+pub(crate) fn gltf(doc: &Document, bin_uri: &str) -> Vec<u8> {
     let mut root = doc.root.clone();
     if !doc.bin.is_empty() {
         root.insert(

@@ -39,7 +39,7 @@ pub(crate) fn build(
 
 /// Build the document of `scene` as an input: the geometry of `result` without the baked
 /// attributes and without the run summary in the scene's extras.
-pub fn build_input(
+pub(crate) fn build_input(
     scene: &Scene,
     result: &BakeResult,
     options: &ExportOptions,

@@ -46,12 +46,12 @@ pub struct Header {
 const COMPRESSION: Compression = Compression::Uncompressed;
 
 /// The EXR bytes of `atlas`; an error message when the atlas is inconsistent.
-pub fn encode(atlas: &Atlas, header: &Header) -> std::result::Result<Vec<u8>, String> {
+pub(crate) fn encode(atlas: &Atlas, header: &Header) -> std::result::Result<Vec<u8>, String> {
     encode_with(atlas, header, COMPRESSION)
 }
 
 /// [`encode`] with another compression (for measurements).
-pub fn encode_with(
+pub(crate) fn encode_with(
     atlas: &Atlas,
     header: &Header,
     compression: Compression,

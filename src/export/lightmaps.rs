@@ -101,7 +101,7 @@ pub(crate) fn add(
 }
 
 /// The header texts of atlas `k`'s EXR file.
-pub fn exr_header(k: usize, lightmaps: &Lightmaps, summary: &RunSummary) -> exr::Header {
+pub(crate) fn exr_header(k: usize, lightmaps: &Lightmaps, summary: &RunSummary) -> exr::Header {
     let json = |v: serde_json::Result<Value>| exr::ascii_json(&v.expect("summary serialises"));
     exr::Header {
         atlas: k,

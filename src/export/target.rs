@@ -75,12 +75,12 @@ impl Target {
     }
 
     /// The side buffer holding `bytes` beside a `.gltf`, and its relative URI.
-    pub fn bin(&self, bytes: &[u8]) -> (PathBuf, String) {
+    pub(crate) fn bin(&self, bytes: &[u8]) -> (PathBuf, String) {
         self.side(format!("{}.{:016x}.bin", self.stem, content_hash(bytes)))
     }
 
     /// Atlas `k`'s EXR file holding `bytes`, and its relative URI.
-    pub fn lightmap(&self, k: usize, bytes: &[u8]) -> (PathBuf, String) {
+    pub(crate) fn lightmap(&self, k: usize, bytes: &[u8]) -> (PathBuf, String) {
         let hash = content_hash(bytes);
         self.side(format!("{}.lightmap{k}.{hash:016x}.exr", self.stem))
     }
@@ -133,14 +133,14 @@ impl Target {
 
     /// What the output file references now: read before the commit, it is the old set's side
     /// files, to be removed after it.
-    pub fn old_references(&self) -> BTreeSet<String> {
+    pub(crate) fn old_references(&self) -> BTreeSet<String> {
         self.references(&self.main)
     }
 
     /// After the commit: remove the side files of the old set (`old`) that the new set (`new`)
     /// does not reference, the hashed side files no `<stem>.gltf`/`.glb` here references (left
     /// by a killed run) and the temporaries of killed runs; never a file in `keep` (inputs).
-    pub fn clean(&self, old: &BTreeSet<String>, new: &BTreeSet<String>, keep: &[PathBuf]) {
+    pub(crate) fn clean(&self, old: &BTreeSet<String>, new: &BTreeSet<String>, keep: &[PathBuf]) {
         let dir = atomic::folder(&self.main);
         let Ok(entries) = std::fs::read_dir(&dir) else {
             return;
@@ -238,7 +238,7 @@ fn inode(path: &Path) -> Option<(u64, u64)> {
 /// directory, not a device) in an existing folder where files can be created, must not be an
 /// input or another output (same canonical path, or the same file through a hard link), and no
 /// input or other output in the glTF's folder may have one of its side-file names.
-pub fn check_paths(inputs: &[&Path], gltf: Option<&Target>, others: &[&Path]) -> Result<()> {
+pub(crate) fn check_paths(inputs: &[&Path], gltf: Option<&Target>, others: &[&Path]) -> Result<()> {
     let inputs: Vec<FileId> = inputs
         .iter()
         .filter(|p| !p.as_os_str().is_empty())

@@ -15,7 +15,7 @@ enum State {
 }
 
 /// Solve min ‖M x − y‖², 0 ≤ x ≤ upper (`upper` may be infinite).
-pub fn solve(m: &[Vec<f64>], y: &[f64], upper: f64) -> Vec<f64> {
+pub(crate) fn solve(m: &[Vec<f64>], y: &[f64], upper: f64) -> Vec<f64> {
     let n = m.first().map_or(0, Vec::len);
     let mut x = vec![0.0; n];
     let mut state = vec![State::Lower; n];

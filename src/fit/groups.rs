@@ -45,7 +45,7 @@ pub enum GroupBy {
 }
 
 /// Every source of `scene`, with the names patterns match against.
-pub fn sources(scene: &Scene) -> Vec<(SourceId, Vec<String>)> {
+pub(crate) fn sources(scene: &Scene) -> Vec<(SourceId, Vec<String>)> {
     let node_name = |n: usize| scene.nodes[n].name.clone();
     let mut out = Vec::new();
     for (i, l) in scene.lights.iter().enumerate() {
@@ -70,7 +70,7 @@ pub fn sources(scene: &Scene) -> Vec<(SourceId, Vec<String>)> {
 }
 
 /// A source's name for messages and default group names.
-pub fn describe(scene: &Scene, id: SourceId) -> String {
+pub(crate) fn describe(scene: &Scene, id: SourceId) -> String {
     let node = |n: usize| scene.nodes[n].name.clone();
     match id {
         SourceId::Light(i) => (node(scene.lights[i].node).or(scene.lights[i].name.clone()))
@@ -192,7 +192,7 @@ pub fn parse_groups(scene: &Scene, specs: &[String]) -> Result<Vec<Group>> {
 }
 
 /// The sources of `scene` that no group takes.
-pub fn ungrouped(scene: &Scene, groups: &[Group]) -> Vec<SourceId> {
+pub(crate) fn ungrouped(scene: &Scene, groups: &[Group]) -> Vec<SourceId> {
     (sources(scene).into_iter())
         .map(|(id, _)| id)
         .filter(|id| !groups.iter().any(|g| g.sources.contains(id)))
@@ -201,7 +201,7 @@ pub fn ungrouped(scene: &Scene, groups: &[Group]) -> Vec<SourceId> {
 
 /// `scene` in which only `on` emit: other luminaires removed, other lights at zero intensity,
 /// other materials without emission.
-pub fn lit_by(scene: &Scene, on: &[SourceId]) -> Scene {
+pub(crate) fn lit_by(scene: &Scene, on: &[SourceId]) -> Scene {
     let mut s = scene.clone();
     let mut k = 0;
     s.luminaires.retain(|_| {
@@ -222,7 +222,7 @@ pub fn lit_by(scene: &Scene, on: &[SourceId]) -> Scene {
 }
 
 /// `scene` with group `g`'s sources scaled by `factors[g]`.
-pub fn scaled(scene: &Scene, groups: &[Group], factors: &[f64]) -> Scene {
+pub(crate) fn scaled(scene: &Scene, groups: &[Group], factors: &[f64]) -> Scene {
     let mut s = scene.clone();
     for (g, &x) in groups.iter().zip(factors) {
         for &id in &g.sources {
@@ -278,7 +278,7 @@ fn scale_emission(s: &mut Scene, m: usize, x: f64) {
 }
 
 /// Glob match: `*` any run of characters, `?` one character; case-sensitive.
-pub fn glob(pattern: &str, name: &str) -> bool {
+pub(crate) fn glob(pattern: &str, name: &str) -> bool {
     let (p, n): (Vec<char>, Vec<char>) = (pattern.chars().collect(), name.chars().collect());
     // Classic two-pointer match with one backtrack point for the last `*`.
     let (mut i, mut j, mut star, mut mark) = (0, 0, None, 0);

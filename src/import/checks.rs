@@ -22,7 +22,7 @@ pub use crate::scene::MAX_COORDINATE;
 const DEGENERATE: f64 = 1e-12;
 
 /// Check `scene` and drop its triangles without area (see the module documentation).
-pub fn finish(scene: &mut Scene) -> Result<()> {
+pub(crate) fn finish(scene: &mut Scene) -> Result<()> {
     let file = scene.source_file.clone();
     let err = |at: &str, message: String| Error::input(&file, at, message);
     for node in &scene.nodes {

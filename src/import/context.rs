@@ -83,7 +83,7 @@ impl Ctx {
         }
     }
 
-    pub fn warn(&mut self, message: impl Into<String>) {
+    pub(crate) fn warn(&mut self, message: impl Into<String>) {
         self.warnings.push(message.into());
     }
 

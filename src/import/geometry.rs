@@ -29,7 +29,7 @@ pub(crate) struct Origin {
 }
 
 /// Unit normal of triangle `t` (counter-clockwise front), `None` if it has no area.
-pub fn face_normal(positions: &[DVec3], t: [u32; 3]) -> Option<DVec3> {
+pub(crate) fn face_normal(positions: &[DVec3], t: [u32; 3]) -> Option<DVec3> {
     let [a, b, c] = t.map(|i| positions[i as usize]);
     let n = (b - a).cross(c - a);
     let len = n.length();
@@ -37,7 +37,7 @@ pub fn face_normal(positions: &[DVec3], t: [u32; 3]) -> Option<DVec3> {
 }
 
 /// Settle the normals of `mesh` and make it a [`Surface`].
-pub fn into_surface(mesh: RawMesh, origin: Origin) -> Surface {
+pub(crate) fn into_surface(mesh: RawMesh, origin: Origin) -> Surface {
     let RawMesh {
         positions,
         normals,

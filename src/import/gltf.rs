@@ -32,7 +32,7 @@ use crate::Result;
 use crate::scene::{Material, Scene};
 use serde_json::Value;
 
-pub fn load(ctx: &mut Ctx, bytes: &[u8]) -> Result<Scene> {
+pub(crate) fn load(ctx: &mut Ctx, bytes: &[u8]) -> Result<Scene> {
     let document::Parsed { doc, raw, bin } = document::parse(ctx, bytes)?;
     let buffers = buffers::load_buffers(ctx, &doc, bin.as_deref())?;
     let images = buffers::load_images(ctx, &doc, &buffers)?;

@@ -20,7 +20,7 @@ pub(crate) fn sniff_mime(bytes: &[u8]) -> Option<&'static str> {
 }
 
 /// The sRGB electro-optical transfer function (IEC 61966-2-1): encoded [0, 1] → linear.
-pub fn srgb_to_linear(v: f64) -> f64 {
+pub(crate) fn srgb_to_linear(v: f64) -> f64 {
     if v <= 0.04045 {
         v / 12.92
     } else {
@@ -30,7 +30,7 @@ pub fn srgb_to_linear(v: f64) -> f64 {
 
 /// Mean linear RGB of an encoded PNG/JPEG image (texel values are sRGB-encoded, as glTF
 /// requires for base colour textures).
-pub fn mean_linear_rgb(bytes: &[u8]) -> Result<DVec3, String> {
+pub(crate) fn mean_linear_rgb(bytes: &[u8]) -> Result<DVec3, String> {
     let format = match sniff_mime(bytes) {
         Some("image/png") => image::ImageFormat::Png,
         Some(_) => image::ImageFormat::Jpeg,

@@ -11,7 +11,7 @@ use glam::DVec3;
 const CHANNELS: [&str; 3] = ["R", "G", "B"];
 
 /// Check a diffuse reflectance; `hint` tells the user how to fix it at its source.
-pub fn check_reflectance(rho: DVec3, hint: &str) -> Result<(), String> {
+pub(crate) fn check_reflectance(rho: DVec3, hint: &str) -> Result<(), String> {
     for (i, &v) in rho.to_array().iter().enumerate() {
         let channel = CHANNELS[i];
         if v.is_nan() {
@@ -34,7 +34,7 @@ pub fn check_reflectance(rho: DVec3, hint: &str) -> Result<(), String> {
 }
 
 /// Check a luminance (cd/m²) or flux (lm) value; `what` names it in messages.
-pub fn check_amount(value: f64, what: &str) -> Result<f64, String> {
+pub(crate) fn check_amount(value: f64, what: &str) -> Result<f64, String> {
     if !value.is_finite() || value < 0.0 {
         return Err(format!("{what} {value} must be a finite number ≥ 0"));
     }
@@ -43,7 +43,7 @@ pub fn check_amount(value: f64, what: &str) -> Result<f64, String> {
 
 /// Lambertian emission whose luminance (cd/m²) is the luminance-Y of the linear `rgb` triple
 /// times `scale`, coloured like `rgb`. `None` when it emits nothing.
-pub fn emission_from_rgb(rgb: DVec3, scale: f64) -> Result<Option<Emission>, String> {
+pub(crate) fn emission_from_rgb(rgb: DVec3, scale: f64) -> Result<Option<Emission>, String> {
     if rgb.to_array().iter().any(|v| !v.is_finite() || *v < 0.0) {
         return Err(format!(
             "emissive colour [{}, {}, {}] must be finite and ≥ 0",
@@ -64,7 +64,7 @@ pub fn emission_from_rgb(rgb: DVec3, scale: f64) -> Result<Option<Emission>, Str
 }
 
 /// Normalise a relative emission/light colour to luminance 1, or explain why it cannot be.
-pub fn unit_luminance_color(rgb: DVec3, what: &str) -> Result<DVec3, String> {
+pub(crate) fn unit_luminance_color(rgb: DVec3, what: &str) -> Result<DVec3, String> {
     normalise_color(rgb).ok_or_else(|| {
         format!(
             "{what} [{}, {}, {}] has no luminance (it must be ≥ 0 with a positive \

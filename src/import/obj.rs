@@ -30,7 +30,7 @@ struct MtlLoads {
     error: Option<Error>,
 }
 
-pub fn load(ctx: &mut Ctx, bytes: &[u8], up: UpAxis) -> Result<Scene> {
+pub(crate) fn load(ctx: &mut Ctx, bytes: &[u8], up: UpAxis) -> Result<Scene> {
     let loads = RefCell::new(MtlLoads::default());
     let options = tobj::LoadOptions {
         triangulate: true,

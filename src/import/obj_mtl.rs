@@ -43,7 +43,7 @@ pub(super) struct ObjTextures {
 }
 
 impl ObjTextures {
-    pub fn into_parts(self) -> (Vec<Image>, Vec<Texture>) {
+    pub(crate) fn into_parts(self) -> (Vec<Image>, Vec<Texture>) {
         let textures = (0..self.images.len())
             .map(|i| Texture {
                 name: self.images[i].name.clone(),

@@ -69,7 +69,7 @@ fn lexical_join(dir: &Path, reference: &Path) -> Option<PathBuf> {
 }
 
 /// True when `reference` is relative and, with its `..` steps resolved, stays inside `dir`.
-pub fn lexically_inside(dir: &Path, reference: &Path) -> bool {
+pub(crate) fn lexically_inside(dir: &Path, reference: &Path) -> bool {
     lexical_join(dir, reference).is_some_and(|p| p.starts_with(dir) && p != dir)
 }
 

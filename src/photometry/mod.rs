@@ -214,7 +214,7 @@ impl Photometry {
         self.opening
     }
 
-    pub fn format(&self) -> Format {
+    pub(crate) fn format(&self) -> Format {
         self.format
     }
 

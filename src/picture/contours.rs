@@ -171,7 +171,7 @@ impl Grid<'_> {
 
 /// Per sample (row-major, w × h): whether its band on `scale` differs from its right or lower
 /// neighbour's; samples or neighbours that are NaN never mark an edge.
-pub fn band_edges(values: &[f64], w: u32, h: u32, scale: &ColourScale) -> Vec<bool> {
+pub(crate) fn band_edges(values: &[f64], w: u32, h: u32, scale: &ColourScale) -> Vec<bool> {
     let (w, h) = (w as usize, h as usize);
     let n = (w * h).min(values.len());
     let band = |k: usize| (!values[k].is_nan()).then(|| scale.band(values[k]));

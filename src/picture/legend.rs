@@ -41,7 +41,7 @@ pub fn false_colour(
 }
 
 /// The values in the scale's colours, with band edges drawn when `contours`.
-pub fn coloured(values: &[f64], w: u32, h: u32, scale: &ColourScale, contours: bool) -> Rgb8Image {
+pub(crate) fn coloured(values: &[f64], w: u32, h: u32, scale: &ColourScale, contours: bool) -> Rgb8Image {
     let mut img = Rgb8Image::new(w, h, NO_DATA);
     for (p, v) in img.pixels.iter_mut().zip(values) {
         if !v.is_nan() {
@@ -59,19 +59,19 @@ pub fn coloured(values: &[f64], w: u32, h: u32, scale: &ColourScale, contours: b
 }
 
 /// Black on a light colour, white on a dark one (by Rec. 709 luma of the sRGB bytes).
-pub fn contrasting(c: [u8; 3]) -> [u8; 3] {
+pub(crate) fn contrasting(c: [u8; 3]) -> [u8; 3] {
     let luma = 0.2126 * f64::from(c[0]) + 0.7152 * f64::from(c[1]) + 0.0722 * f64::from(c[2]);
     if luma > 128.0 { INK } else { PAPER }
 }
 
 /// The text line height for an image `h` pixels high (a multiple of the font's 9 rows).
-pub fn text_height(h: u32) -> u32 {
+pub(crate) fn text_height(h: u32) -> u32 {
     9 * (h / 240).clamp(1, 4)
 }
 
 /// The legend strip for an image `h` pixels high: at least `h` high when it fits in it, more
 /// when its labels need more room.
-pub fn legend(scale: &ColourScale, unit: &str, h: u32) -> Rgb8Image {
+pub(crate) fn legend(scale: &ColourScale, unit: &str, h: u32) -> Rgb8Image {
     let lh = text_height(h);
     let s = i64::from(lh / 9);
     let pad = 6 * s;

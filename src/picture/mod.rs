@@ -43,7 +43,7 @@ impl Rgb8Image {
     }
 
     /// Set the pixel at (x, y); pixels outside the image are ignored.
-    pub fn put(&mut self, x: i64, y: i64, c: [u8; 3]) {
+    pub(crate) fn put(&mut self, x: i64, y: i64, c: [u8; 3]) {
         if x >= 0 && y >= 0 && x < i64::from(self.width) && y < i64::from(self.height) {
             self.pixels[y as usize * self.width as usize + x as usize] = c;
         }
@@ -79,7 +79,7 @@ impl Rgb8Image {
     }
 
     /// Fill the rectangle [x, x + w) × [y, y + h), clipped.
-    pub fn fill_rect(&mut self, x: i64, y: i64, w: u32, h: u32, c: [u8; 3]) {
+    pub(crate) fn fill_rect(&mut self, x: i64, y: i64, w: u32, h: u32, c: [u8; 3]) {
         let x0 = x.max(0);
         let y0 = y.max(0);
         let x1 = (x + i64::from(w)).min(i64::from(self.width));
@@ -92,7 +92,7 @@ impl Rgb8Image {
     }
 
     /// Copy `other` with its top-left pixel at (x, y), clipped.
-    pub fn paste(&mut self, other: &Rgb8Image, x: i64, y: i64) {
+    pub(crate) fn paste(&mut self, other: &Rgb8Image, x: i64, y: i64) {
         for oy in 0..other.height {
             for ox in 0..other.width {
                 self.put(x + i64::from(ox), y + i64::from(oy), other.get(ox, oy));

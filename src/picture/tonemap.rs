@@ -82,7 +82,7 @@ pub fn histogram_adjustment(rgb: &[[f32; 3]], w: u32, h: u32, vfov_deg: f64) -> 
 }
 
 /// Luminance Y of linear RGB (Rec. 709 / sRGB primaries); negative components count as 0.
-pub fn luminance(c: [f32; 3]) -> f64 {
+pub(crate) fn luminance(c: [f32; 3]) -> f64 {
     let [r, g, b] = c.map(|v| f64::from(v).max(0.0));
     0.2126 * r + 0.7152 * g + 0.0722 * b
 }
@@ -189,7 +189,7 @@ pub fn tone_curve(samples: &[f64]) -> (ToneCurve, f64) {
 
 impl ToneCurve {
     /// The histogram curve of `counts` over [b_min, b_max] (log10 cd/m²).
-    pub fn histogram(b_min: f64, b_max: f64, counts: Vec<f64>) -> ToneCurve {
+    pub(crate) fn histogram(b_min: f64, b_max: f64, counts: Vec<f64>) -> ToneCurve {
         let total: f64 = counts.iter().sum();
         let mut cumulative = Vec::with_capacity(counts.len() + 1);
         let mut below = 0.0;

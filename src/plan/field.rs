@@ -47,12 +47,12 @@ pub const CELLS: f64 = 200.0;
 
 /// Cells along the longer side for a plan `size` px across: [`CELLS`], or one cell per 4 px on
 /// larger plans, so the colour field stays as fine as the contours drawn over it.
-pub fn cells(size: u32) -> f64 {
+pub(crate) fn cells(size: u32) -> f64 {
     (f64::from(size) / 4.0).max(CELLS)
 }
 
 /// The working plane's plan, about `cells` cells along its longer side (at most 16 a probe step).
-pub fn working_plane(input: &BakedOutput, cells: f64) -> Result<Sampled> {
+pub(crate) fn working_plane(input: &BakedOutput, cells: f64) -> Result<Sampled> {
     let Some(plane) = input
         .working_plane
         .as_ref()

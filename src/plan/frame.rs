@@ -36,18 +36,18 @@ impl Frame {
     }
 
     /// The point's page coordinates (m).
-    pub(crate) fn to_2d(&self, p: DVec3) -> DVec2 {
+    pub(crate) fn on_page(&self, p: DVec3) -> DVec2 {
         DVec2::new(p.dot(self.right), p.dot(self.down))
     }
 
     /// Whether it is seen from above (horizontal).
-    pub(crate) fn from_above(&self) -> bool {
+    pub(crate) fn seen_from_above(&self) -> bool {
         self.down == DVec3::Z && self.right == DVec3::X
     }
 
     /// The note under the title: how the plane is seen and which way the axes run.
     pub(crate) fn note(&self) -> String {
-        if self.from_above() {
+        if self.seen_from_above() {
             return "seen from above, +Y up (toward the viewer); x \u{2192}, z \u{2193}".into();
         }
         format!(
@@ -92,7 +92,7 @@ mod tests {
         }
         // Horizontal: from above, x right, z down; right × up(−z) = +Y.
         let f = Frame::of_normal(-DVec3::Y);
-        assert_eq!(f.to_2d(DVec3::new(1.0, 2.0, 3.0)), DVec2::new(1.0, 3.0));
+        assert_eq!(f.on_page(DVec3::new(1.0, 2.0, 3.0)), DVec2::new(1.0, 3.0));
         assert!((DVec3::X.cross(-DVec3::Z) - DVec3::Y).length() < 1e-12);
     }
 }

@@ -74,7 +74,7 @@ pub const NO_DATA: [u8; 3] = [200, 200, 200];
 const CONTOUR: [u8; 3] = [40, 40, 40];
 
 /// A number as the title shows it: three significant digits, at most two decimals.
-pub fn figure(v: f64) -> String {
+pub(crate) fn figure(v: f64) -> String {
     let a = v.abs();
     if a >= 100.0 || a == 0.0 {
         format!("{v:.0}")
@@ -497,7 +497,7 @@ fn width(t: &str, size: u32) -> f64 {
 }
 
 /// The value at position `t` (0..1) of the scale: the inverse of `ColourScale::position`.
-pub fn value_at(s: &ColourScale, t: f64) -> f64 {
+pub(crate) fn value_at(s: &ColourScale, t: f64) -> f64 {
     if s.log {
         s.lo * (s.hi / s.lo).powf(t)
     } else {
@@ -506,7 +506,7 @@ pub fn value_at(s: &ColourScale, t: f64) -> f64 {
 }
 
 /// The largest 1, 2 or 5 × 10^k m at most a quarter of `extent` (m).
-pub fn scale_bar_length(extent: f64) -> f64 {
+pub(crate) fn scale_bar_length(extent: f64) -> f64 {
     let x = extent / 4.0;
     let base = 10f64.powf(x.log10().floor());
     [5.0, 2.0, 1.0]

@@ -19,7 +19,7 @@ use std::collections::BTreeMap;
 pub const TOPS_BELOW: f64 = 0.1;
 
 /// The baked geometry cut by the plane y = `height`, and the tops just under it.
-pub fn slice(input: &BakedOutput, height: f64, frame: &Frame) -> Vec<[DVec2; 2]> {
+pub(crate) fn slice(input: &BakedOutput, height: f64, frame: &Frame) -> Vec<[DVec2; 2]> {
     let mut out = Vec::new();
     for prim in &input.primitives {
         let mut tops = Vec::new();
@@ -42,7 +42,7 @@ pub fn slice(input: &BakedOutput, height: f64, frame: &Frame) -> Vec<[DVec2; 2]>
                 }
             }
             if let [a, b] = cut[..] {
-                out.push([frame.to_2d(a), frame.to_2d(b)]);
+                out.push([frame.on_page(a), frame.on_page(b)]);
             }
         }
         out.extend(boundary(prim, &tops, frame));
@@ -61,7 +61,7 @@ pub(crate) fn boundary(prim: &Primitive, chosen: &[usize], frame: &Frame) -> Vec
             e.0 += 1;
         }
     }
-    let at = |v: u32| frame.to_2d(prim.positions[v as usize]);
+    let at = |v: u32| frame.on_page(prim.positions[v as usize]);
     (count.values())
         .filter(|(n, _)| *n == 1)
         .map(|(_, [a, b])| [at(*a), at(*b)])

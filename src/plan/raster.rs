@@ -9,7 +9,7 @@ use crate::picture::font::{draw_text, text_size};
 use glam::DVec2;
 
 /// The image.
-pub fn render(d: &Drawing) -> Rgb8Image {
+pub(crate) fn render(d: &Drawing) -> Rgb8Image {
     let mut img = Rgb8Image::new(d.width, d.height, WHITE);
     for item in d.field.iter().chain(&d.items) {
         match item {
@@ -73,7 +73,7 @@ pub fn render(d: &Drawing) -> Rgb8Image {
 }
 
 /// Text with the characters the bitmap font lacks replaced.
-pub fn plain(t: &str) -> String {
+pub(crate) fn plain(t: &str) -> String {
     t.replace('\u{2080}', "0")
         .replace('\u{2192}', "->")
         .replace('\u{2193}', "v")

@@ -28,7 +28,7 @@ use crate::{Error, Result};
 use glam::{DVec2, DVec3};
 
 /// The plan of the node named (or with path) `node`.
-pub fn sample(input: &BakedOutput, key: &str, quantity: Quantity, cells: f64) -> Result<Sampled> {
+pub(crate) fn sample(input: &BakedOutput, key: &str, quantity: Quantity, cells: f64) -> Result<Sampled> {
     let (node, face) =
         keys::split_face(key).map_err(|m| Error::Settings(format!("--surface {key}: {m}")))?;
     let i = find_node(input, node)?;
@@ -168,7 +168,7 @@ fn grid(chosen: &[(&Primitive, &[usize])], frame: &Frame, cells: f64) -> Field {
     for (p, tris) in chosen {
         for &j in *tris {
             for v in p.triangles[j] {
-                let q = frame.to_2d(p.positions[v as usize]);
+                let q = frame.on_page(p.positions[v as usize]);
                 a = a.min(q);
                 b = b.max(q);
             }
@@ -280,7 +280,7 @@ fn fill(
         .map(|l| (l, &input.lightmaps[l.lightmap]));
     for &j in tris {
         let v = p.triangles[j].map(|v| v as usize);
-        let q = v.map(|v| frame.to_2d(p.positions[v]));
+        let q = v.map(|v| frame.on_page(p.positions[v]));
         // The bake's marker where the output has it; in older outputs, how a covered part looks.
         let covered = match lightmap {
             _ if p.covered_from.is_some() => p.is_covered(j),

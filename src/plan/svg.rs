@@ -6,7 +6,7 @@ use super::layout::{Anchor, Drawing, Item};
 use std::fmt::Write;
 
 /// The SVG document.
-pub fn render(d: &Drawing) -> String {
+pub(crate) fn render(d: &Drawing) -> String {
     let mut s = String::with_capacity(64 * (d.field.len() + d.items.len()) + 512);
     let _ = writeln!(s, r#"<?xml version="1.0" encoding="UTF-8"?>"#);
     let _ = writeln!(

@@ -15,7 +15,7 @@
 use super::{FACE_NAMES, ProbeOrigin, ProbeResult};
 
 /// The header row's column names, in order.
-pub fn header() -> Vec<String> {
+pub(crate) fn header() -> Vec<String> {
     let mut h: Vec<String> = ["name", "origin", "x_m", "y_m", "z_m"]
         .map(String::from)
         .to_vec();
@@ -61,7 +61,7 @@ pub fn origin_kind(o: &ProbeOrigin) -> &'static str {
 }
 
 /// One probe's fields, in header order.
-pub fn row(r: &ProbeResult) -> Vec<String> {
+pub(crate) fn row(r: &ProbeResult) -> Vec<String> {
     let num = |v: f64| format!("{v}");
     let opt = |v: Option<f64>| v.map(num).unwrap_or_default();
     let m = &r.metrics;
@@ -93,7 +93,7 @@ pub fn row(r: &ProbeResult) -> Vec<String> {
 }
 
 /// The whole table, header first, `\n` line ends.
-pub fn csv(results: &[ProbeResult]) -> String {
+pub(crate) fn csv(results: &[ProbeResult]) -> String {
     let mut out = header().join(",");
     out.push('\n');
     for r in results {

@@ -55,7 +55,7 @@ pub struct Cubic {
 
 /// The section, or `None` when the bake has no probes. `inside(position)`: whether a
 /// working-plane point is inside the border zone.
-pub fn cubic(input: &BakedOutput, inside: impl Fn(glam::DVec3) -> bool) -> Option<Cubic> {
+pub(crate) fn cubic(input: &BakedOutput, inside: impl Fn(glam::DVec3) -> bool) -> Option<Cubic> {
     if input.probes.is_empty() {
         return None;
     }

@@ -91,7 +91,7 @@ pub fn by_material(input: &BakedOutput, filter: &Filter) -> Vec<Row> {
 }
 
 /// The material a lightmapped variant was made from, or `m` itself.
-pub fn original(input: &BakedOutput, m: usize) -> usize {
+pub(crate) fn original(input: &BakedOutput, m: usize) -> usize {
     (input.materials.get(m))
         .and_then(|info| info.variant_of)
         .unwrap_or(m)
@@ -120,7 +120,7 @@ fn groups(
 }
 
 /// The source of several rows together (`None` for no rows).
-pub fn source_of(rows: &[Row]) -> Option<Source> {
+pub(crate) fn source_of(rows: &[Row]) -> Option<Source> {
     let first = rows.first()?.source;
     Some(if rows.iter().all(|r| r.source == first) {
         first
@@ -131,7 +131,7 @@ pub fn source_of(rows: &[Row]) -> Option<Source> {
 
 /// The figures over `prims` (None when nothing with area passes the filter), from texels where
 /// a primitive has them.
-pub fn row(input: &BakedOutput, name: &str, prims: &[&Primitive], filter: &Filter) -> Option<Row> {
+pub(crate) fn row(input: &BakedOutput, name: &str, prims: &[&Primitive], filter: &Filter) -> Option<Row> {
     row_from(input, name, prims, filter, true)
 }
 
@@ -172,7 +172,7 @@ pub fn row_from(
 /// The working plane's figures: plain means over its points (a regular grid) at least `border` m
 /// inside its extent (the points' extent grown by half the spacing: EN 12464-1's border zone);
 /// `grid`: its height and spacing, when known. `None` when the border leaves no point.
-pub fn plane(input: &PlaneInput, grid: Option<ProbeGrid>, border: f64) -> Option<PlaneRow> {
+pub(crate) fn plane(input: &PlaneInput, grid: Option<ProbeGrid>, border: f64) -> Option<PlaneRow> {
     let extent = plane_extent(&input.points, grid.map_or(0.0, |g| g.spacing));
     let inside = |p: &&PlanePoint| inside_border(extent, border, p.position);
     let points: Vec<&PlanePoint> = input.points.iter().filter(inside).collect();
@@ -207,13 +207,13 @@ pub fn plane(input: &PlaneInput, grid: Option<ProbeGrid>, border: f64) -> Option
 
 /// Whether `p` lies at least `border` m inside `extent` (`[x_min, z_min, x_max, z_max]`, +Y up),
 /// with a millimetre's slack: grid points sit at computed, rounded places.
-pub fn inside_border(extent: [f64; 4], border: f64, p: glam::DVec3) -> bool {
+pub(crate) fn inside_border(extent: [f64; 4], border: f64, p: glam::DVec3) -> bool {
     let b = border - 1e-3;
     p.x - extent[0] >= b && p.z - extent[1] >= b && extent[2] - p.x >= b && extent[3] - p.z >= b
 }
 
 /// `[x_min, z_min, x_max, z_max]` of `points` grown by half of `spacing` (m).
-pub fn plane_extent(points: &[PlanePoint], spacing: f64) -> [f64; 4] {
+pub(crate) fn plane_extent(points: &[PlanePoint], spacing: f64) -> [f64; 4] {
     let mut e = [
         f64::INFINITY,
         f64::INFINITY,

@@ -40,7 +40,7 @@ pub struct ScheduleRow {
 }
 
 /// The schedule of `sources` (the bake's order).
-pub fn schedule(input: &BakedOutput, sources: &[SourceRecord]) -> Vec<ScheduleRow> {
+pub(crate) fn schedule(input: &BakedOutput, sources: &[SourceRecord]) -> Vec<ScheduleRow> {
     let mut rows: Vec<ScheduleRow> = Vec::new();
     for s in sources {
         let node = node_of(&s.source).filter(|&n| n < input.nodes.len());
@@ -104,7 +104,7 @@ fn node_of(pointer: &str) -> Option<usize> {
 }
 
 /// The kind in words (`luminaire`, `spot light`).
-pub fn kind_name(k: SourceKind) -> &'static str {
+pub(crate) fn kind_name(k: SourceKind) -> &'static str {
     match k {
         SourceKind::Point => "point light",
         SourceKind::Spot => "spot light",

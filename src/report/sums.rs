@@ -37,7 +37,7 @@ pub enum Source {
 
 impl Source {
     /// In words, for titles (`lightmap texels`).
-    pub fn describe(self) -> &'static str {
+    pub(crate) fn describe(self) -> &'static str {
         match self {
             Source::Texels => "lightmap texels",
             Source::Vertices => "vertices",

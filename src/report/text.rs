@@ -33,7 +33,7 @@ pub(super) fn render(report: &Report, markdown: bool) -> String {
 }
 
 /// A surface section: one row per material or node (`what`).
-pub fn surfaces(title: &'static str, what: &'static str, rows: &[Row]) -> Section {
+pub(crate) fn surfaces(title: &'static str, what: &'static str, rows: &[Row]) -> Section {
     let title = match source_of(rows) {
         Some(s) => format!("{title} (from {})", s.describe()),
         None => title.to_string(),
@@ -80,7 +80,7 @@ pub fn surfaces(title: &'static str, what: &'static str, rows: &[Row]) -> Sectio
 }
 
 /// The working plane's figures.
-pub fn plane(p: &PlaneRow) -> Section {
+pub(crate) fn plane(p: &PlaneRow) -> Section {
     let metres = |m: Option<f64>| m.map_or("—".into(), |m| format!("{m:.2}"));
     Section {
         title: "Working plane".into(),
@@ -114,7 +114,7 @@ pub fn plane(p: &PlaneRow) -> Section {
 }
 
 /// Each target beside what was achieved, pass or fail.
-pub fn targets(rows: &[TargetRow]) -> Section {
+pub(crate) fn targets(rows: &[TargetRow]) -> Section {
     Section {
         title: "Targets".into(),
         headers: vec!["target", "E target lx", "E avg lx", "ratio", "pass"],
@@ -134,7 +134,7 @@ pub fn targets(rows: &[TargetRow]) -> Section {
 }
 
 /// `pass`, `FAIL` or `—`.
-pub fn pass(p: Option<bool>) -> String {
+pub(crate) fn pass(p: Option<bool>) -> String {
     match p {
         Some(true) => "pass".into(),
         Some(false) => "FAIL".into(),
@@ -143,7 +143,7 @@ pub fn pass(p: Option<bool>) -> String {
 }
 
 /// The luminaire schedule, one row per type.
-pub fn schedule(rows: &[ScheduleRow]) -> Section {
+pub(crate) fn schedule(rows: &[ScheduleRow]) -> Section {
     let opt = |x: Option<f64>, digits: usize| x.map_or("—".into(), |x| format!("{x:.digits$}"));
     Section {
         title: "Luminaire schedule".into(),
@@ -182,7 +182,7 @@ pub fn schedule(rows: &[ScheduleRow]) -> Section {
 }
 
 /// Cubic illuminance: the working plane's means, then every probe.
-pub fn cubic(c: &Cubic) -> Vec<Section> {
+pub(crate) fn cubic(c: &Cubic) -> Vec<Section> {
     let mut out = Vec::new();
     if let Some(w) = &c.working_plane {
         out.push(Section {
@@ -250,7 +250,7 @@ pub fn cubic(c: &Cubic) -> Vec<Section> {
 }
 
 /// Whole lx (never "-0").
-pub fn lux(x: f64) -> String {
+pub(crate) fn lux(x: f64) -> String {
     if x.abs() < 0.5 {
         "0".into()
     } else {

@@ -16,7 +16,7 @@ use crate::{Error, Result};
 use std::fmt::Write;
 
 /// The isolux plan of the working plane as inline SVG (no XML declaration), `size` px wide.
-pub fn plan_svg(input: &BakedOutput, size: u32) -> Result<String> {
+pub(crate) fn plan_svg(input: &BakedOutput, size: u32) -> Result<String> {
     let options = crate::plan::Options {
         size,
         ..Default::default()
@@ -40,7 +40,7 @@ pub struct ViewFigure {
 /// node, `width` px wide (the camera's aspect ratio), 4 rays a pixel, all on one scale: the
 /// automatic range over every view's pixels together, so one colour reads one luminance in
 /// every figure of the report.
-pub fn views(input: &BakedOutput, scene: &Scene, width: u32) -> Result<Vec<ViewFigure>> {
+pub(crate) fn views(input: &BakedOutput, scene: &Scene, width: u32) -> Result<Vec<ViewFigure>> {
     let mut rendered = Vec::new();
     for node in &input.cameras {
         let name = node
@@ -79,7 +79,7 @@ pub fn views(input: &BakedOutput, scene: &Scene, width: u32) -> Result<Vec<ViewF
 /// its extent, the border zone shaded, each grid point (filled: taken; hollow: in the border),
 /// and at every `step`-th point an arrow along the horizontal part of its illumination vector
 /// (the flow of light), longest arrow 0.8 of the distance between arrows, clipped to the extent.
-pub fn border_and_flow(input: &BakedOutput, plane: &PlaneRow, size: u32) -> String {
+pub(crate) fn border_and_flow(input: &BakedOutput, plane: &PlaneRow, size: u32) -> String {
     let [x0, z0, x1, z1] = plane.extent;
     let (w_m, h_m) = ((x1 - x0).max(1e-9), (z1 - z0).max(1e-9));
     let margin = 8.0;

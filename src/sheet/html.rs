@@ -5,7 +5,7 @@ use crate::table::Section;
 use std::fmt::Write;
 
 /// `s` with `& < > "` escaped (text and attribute values).
-pub fn escape(s: &str) -> String {
+pub(crate) fn escape(s: &str) -> String {
     let mut out = String::with_capacity(s.len());
     for c in s.chars() {
         match c {
@@ -27,7 +27,7 @@ pub struct Cell {
 }
 
 /// A text cell.
-pub fn text(s: impl Into<String>) -> Cell {
+pub(crate) fn text(s: impl Into<String>) -> Cell {
     Cell {
         text: s.into(),
         number: false,
@@ -36,7 +36,7 @@ pub fn text(s: impl Into<String>) -> Cell {
 }
 
 /// A number cell (already formatted).
-pub fn num(s: impl Into<String>) -> Cell {
+pub(crate) fn num(s: impl Into<String>) -> Cell {
     Cell {
         text: s.into(),
         number: true,
@@ -45,7 +45,7 @@ pub fn num(s: impl Into<String>) -> Cell {
 }
 
 /// A table with an id, a caption, headers and rows.
-pub fn table(out: &mut String, id: &str, caption: &str, headers: &[&str], rows: &[Vec<Cell>]) {
+pub(crate) fn table(out: &mut String, id: &str, caption: &str, headers: &[&str], rows: &[Vec<Cell>]) {
     let _ = writeln!(out, r#"<table id="{}">"#, escape(id));
     let _ = writeln!(out, "<caption>{}</caption>", escape(caption));
     out.push_str("<thead><tr>");
@@ -77,7 +77,7 @@ pub fn table(out: &mut String, id: &str, caption: &str, headers: &[&str], rows: 
 
 /// A report [`Section`] as a table with an id and a caption: numbers right-aligned, the rest as
 /// text; `pass` and `FAIL` cells get their classes.
-pub fn section(out: &mut String, id: &str, caption: &str, s: &Section) {
+pub(crate) fn section(out: &mut String, id: &str, caption: &str, s: &Section) {
     let rows: Vec<Vec<Cell>> = (s.cells.iter())
         .map(|row| {
             (row.iter())
@@ -106,7 +106,7 @@ fn numeric(c: &str) -> bool {
 }
 
 /// A definition list of (term, value) pairs.
-pub fn facts(out: &mut String, id: &str, pairs: &[(&str, String)]) {
+pub(crate) fn facts(out: &mut String, id: &str, pairs: &[(&str, String)]) {
     let _ = writeln!(out, r#"<dl id="{}" class="facts">"#, escape(id));
     for (k, v) in pairs {
         let _ = writeln!(out, "<dt>{}</dt><dd>{}</dd>", escape(k), escape(v));

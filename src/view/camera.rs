@@ -80,7 +80,7 @@ impl Camera {
     /// The camera of a glTF camera node: its origin, local −Z forward and local +Y up (scale
     /// removed); `size` given, or 1280 wide and as high as its aspect ratio makes it (720 without
     /// one); `near` given, or its `znear`.
-    pub fn from_node(
+    pub(crate) fn from_node(
         node: &CameraNode,
         size: Option<(u32, u32)>,
         near: Option<f64>,
@@ -145,7 +145,7 @@ impl Camera {
     }
 
     /// The unit direction of the ray through image point `p` (pixel coordinates).
-    pub fn direction(&self, p: DVec2) -> DVec3 {
+    pub(crate) fn direction(&self, p: DVec2) -> DVec3 {
         let (w, h) = (self.width as f64, self.height as f64);
         let t = (self.yfov / 2.0).tan();
         let x = (2.0 * p.x / w - 1.0) * t * (w / h);
@@ -154,7 +154,7 @@ impl Camera {
     }
 
     /// Where the ray along unit `dir` starts: on the near plane.
-    pub fn origin(&self, dir: DVec3) -> DVec3 {
+    pub(crate) fn origin(&self, dir: DVec3) -> DVec3 {
         self.eye + dir * (self.near / dir.dot(self.forward))
     }
 
@@ -167,7 +167,7 @@ impl Camera {
 /// Fixed antialiasing offsets from a pixel's centre (in pixels, within ±0.5): the centre alone
 /// for 1 sample, the rotated grid for 4, a regular k × k grid for n = k² (see
 /// [`valid_samples`]); all deterministic, centred on the pixel's centre.
-pub fn sample_offsets(n: u32) -> Vec<DVec2> {
+pub(crate) fn sample_offsets(n: u32) -> Vec<DVec2> {
     match n {
         0 | 1 => vec![DVec2::ZERO],
         4 => [
@@ -189,7 +189,7 @@ pub fn sample_offsets(n: u32) -> Vec<DVec2> {
 }
 
 /// Sample counts [`sample_offsets`] knows: 1, 4 and the squares of 3…16.
-pub fn valid_samples(n: u32) -> bool {
+pub(crate) fn valid_samples(n: u32) -> bool {
     let k = (n as f64).sqrt().round() as u32;
     (1..=256).contains(&n) && k * k == n
 }

@@ -16,7 +16,7 @@ pub struct Openings<'a> {
 }
 
 impl<'a> Openings<'a> {
-    pub fn new(scene: &'a Scene) -> Self {
+    pub(crate) fn new(scene: &'a Scene) -> Self {
         // Each profile's intensity bounds are built once (they are a 721 × 360 sampling).
         let bounds = ProfileBounds::new(scene);
         Openings {
@@ -24,13 +24,13 @@ impl<'a> Openings<'a> {
         }
     }
 
-    pub fn is_empty(&self) -> bool {
+    pub(crate) fn is_empty(&self) -> bool {
         self.openings.is_empty()
     }
 
     /// The nearest opening along the unit `dir` from `origin` within `tmax`: (distance,
     /// luminance RGB in cd/m², which opening).
-    pub fn seen(&self, origin: DVec3, dir: DVec3, tmax: f64) -> Option<(f64, DVec3, usize)> {
+    pub(crate) fn seen(&self, origin: DVec3, dir: DVec3, tmax: f64) -> Option<(f64, DVec3, usize)> {
         let mut best: Option<(f64, DVec3, usize)> = None;
         for (k, o) in self.openings.iter().enumerate() {
             let to_local = o.source.world_from_photometric.transpose();

@@ -52,7 +52,7 @@ struct Sample {
 /// offsets' rays and their mean; the others keep their centre ray (within a primitive the
 /// values are smooth, and the centre is the mean of a linear variation over the pixel). Both
 /// passes depend on the rays alone, so the image does not depend on the thread count.
-pub fn trace(
+pub(crate) fn trace(
     camera: &Camera,
     surfaces: &Surfaces,
     openings: &Openings,
@@ -175,7 +175,7 @@ fn srgb_encode(linear: f64) -> f64 {
 
 /// True when the eye is inside a solid: every one of 14 fixed directions (the axes and the
 /// cube's diagonals) first meets the back of a surface.
-pub fn inside_solid(surfaces: &Surfaces, eye: DVec3) -> bool {
+pub(crate) fn inside_solid(surfaces: &Surfaces, eye: DVec3) -> bool {
     let mut dirs: Vec<DVec3> = Vec::with_capacity(14);
     for axis in [DVec3::X, DVec3::Y, DVec3::Z] {
         dirs.push(axis);

@@ -37,7 +37,7 @@ pub struct DisplayTexture {
 
 impl DisplayTexture {
     /// Decode 8-bit sRGB texels to linear.
-    pub fn from_srgb8(width: u32, height: u32, texels: &[[u8; 3]]) -> Self {
+    pub(crate) fn from_srgb8(width: u32, height: u32, texels: &[[u8; 3]]) -> Self {
         let lut: Vec<f32> = (0..256)
             .map(|i| srgb_to_linear(i as f64 / 255.0) as f32)
             .collect();
@@ -133,7 +133,7 @@ impl<'a> Surfaces<'a> {
 
     /// What a viewer shows of the nearest display-only primitive's front face along the unit
     /// `dir` from `origin` no farther than `reach`: base colour × interpolated COLOR_0.
-    pub fn shown_display(&self, origin: DVec3, dir: DVec3, reach: f64) -> Option<DVec3> {
+    pub(crate) fn shown_display(&self, origin: DVec3, dir: DVec3, reach: f64) -> Option<DVec3> {
         let h = self.shown.as_ref()?.closest_front(origin, dir)?;
         if h.distance > reach {
             return None;
@@ -152,7 +152,7 @@ impl<'a> Surfaces<'a> {
     }
 
     /// The BVH's distance tolerance (m): 10⁻⁵ of the scene's diagonal.
-    pub fn epsilon(&self) -> f64 {
+    pub(crate) fn epsilon(&self) -> f64 {
         self.occluder.epsilon
     }
 
@@ -172,7 +172,7 @@ impl<'a> Surfaces<'a> {
 
     /// Does a ray from `origin` along `dir` meet the back of a triangle no farther than the
     /// first front face (a tie counts: a box standing on a floor)?
-    pub fn meets_back_face(&self, origin: DVec3, dir: DVec3) -> bool {
+    pub(crate) fn meets_back_face(&self, origin: DVec3, dir: DVec3) -> bool {
         let Some(back) = self.occluder.closest_back(origin, dir) else {
             return false;
         };
@@ -195,7 +195,7 @@ impl<'a> Surfaces<'a> {
     }
 
     /// Luminance leaving the surface at the hit, linear RGB (cd/m²).
-    pub fn luminance(&self, h: &SurfaceHit) -> DVec3 {
+    pub(crate) fn luminance(&self, h: &SurfaceHit) -> DVec3 {
         let prim = &self.baked.primitives[h.primitive];
         match &prim.lightmap {
             Some(l) => {
@@ -238,7 +238,7 @@ impl<'a> Surfaces<'a> {
     }
 
     /// The colour a glTF viewer shows at the hit with the output's materials (linear RGB).
-    pub fn display(&self, h: &SurfaceHit) -> DVec3 {
+    pub(crate) fn display(&self, h: &SurfaceHit) -> DVec3 {
         let prim = &self.baked.primitives[h.primitive];
         let look = &self.baked.materials[prim.material].look;
         let base = DVec3::new(look.base_color[0], look.base_color[1], look.base_color[2]);

@@ -37,12 +37,12 @@ pub(super) struct Counts {
 
 impl Counts {
     /// The scene profile of `EXT_lights_ies.lights[light]`.
-    pub fn ies_light(&self, light: usize) -> Option<usize> {
+    pub(crate) fn ies_light(&self, light: usize) -> Option<usize> {
         (light < self.ies).then_some(light)
     }
 
     /// The scene profile of `LUXBAKE_luminaire.profiles[profile]`.
-    pub fn luxbake_profile(&self, profile: usize) -> Option<usize> {
+    pub(crate) fn luxbake_profile(&self, profile: usize) -> Option<usize> {
         (profile < self.luxbake).then_some(self.ies + profile)
     }
 }
