@@ -4,13 +4,13 @@
 //! Pipeline (each stage a function from one data type to the next; see ARCHITECTURE.md):
 //! `import` → [`scene::Scene`] → `bake` (patches and receivers, `visibility`, `direct` light,
 //! `transport` links, `solve`) → [`solution::Solution`] (light at any receiver) →
-//! [`result::BakeResult`] + [`summary::RunSummary`] → `export`; `baked` reads an output back
+//! [`result::BakeResult`] + [`summary::RunSummary`] → `export`; `readback` reads an output back
 //! for `report` and `diff`.
 //!
 //! Units are SI and photometric (m, lx, cd, cd/m², lm); axes are glTF's, +Y up.
 
 pub mod bake;
-pub mod baked;
+pub mod readback;
 pub mod contacts;
 pub mod design;
 pub mod diff;
@@ -36,7 +36,7 @@ pub mod result;
 pub mod scene;
 pub mod settings;
 pub mod shardfile;
-pub mod sheet;
+pub mod html_report;
 pub mod solution;
 pub mod gmres;
 pub mod summary;

@@ -1,6 +1,6 @@
 //! The run summary: what a bake records about itself, one typed tree. The pipeline fills it, the
 //! exporter writes it (the output scene's `extras.luxbake`, `--summary-json`), and whoever reads a
-//! finished bake gets it back typed (`baked::read`).
+//! finished bake gets it back typed (`readback::read`).
 //!
 //! The serde form is the file format: field names and their order are what outputs hold, so a
 //! change here is a change of format. Reading is strict: a field an older output lacks is an

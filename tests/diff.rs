@@ -189,7 +189,7 @@ fn an_edited_vertex_is_named_with_its_position() {
     let run = diff(&a, &b, &[]);
     assert_eq!(run.code, Some(1), "{}", run.stdout);
     let last = last_line(&run.stdout);
-    let p = position.map(|c| luxbake::diff::text::num(c.into()));
+    let p = position.map(|c| luxbake::diff::render::num(c.into()));
     let expect = format!(
         "node room/divider primitive 1 vertex {vertex} at ({}, {}, {}) m",
         p[0], p[1], p[2]

@@ -61,7 +61,7 @@ fn the_same_layout_compares_texel_by_texel() {
         d["lightmaps"].as_str().unwrap().contains("same layout"),
         "{d}"
     );
-    let read = luxbake::baked::read(&b).unwrap();
+    let read = luxbake::readback::read(&b).unwrap();
     let texels: usize = (read.lightmaps.iter())
         .map(|l| l.footprint.iter().filter(|f| **f > 0.0).count())
         .sum();
@@ -174,7 +174,7 @@ fn other_layouts_compare_at_surface_points() {
         "{d}"
     );
     // Every vertex and every triangle's centroid of every primitive, three quantities.
-    let read = luxbake::baked::read(&b).unwrap();
+    let read = luxbake::readback::read(&b).unwrap();
     let points: usize = (read.primitives.iter())
         .map(|p| p.positions.len() + p.triangles.len())
         .sum();
@@ -220,7 +220,7 @@ fn lightmaps_in_one_bake_only_fall_back_to_vertices() {
         d["lightmaps"],
         "only A has lightmaps: compared vertex by vertex"
     );
-    let read = luxbake::baked::read(&b).unwrap();
+    let read = luxbake::readback::read(&b).unwrap();
     let vertices: usize = read.primitives.iter().map(|p| p.positions.len()).sum();
     assert_eq!(number(&d["values"]) as usize, 3 * vertices);
     let (run, _) = diff_json(&b, &a, &["--rtol", "0"]);

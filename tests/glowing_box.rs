@@ -32,7 +32,7 @@ fn a_glowing_box_lights_a_desk_as_lamberts_formula_says() {
     let run = bake([source.as_os_str(), "-o".as_ref(), lit.as_os_str()]);
     assert!(run.ok(), "{run:?}");
 
-    let baked = luxbake::baked::read(&lit).unwrap();
+    let baked = luxbake::readback::read(&lit).unwrap();
     // The desk's six faces are nodes desk_0 … desk_5.
     let on_desk =
         |node: usize| (baked.nodes[node].name.as_deref()).is_some_and(|n| n.starts_with("desk"));

@@ -52,7 +52,7 @@ fn baked(name: &str, scene: &luxbake::scene::Scene) -> std::path::PathBuf {
 
 /// The wall's illuminance (lx) at `points` on it, read through the lightmap as a viewer does.
 fn on_wall(lit: &Path, points: &[DVec3]) -> Vec<f64> {
-    let baked = luxbake::baked::read(lit).unwrap();
+    let baked = luxbake::readback::read(lit).unwrap();
     let surfaces = Surfaces::new(&baked, Vec::new());
     points
         .iter()

@@ -139,7 +139,7 @@ fn analytic(p: DVec3, n: DVec3) -> f64 {
 /// Every texel of `node`'s lightmap whose centre `keep` accepts against the analytic direct
 /// illuminance: (texels compared, worst error over its tolerance with where and the values).
 fn texels_against_analytic(
-    baked: &luxbake::baked::BakedOutput,
+    baked: &luxbake::readback::BakedOutput,
     node: &str,
     keep: impl Fn(DVec3, f64) -> bool,
 ) -> (usize, (f64, DVec3, f64, f64)) {
@@ -182,7 +182,7 @@ fn texels_against_analytic(
 /// The world point and unit normal of the primitive at `uv`, on the triangle whose layout
 /// holds it.
 fn on_triangle(
-    prim: &luxbake::baked::Primitive,
+    prim: &luxbake::readback::Primitive,
     uvs: &[DVec2],
     uv: DVec2,
 ) -> Option<(DVec3, DVec3)> {
@@ -210,7 +210,7 @@ fn the_blocks_penumbrae_are_smooth_and_match_the_analytic_shadows() {
     let lit = out.join("lit.gltf");
     let obj = repo_file("samples/cornell-box/cornell-box.obj");
     bake_lightmapped(&obj, &lit);
-    let baked = luxbake::baked::read(&lit).unwrap();
+    let baked = luxbake::readback::read(&lit).unwrap();
 
     // The floor strip left of the short block's left side (x ≈ 0.10–0.13 there): umbra,
     // penumbra and full light, at least two texels from the block's foot and the green wall.

@@ -26,7 +26,7 @@ fn office_report_beside_the_seed() {
         ..Settings::default()
     };
     let r = bake(&scene, &settings, &Silent).unwrap();
-    let input = luxbake::baked::as_written(&scene, &r).unwrap();
+    let input = luxbake::readback::as_written(&scene, &r).unwrap();
     let options = Options {
         by: By::Both,
         targets: Some(Targets::read(&root.join("samples/office/targets.json")).unwrap()),

@@ -347,7 +347,7 @@ fn font_sheet() {
 #[test]
 fn the_office_illuminance_scale_spans_its_2nd_to_98th_percentile_in_1_2_5_steps() {
     let lit = support::cli::office_draft("picture-office-scale", &[]);
-    let baked = luxbake::baked::read(&lit).unwrap();
+    let baked = luxbake::readback::read(&lit).unwrap();
     let scene = luxbake::import::load(&lit, &Default::default()).unwrap();
     let camera =
         luxbake::view::named_camera(&baked, "camera_interior", Some((300, 200)), None).unwrap();

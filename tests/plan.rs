@@ -7,7 +7,7 @@
 mod support;
 
 use glam::{DVec2, DVec3};
-use luxbake::baked::BakedOutput;
+use luxbake::readback::BakedOutput;
 use luxbake::fixtures::SceneBuilder;
 use luxbake::plan::{self, Options, Plan, Quantity, Source};
 use luxbake::scene::Scene;
@@ -74,7 +74,7 @@ fn baked() -> &'static Baked {
         let scene = scene();
         let file = support::bakes::write(&dir, "wp", "gltf", &scene, &settings(true));
         let without = support::bakes::write(&dir, "none", "glb", &scene, &settings(false));
-        let output = luxbake::baked::read(&file).unwrap();
+        let output = luxbake::readback::read(&file).unwrap();
         let lightmaps = Settings {
             lightmaps: Some(LightmapSettings {
                 texel_size: Some(0.05),
@@ -84,7 +84,7 @@ fn baked() -> &'static Baked {
             ..settings(false)
         };
         let lm = support::bakes::write(&dir, "lm", "gltf", &scene, &lightmaps);
-        let lightmapped = luxbake::baked::read(&lm).unwrap();
+        let lightmapped = luxbake::readback::read(&lm).unwrap();
         Baked {
             output,
             lightmapped,
@@ -467,7 +467,7 @@ fn a_solid_node_is_drawn_by_its_face_key() {
 #[test]
 fn isolux_labels_never_overlap_at_any_size() {
     use luxbake::plan::layout::{Anchor, Item, draw};
-    let output = luxbake::baked::read(office()).unwrap();
+    let output = luxbake::readback::read(office()).unwrap();
     for source in [Source::Surface("wall_back".into()), Source::WorkingPlane] {
         for size in [200, 800, 3000] {
             for steps in [10, 30] {

@@ -77,7 +77,7 @@ fn floor_under_a_point_light_has_known_figures() {
     let flux = 2400.0;
     let scene = floor_under_light(flux);
     let r = bake(&scene, &draft(), &Silent).unwrap();
-    let input = luxbake::baked::as_written(&scene, &r).unwrap();
+    let input = luxbake::readback::as_written(&scene, &r).unwrap();
     let rows = report::rows::by_node(&input, &Filter::All);
     assert_eq!(rows.len(), 1);
     let row = &rows[0];
@@ -112,7 +112,7 @@ fn floor_under_a_point_light_has_known_figures() {
 fn rows_by_node_and_material_split_direct_and_indirect() {
     let scene = room();
     let r = bake(&scene, &draft(), &Silent).unwrap();
-    let input = luxbake::baked::as_written(&scene, &r).unwrap();
+    let input = luxbake::readback::as_written(&scene, &r).unwrap();
     let nodes = report::rows::by_node(&input, &Filter::All);
     let names: Vec<&str> = nodes.iter().map(|r| r.name.as_str()).collect();
     assert_eq!(names, ["room/floor", "room/wall_grey", "room/wall_white"]);
@@ -147,8 +147,8 @@ fn rows_by_node_and_material_split_direct_and_indirect() {
 
 /// Each format of the report made from the bake in memory equals the one read from its output.
 fn assert_same_reports(scene: &Scene, r: &BakeResult, path: &Path, options: &Options) {
-    let memory = report::build(&luxbake::baked::as_written(scene, r).unwrap(), options).unwrap();
-    let file = report::build(&luxbake::baked::read(path).unwrap(), options).unwrap();
+    let memory = report::build(&luxbake::readback::as_written(scene, r).unwrap(), options).unwrap();
+    let file = report::build(&luxbake::readback::read(path).unwrap(), options).unwrap();
     for (format, name) in FORMATS {
         assert_eq!(memory.render(format), file.render(format), "{name}");
     }
@@ -177,7 +177,7 @@ fn office_report_from_the_file_equals_the_bake_time_report() {
     };
     assert_same_reports(&scene, &r, &path, &options);
 
-    let report = report::build(&luxbake::baked::read(&path).unwrap(), &options).unwrap();
+    let report = report::build(&luxbake::readback::read(&path).unwrap(), &options).unwrap();
     let plane = report.working_plane.as_ref().expect("a working plane");
     assert!(plane.points > 50, "{plane:?}");
     assert_eq!((plane.height, plane.spacing), (Some(0.8), Some(0.5)));
@@ -199,7 +199,7 @@ fn office_report_from_the_file_equals_the_bake_time_report() {
 fn every_format_is_well_formed() {
     let scene = room();
     let r = bake(&scene, &draft(), &Silent).unwrap();
-    let input = luxbake::baked::as_written(&scene, &r).unwrap();
+    let input = luxbake::readback::as_written(&scene, &r).unwrap();
     // A working-plane target for a bake without a working plane is an error, not a blank.
     let plane_target = Targets::parse(Path::new("t.json"), r#"{"working_plane": 300}"#).unwrap();
     let options = Options {
@@ -306,7 +306,7 @@ fn every_format_is_well_formed() {
 fn unknown_or_malformed_targets_are_errors() {
     let scene = room();
     let r = bake(&scene, &draft(), &Silent).unwrap();
-    let input = luxbake::baked::as_written(&scene, &r).unwrap();
+    let input = luxbake::readback::as_written(&scene, &r).unwrap();
     let file = Path::new("targets.json");
     let build = |text: &str| {
         let targets = Targets::parse(file, text)?;
@@ -464,7 +464,7 @@ fn run_summary_reads_back_typed_and_a_missing_field_is_named() {
     let dir = scratch("report-summary");
     let path = dir.join("lit.gltf");
     export::write(&path, &scene, &r, &ExportOptions::default()).unwrap();
-    let read = luxbake::baked::read(&path).unwrap();
+    let read = luxbake::readback::read(&path).unwrap();
     assert_eq!(read.run_summary().unwrap().as_ref(), Some(&r.summary));
     let report = report::build(&read, &Options::default()).unwrap();
     let plane = report.working_plane.expect("a working plane");

@@ -40,7 +40,7 @@ fn settings(lightmaps: bool) -> Settings {
     }
 }
 
-fn floor_row(input: &luxbake::baked::BakedOutput) -> report::Row {
+fn floor_row(input: &luxbake::readback::BakedOutput) -> report::Row {
     let rows = report::rows::by_node(input, &Filter::All);
     rows.into_iter().find(|r| r.name == "floor").unwrap()
 }
@@ -56,7 +56,7 @@ fn the_floor_under_a_box_is_left_out() {
             .covered_from
             .expect("the floor under the box is covered") as usize;
         assert!(k > 0 && k < floor.triangles.len());
-        let input = luxbake::baked::as_written(&scene, &r).unwrap();
+        let input = luxbake::readback::as_written(&scene, &r).unwrap();
         let row = floor_row(&input);
         // Positions are f32 in the file, texel footprints f32 sums.
         let tol = if lightmaps { 1e-4 } else { 1e-6 };
@@ -112,7 +112,7 @@ fn the_marker_is_written_and_read_back() {
         json["meshes"][floor_mesh]["primitives"][0]["extras"]["luxbake"]["coveredFrom"],
         floor.covered_from.unwrap()
     );
-    let input = luxbake::baked::read(&out).unwrap();
+    let input = luxbake::readback::read(&out).unwrap();
     assert_eq!(input.primitives[0].covered_from, floor.covered_from);
     std::fs::remove_dir_all(&dir).unwrap();
 }

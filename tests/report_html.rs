@@ -1,4 +1,4 @@
-//! The designer's report document (`bake report --format html`, `src/sheet/`): on the sample
+//! The designer's report document (`bake report --format html`, `src/html_report/`): on the sample
 //! office baked at draft quality — self-contained (no network reference, no script, images as
 //! `data:` URIs), every section there, the numbers those of the JSON report of the same bake,
 //! deterministic bytes; and in headless Chromium (skipped when absent, failed under CI): a

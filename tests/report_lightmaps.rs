@@ -91,7 +91,7 @@ fn the_closed_form_is_the_mean_of_the_inverse_square_cosine_law() {
 fn texel_mean_of_a_black_floor_is_the_closed_form() {
     let scene = black_floor();
     let r = bake(&scene, &settings(2.0, 0.1), &Silent).unwrap();
-    let input = luxbake::baked::as_written(&scene, &r).unwrap();
+    let input = luxbake::readback::as_written(&scene, &r).unwrap();
     assert_eq!(input.lightmaps.len(), 1);
     let rows = by_node(&input, &Filter::All);
     assert_eq!(rows.len(), 1);
@@ -164,8 +164,8 @@ fn report_from_the_files_equals_the_report_in_memory() {
     for ext in ["gltf", "glb"] {
         let (scene, path) = write_room(&dir, ext, 0.05);
         let r = bake(&scene, &settings(0.25, 0.05), &Silent).unwrap();
-        let memory = luxbake::baked::as_written(&scene, &r).unwrap();
-        let file = luxbake::baked::read(&path).unwrap();
+        let memory = luxbake::readback::as_written(&scene, &r).unwrap();
+        let file = luxbake::readback::read(&path).unwrap();
         // The same channels (the URIs differ: the bake in memory is named bake.glb).
         assert_eq!(file.lightmaps.len(), memory.lightmaps.len());
         for (f, m) in file.lightmaps.iter().zip(&memory.lightmaps) {

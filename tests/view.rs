@@ -179,7 +179,7 @@ fn vertex_floor_every_pixel_is_the_interpolated_vertex_luminance() {
     let rho = 0.5;
     let (scene, _, _) = floor_under_a_light(rho);
     let lit = baked("view-floor-vertices", &scene, &[]);
-    let output = luxbake::baked::read(&lit).unwrap();
+    let output = luxbake::readback::read(&lit).unwrap();
     assert_eq!(output.primitives.len(), 1);
     let prim = &output.primitives[0];
     assert!(prim.lightmap.is_none());

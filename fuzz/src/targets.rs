@@ -8,7 +8,7 @@
 //! each further part is `NAME\nBYTES`, written as a file beside it (a `.bin` buffer, an `.mtl`,
 //! an IES profile), so the fuzzer can also mutate the files a scene references.
 
-use luxbake::baked::{self, BakedOutput};
+use luxbake::readback::{self, BakedOutput};
 use luxbake::import::{self, GltfFile, ImportOptions, UpAxis};
 use luxbake::photometry::{Format, Photometry};
 use luxbake::report::{self, Targets};
@@ -266,7 +266,7 @@ pub fn probes_csv(data: &[u8]) -> bool {
 
 fn baked_cornell() -> &'static BakedOutput {
     static B: OnceLock<BakedOutput> = OnceLock::new();
-    B.get_or_init(|| baked::from_glb(Path::new("cornell-baked.glb"), BAKED).expect("a bake"))
+    B.get_or_init(|| readback::from_glb(Path::new("cornell-baked.glb"), BAKED).expect("a bake"))
 }
 
 /// A targets JSON file (`bake report --targets`), checked against a small bake.
@@ -287,12 +287,12 @@ pub fn targets_json(data: &[u8]) -> bool {
 
 /// A lightmap's OpenEXR file.
 pub fn exr(data: &[u8]) -> bool {
-    import::exr::decode(data, &baked::LIGHTMAP_CHANNELS).is_ok()
+    import::exr::decode(data, &readback::LIGHTMAP_CHANNELS).is_ok()
 }
 
 /// A baked output as GLB bytes (`bake report`/`diff` read it), then its report in every format.
 pub fn baked(data: &[u8]) -> bool {
-    let Ok(output) = baked::from_glb(Path::new("baked.glb"), data) else {
+    let Ok(output) = readback::from_glb(Path::new("baked.glb"), data) else {
         return false;
     };
     if let Ok(r) = report::build(&output, &report::Options::default()) {

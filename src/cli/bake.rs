@@ -313,7 +313,7 @@ impl Written<'_> {
         // bad target fails the run cleanly).
         let report_text = match (report_options, job.report) {
             (Some(o), Some(format)) => {
-                let baked = luxbake::baked::from_prepared(job.output, &prepared)?;
+                let baked = luxbake::readback::from_prepared(job.output, &prepared)?;
                 Some(super::report::render(&baked, o, format)?)
             }
             _ => None,

@@ -79,7 +79,7 @@ pub fn format(f: FormatArg) -> Format {
 /// Replace each row's area by the bake's (a note on stderr where a given area differs by more
 /// than 1 %).
 fn areas_from(scene: &Path, file: &Path, rows: &mut [DesignRow]) -> Result<()> {
-    let baked = luxbake::baked::read(scene)?;
+    let baked = luxbake::readback::read(scene)?;
     let lookup = Targets {
         file: file.to_path_buf(),
         entries: Vec::new(),

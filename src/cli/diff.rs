@@ -75,7 +75,7 @@ pub fn run(args: &DiffArgs) -> i32 {
             if args.json {
                 print!("{}", d.json());
             } else {
-                print!("{}", diff::text::render(&d));
+                print!("{}", diff::render::render(&d));
             }
             if d.pass { 0 } else { 1 }
         }
@@ -102,7 +102,7 @@ fn compare(args: &DiffArgs) -> Result<diff::Diff, String> {
     if let Some(f) = args.floor {
         check("floor", f, true)?;
     }
-    let load = |p: &PathBuf| luxbake::baked::read(p).map_err(|e| format!("error: {e}"));
+    let load = |p: &PathBuf| luxbake::readback::read(p).map_err(|e| format!("error: {e}"));
     let (a, b) = (load(&args.a)?, load(&args.b)?);
     let mode = match args.mode {
         ModeArg::Vertices => Mode::Vertices,

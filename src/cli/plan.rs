@@ -82,7 +82,7 @@ pub fn run(a: &PlanArgs) -> Result<()> {
     plan::check(&options)?;
     luxbake::export::check_files(&[&a.file], &[&a.output])?;
     let ext = super::formats::extension(&a.output, "-o", &["svg", "png"], "a plan")?;
-    let input = luxbake::baked::read(&a.file)?;
+    let input = luxbake::readback::read(&a.file)?;
     let plan = plan::build(&input, &options)?;
     let bytes = if ext == "svg" {
         plan.svg().into_bytes()

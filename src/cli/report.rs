@@ -1,17 +1,17 @@
 //! `bake report LIT.gltf|.glb [--format table|markdown|csv|json|html] [--by node|material|both]
 //! [--targets FILE] [--border M] [-o FILE]`: the lighting report of a finished bake, read back
 //! from its output. The same text as `bake … --report` printed at bake time (both go through
-//! [`render`]). `html`: the designer's report document (`luxbake::sheet`), with the isolux plan
+//! [`render`]). `html`: the designer's report document (`luxbake::html_report`), with the isolux plan
 //! and the camera nodes' false-colour views. `-o`: written atomically instead of printed; without
 //! `--format` its extension names the format, and an extension naming none (or another) is refused.
 
 use anyhow::Result;
 use clap::{Args, ValueEnum};
 use luxbake::Error;
-use luxbake::baked::BakedOutput;
+use luxbake::readback::BakedOutput;
 use luxbake::import::{self, ImportOptions};
 use luxbake::report::{self, By, Format, Options, Targets};
-use luxbake::sheet;
+use luxbake::html_report;
 use std::path::{Path, PathBuf};
 
 /// Print the lighting report of a luxbake output.
@@ -112,7 +112,7 @@ pub fn run(args: &ReportArgs) -> Result<()> {
         luxbake::export::check_files(&[&args.file], &[out])?;
     }
     let format = format_of(args.format, args.output.as_deref())?;
-    let input = luxbake::baked::read(&args.file)?;
+    let input = luxbake::readback::read(&args.file)?;
     let text = match format {
         ReportFormat::Table => render(&input, &options, FormatArg::Table)?,
         ReportFormat::Markdown => render(&input, &options, FormatArg::Markdown)?,
@@ -129,7 +129,7 @@ pub fn run(args: &ReportArgs) -> Result<()> {
                 let inputs: Vec<&Path> = scene.input_files.iter().map(PathBuf::as_path).collect();
                 luxbake::export::check_files(&inputs, &[out])?;
             }
-            sheet::document(&input, scene.as_ref(), &rep, &sheet::Options::default())?
+            html_report::document(&input, scene.as_ref(), &rep, &html_report::Options::default())?
         }
     };
     match &args.output {

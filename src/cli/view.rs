@@ -149,7 +149,7 @@ fn colour_scale(args: &ViewArgs, values: &[f64]) -> Result<ColourScale> {
 }
 
 /// The camera the arguments describe.
-fn camera_of(args: &ViewArgs, baked: &luxbake::baked::BakedOutput) -> Result<Camera> {
+fn camera_of(args: &ViewArgs, baked: &luxbake::readback::BakedOutput) -> Result<Camera> {
     let size = args.size.as_deref().map(size).transpose()?;
     if let Some(name) = &args.camera {
         return Ok(view::named_camera(baked, name, size, args.near)?);
@@ -225,7 +225,7 @@ pub fn run(args: &ViewArgs) -> Result<()> {
             super::formats::extension(path, flag, &["png"], "this picture")?;
         }
     }
-    let baked = luxbake::baked::read(&args.file)?;
+    let baked = luxbake::readback::read(&args.file)?;
     if baked.summary.is_none() {
         return Err(Error::input(
             &args.file,

@@ -14,7 +14,7 @@
 //! less than reflection alone gives) and reported in [`FluxTable::warnings`].
 
 mod parse;
-mod text;
+mod render;
 
 pub use crate::table::Format;
 pub use parse::{COLUMNS, OPTIONAL, parse};
@@ -122,7 +122,7 @@ impl FluxTable {
                     "{}: designed at {} lx, below the indirect illuminance E_r = {:.1} lx; \
                      its direct part is negative (reflection alone gives more)",
                     r.name,
-                    text::short(r.illuminance, 1),
+                    render::short(r.illuminance, 1),
                     e_r
                 )
             })
@@ -143,9 +143,9 @@ impl FluxTable {
     /// The table as text in `format` (ends with a newline).
     pub fn render(&self, format: Format) -> String {
         match format {
-            Format::Table => text::render(self, false),
-            Format::Markdown => text::render(self, true),
-            Format::Csv => text::csv(self),
+            Format::Table => render::render(self, false),
+            Format::Markdown => render::render(self, true),
+            Format::Csv => render::csv(self),
             Format::Json => {
                 let mut s = serde_json::to_string_pretty(self).expect("the table serialises");
                 s.push('\n');

@@ -8,7 +8,7 @@
 //! or the first of B's vertices with no vertex of A there. Linear on average: A's vertices are
 //! hashed into cells of the tolerance's size and each of B's looks in the 27 cells around it.
 
-use crate::baked::Primitive;
+use crate::readback::Primitive;
 use glam::{DVec3, IVec3};
 use std::collections::HashMap;
 

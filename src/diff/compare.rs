@@ -8,7 +8,7 @@ use super::matching::{Matched, match_outputs};
 use super::stats::{Candidate, Check, Columns, Loc, Tolerance, Worst, percentile};
 use super::surfaces::{self, Push};
 use super::{BakedOutput, Diff, Mismatch, Mode, Options, Place, Quantity, QuantityDiff};
-use crate::baked::Texel;
+use crate::readback::Texel;
 use crate::probes::FACE_NAMES;
 use crate::report::Row;
 use crate::report::rows::{Filter, row_from};

@@ -1,6 +1,6 @@
 //! `bake diff`: comparing two luxbake outputs.
 //!
-//! Input: two [`BakedOutput`]s (read by [`crate::baked::read`]), A (the candidate)
+//! Input: two [`BakedOutput`]s (read by [`crate::readback::read`]), A (the candidate)
 //! and B (the reference), and [`Options`]. Output: a [`Diff`] (rendered as text by [`text`] or as
 //! JSON by [`Diff::json`]), or a [`Mismatch`] when the two cannot be compared in the chosen
 //! [`Mode`] (see [`matching`] for how nodes, primitives, vertices, materials and probes pair up).
@@ -41,11 +41,11 @@ mod lightmaps;
 pub mod matching;
 mod stats;
 mod surfaces;
-pub mod text;
+pub mod render;
 
 pub use compare::{compare, default_floor};
 
-pub use crate::baked::{BakedOutput, ProbeNode};
+pub use crate::readback::{BakedOutput, ProbeNode};
 use serde::Serialize;
 use std::f64::consts::PI;
 
@@ -195,7 +195,7 @@ impl Quantity {
     }
 
     /// A vertex attribute's values (empty for probe quantities).
-    fn values(self, p: &crate::baked::Primitive) -> &[f32] {
+    fn values(self, p: &crate::readback::Primitive) -> &[f32] {
         match self {
             Quantity::Illuminance => &p.illuminance,
             Quantity::IlluminanceDirect => &p.illuminance_direct,
@@ -205,7 +205,7 @@ impl Quantity {
     }
 
     /// Texel `k`'s value (0 for probe quantities).
-    fn texel(self, lm: &crate::baked::Lightmap, k: usize) -> f64 {
+    fn texel(self, lm: &crate::readback::Lightmap, k: usize) -> f64 {
         match self {
             Quantity::Illuminance => lm.illuminance[k].into(),
             Quantity::IlluminanceDirect => lm.illuminance_direct[k].into(),

@@ -17,7 +17,7 @@
 use super::matching::Matched;
 use super::stats::{Columns, Loc};
 use super::{BakedOutput, Quantity};
-use crate::baked::{LightmapUse, Primitive};
+use crate::readback::{LightmapUse, Primitive};
 use glam::DVec2;
 
 /// Test a pair of values (A, B) at a place and add it to the columns.

@@ -50,7 +50,7 @@ pub struct LocalPrimitive {
     pub luminance: Vec<f32>,
 }
 
-/// Convert `baked` into `frame`'s local space; `what` names it in errors.
+/// Convert `readback` into `frame`'s local space; `what` names it in errors.
 pub(crate) fn to_local(baked: &BakedSurface, frame: &LocalFrame, what: &str) -> Result<LocalPrimitive> {
     let n = baked.positions.len();
     let bad = |m: String| Error::Bake(format!("{what}: {m}"));

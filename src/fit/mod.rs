@@ -19,7 +19,7 @@
 
 pub mod bvls;
 pub mod groups;
-mod text;
+mod render;
 
 pub use groups::{Group, GroupBy, SourceId};
 
@@ -233,7 +233,7 @@ fn measure(
     };
     (lit.iter().zip(&results))
         .map(|(scene, result)| {
-            let baked = crate::baked::as_written(scene, result)?;
+            let baked = crate::readback::as_written(scene, result)?;
             let rows = report::build(&baked, &options)?
                 .targets
                 .expect("targets were asked for");
@@ -259,6 +259,6 @@ fn solve(responses: &[Vec<f64>], targets: &Targets, groups: usize, max: f64) -> 
 impl Fit {
     /// The fit as text in `format`.
     pub fn render(&self, format: crate::design::Format) -> String {
-        text::render(self, format)
+        render::render(self, format)
     }
 }

@@ -1,5 +1,5 @@
 //! Decoding an OpenEXR file's channels (the only reader of the `exr` crate; `export/exr.rs` is
-//! its only writer): what `crate::baked` needs of a lightmap atlas written beside a bake.
+//! its only writer): what `crate::readback` needs of a lightmap atlas written beside a bake.
 //!
 //! Input: the file's bytes (read through the confined paths of [`super::GltfFile::resource`])
 //! and the channel names wanted. Output: the data window's size and each wanted channel's

@@ -11,7 +11,7 @@
 //! (`luminaires`). Cameras and `extras` are kept verbatim. Surfaces and lights come only from the
 //! nodes of the imported scene; other nodes are kept (with their transforms) but instantiate
 //! nothing. Primitives without a material use [`Material::default_material`], appended once after
-//! the file's materials when needed. `baked` reads a luxbake *output* back for the report instead.
+//! the file's materials when needed. `readback` reads a luxbake *output* back for the report instead.
 
 mod accessor;
 mod buffers;

@@ -6,7 +6,7 @@
 //! `crate::scene`, or an [`crate::Error::Input`] naming the file and the element (a JSON pointer
 //! for glTF). Every file read is listed, canonicalised, in `Scene::input_files`; no file outside
 //! the input file's folder is ever read. [`GltfFile`] opens a glTF with the same parser and the
-//! same confinement without making a scene of it: `crate::baked` reads finished bakes through it,
+//! same confinement without making a scene of it: `crate::readback` reads finished bakes through it,
 //! and their lightmap EXR files through [`exr`] (the `exr` crate's only reader).
 
 mod checks;

@@ -28,7 +28,7 @@
 use super::frame::PhotometricType;
 use super::ies_grid::{Ranges, grid_ab, grid_c, opening};
 use super::symmetry::Plane;
-use super::text::{Tokens, check_increasing, err, last_content_line, lines as split_lines};
+use super::tokens::{Tokens, check_increasing, err, last_content_line, lines as split_lines};
 use super::{FileInfo, ParseError, Parsed, TiltTable};
 
 const FOOT: f64 = 0.3048;

@@ -13,7 +13,7 @@
 use super::frame::{Frame, PhotometricType};
 use super::grid::Grid;
 use super::symmetry::{Plane, Symmetry, complete_c, mirror_planes, mirror_thetas};
-use super::text::err;
+use super::tokens::err;
 use super::{Opening, OpeningShape, ParseError};
 
 /// Angles equal within this many degrees.

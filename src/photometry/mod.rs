@@ -26,7 +26,7 @@ mod ldt;
 mod polar;
 mod summary;
 mod symmetry;
-mod text;
+mod tokens;
 
 use glam::DVec3;
 
@@ -161,7 +161,7 @@ pub struct Photometry {
 impl Photometry {
     /// Parse a file's bytes.
     pub fn parse(bytes: &[u8], format: Format) -> Result<Photometry, ParseError> {
-        let text = text::decode(bytes);
+        let text = tokens::decode(bytes);
         let parsed = match format {
             Format::Ies => ies::parse(&text)?,
             Format::Eulumdat => ldt::parse(&text)?,

@@ -11,7 +11,7 @@
 
 use super::frame::Frame;
 use super::outline;
-use crate::baked::{BakedOutput, PlanePoint};
+use crate::readback::{BakedOutput, PlanePoint};
 use crate::{Error, Result};
 use glam::{DVec2, DVec3};
 

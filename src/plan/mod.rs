@@ -20,7 +20,7 @@ pub mod raster;
 pub mod surface;
 pub mod svg;
 
-use crate::baked::BakedOutput;
+use crate::readback::BakedOutput;
 use crate::picture::scale::ColourScale;
 use crate::{Error, Result};
 use field::Field;

@@ -11,7 +11,7 @@
 //! does not depend on the order surfaces were baked in.
 
 use super::frame::Frame;
-use crate::baked::{BakedOutput, Primitive};
+use crate::readback::{BakedOutput, Primitive};
 use glam::{DVec2, DVec3};
 use std::collections::BTreeMap;
 

@@ -3,7 +3,7 @@
 //!
 //! Input: the output, the node (its name, or its path of names from the root joined by `/`:
 //! `desk_light/top`), optionally with a face as report keys take it (`desk_light/top[+y]`:
-//! only the triangles facing within ~8° of +Y, `baked::keys`), the quantity. The node's own
+//! only the triangles facing within ~8° of +Y, `readback::keys`), the quantity. The node's own
 //! baked primitives (not its children's), or the face's triangles, must be coplanar: every triangle parallel to the first primitive's largest one (|cos| > 0.999)
 //! and every vertex within 0.1 mm + 10⁻⁵ of the surface's size of its plane, else an error
 //! naming the node and the faces it could be drawn by. The primitives facing that triangle's way are drawn (a double-sided
@@ -22,7 +22,7 @@ use super::Quantity;
 use super::field::{Field, Sampled};
 use super::frame::Frame;
 use super::outline::{self, normal};
-use crate::baked::{BakedOutput, Primitive, keys};
+use crate::readback::{BakedOutput, Primitive, keys};
 use crate::picture::scale::round_up;
 use crate::{Error, Result};
 use glam::{DVec2, DVec3};

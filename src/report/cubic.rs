@@ -1,6 +1,6 @@
 //! Cubic illuminance in the report: the flow of light at the bake's probes (the seed's subject).
 //!
-//! Input: the bake's probe nodes (`baked::ProbeNode`: six face illuminances, probe axes, +Y up)
+//! Input: the bake's probe nodes (`readback::ProbeNode`: six face illuminances, probe axes, +Y up)
 //! and the working plane's points (to tell its probes apart). Output: [`Cubic`]: one
 //! [`ProbeRow`] per probe that is not a working-plane point (named probes, `--probe-grid`,
 //! CSV), and a summary over the working plane's probes inside its border, all from
@@ -8,7 +8,7 @@
 //! elevation above the horizontal, negative when light flows down; azimuth), scalar
 //! illuminance, vector/scalar ratio, cylindrical illuminance.
 
-use crate::baked::BakedOutput;
+use crate::readback::BakedOutput;
 use crate::probes::metrics::from_faces;
 
 /// Cubic-illuminance figures of one probe (lx, degrees).

@@ -2,7 +2,7 @@
 //! design targets beside what the bake achieved.
 //!
 //! Input: a [`BakedOutput`] — what a luxbake output holds, read from an output file or from the
-//! bytes the exporter is about to write (`crate::baked`); both give the same values, so
+//! bytes the exporter is about to write (`crate::readback`); both give the same values, so
 //! `bake report OUT` prints exactly what `bake … --report` printed.
 //! Output: a [`Report`] with up to four sections:
 //! - surfaces **by material** and **by node** ([`rows`]): area, area-weighted reflectance,
@@ -30,7 +30,7 @@ pub mod rows;
 pub mod schedule;
 mod sums;
 pub mod targets;
-pub mod text;
+pub mod render;
 
 pub use cubic::{Cubic, ProbeRow, ProbeSummary};
 pub use rows::{Filter, PlaneRow, Row, Source};
@@ -38,7 +38,7 @@ pub use schedule::ScheduleRow;
 pub use targets::{TargetRow, Targets};
 
 use crate::Result;
-use crate::baked::BakedOutput;
+use crate::readback::BakedOutput;
 
 /// Which surface sections to include.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -140,8 +140,8 @@ impl Report {
     /// The report as text in `format` (ends with a newline).
     pub fn render(&self, format: Format) -> String {
         match format {
-            Format::Table => text::render(self, false),
-            Format::Markdown => text::render(self, true),
+            Format::Table => render::render(self, false),
+            Format::Markdown => render::render(self, true),
             Format::Csv => csv::render(self),
             Format::Json => {
                 let mut s = serde_json::to_string_pretty(self).expect("the report serialises");

@@ -9,7 +9,7 @@
 pub use super::sums::{Filter, Source};
 
 use super::sums::Sums;
-use crate::baked::{BakedOutput, PlaneInput, PlanePoint, Primitive};
+use crate::readback::{BakedOutput, PlaneInput, PlanePoint, Primitive};
 use crate::probes::ProbeGrid;
 
 /// One surface group's figures.

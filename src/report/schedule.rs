@@ -9,7 +9,7 @@
 //! A source's node is the `/nodes/N` its `source` pointer starts with (outputs keep the input's
 //! node order).
 
-use crate::baked::BakedOutput;
+use crate::readback::BakedOutput;
 use crate::summary::{SourceKind, SourceRecord};
 
 /// One line of the schedule.

@@ -1,7 +1,7 @@
 //! The sums behind a surface row: area, area-weighted reflectance, E, E direct and L, and E's
 //! extremes, over one primitive at a time, from its texels or from its vertices.
 //!
-//! Texels: each texel the primitive stands on (`crate::baked::LightmapUse::texels`) with a
+//! Texels: each texel the primitive stands on (`crate::readback::LightmapUse::texels`) with a
 //! footprint weighs its footprint (m²); its E, E direct and L (Y of the RGB channels) are the
 //! EXR's; the extremes are over those texels. A face filter takes the texels whose triangle
 //! (the one with the most area in the texel) passes. Vertices: each triangle with area weighs
@@ -12,7 +12,7 @@
 //! texels whose triangle is covered are left out of all of it; their area is summed apart
 //! (`covered`).
 
-use crate::baked::{BakedOutput, Primitive};
+use crate::readback::{BakedOutput, Primitive};
 use glam::DVec3;
 
 /// Which triangles a row takes.
@@ -148,6 +148,6 @@ fn area(p: &Primitive, j: usize) -> f64 {
 fn passes(p: &Primitive, j: usize, filter: &Filter) -> bool {
     match filter {
         Filter::All => true,
-        Filter::Facing(d) => crate::baked::keys::faces(p, j, *d),
+        Filter::Facing(d) => crate::readback::keys::faces(p, j, *d),
     }
 }

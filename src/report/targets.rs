@@ -13,7 +13,7 @@
 //! A key that names nothing in the bake, or whose faces have no area, is an error naming it.
 
 use super::rows::{Filter, row};
-use crate::baked::BakedOutput;
+use crate::readback::BakedOutput;
 use crate::{Error, Result};
 use std::path::{Path, PathBuf};
 
@@ -160,6 +160,6 @@ impl Targets {
 
 /// `name[+y]` → (`name`, facing +Y); `name` → (`name`, all faces).
 fn split_face(key: &str) -> std::result::Result<(&str, Filter), String> {
-    let (name, face) = crate::baked::keys::split_face(key)?;
+    let (name, face) = crate::readback::keys::split_face(key)?;
     Ok((name, face.map_or(Filter::All, Filter::Facing)))
 }

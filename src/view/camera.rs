@@ -7,7 +7,7 @@
 //! Invariants: forward, up and right are orthonormal and right-handed (right = forward × up);
 //! the size is 1…[`MAX_EDGE`] pixels on each side.
 
-use crate::baked::{Camera as CameraNode, Projection};
+use crate::readback::{Camera as CameraNode, Projection};
 use crate::{Error, Result};
 use glam::{DVec2, DVec3};
 

@@ -19,7 +19,7 @@ pub mod surfaces;
 
 pub use camera::Camera;
 
-use crate::baked::BakedOutput;
+use crate::readback::BakedOutput;
 use crate::scene::{Scene, luma};
 use crate::{Error, Result};
 use glam::DVec3;
@@ -118,7 +118,7 @@ pub fn named_camera(
     }
 }
 
-/// Render `baked` (imported again as `scene`) from `camera`.
+/// Render `readback` (imported again as `scene`) from `camera`.
 pub fn render(
     baked: &BakedOutput,
     scene: &Scene,

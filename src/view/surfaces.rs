@@ -23,7 +23,7 @@
 //! Back faces are culled ([`Occluder::closest_front`]): a double-sided surface is baked as two
 //! primitives wound opposite ways, so each side shows its own values.
 
-use crate::baked::{BakedOutput, Lightmap, Primitive};
+use crate::readback::{BakedOutput, Lightmap, Primitive};
 use crate::scene::luma;
 use crate::visibility::Occluder;
 use glam::{DVec2, DVec3};
@@ -54,7 +54,7 @@ impl DisplayTexture {
             let t = self.texels[k];
             DVec3::new(t[0] as f64, t[1] as f64, t[2] as f64)
         };
-        crate::baked::bilinear(self.width, self.height, texel, uv)
+        crate::readback::bilinear(self.width, self.height, texel, uv)
     }
 }
 

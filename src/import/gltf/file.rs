@@ -1,7 +1,7 @@
 //! A glTF file opened for reading without making a [`crate::scene::Scene`] of it: parsed and
 //! validated, its buffers read (confined to its folder, like every import), its node tree built
 //! (names, parents, world transforms, extras), and its triangle primitives readable by attribute
-//! name. The reader of finished bakes (`crate::baked`) starts from it, so the `gltf` crate and
+//! name. The reader of finished bakes (`crate::readback`) starts from it, so the `gltf` crate and
 //! the checks on what a file may reference stay in this module.
 //!
 //! Errors name the file and the JSON pointer of the element (`/meshes/0/primitives/1/indices`).

@@ -6,7 +6,7 @@
 //! Everything is deterministic: same bake and options, same bytes.
 
 use super::inline::data_uri;
-use crate::baked::{BakedOutput, ProbeNode};
+use crate::readback::{BakedOutput, ProbeNode};
 use crate::picture::{legend, scale::ColourScale};
 use crate::probes::metrics::from_faces;
 use crate::report::PlaneRow;

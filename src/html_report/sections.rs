@@ -5,7 +5,7 @@
 use super::figures;
 use super::html::{escape, facts, section};
 use crate::Result;
-use crate::baked::BakedOutput;
+use crate::readback::BakedOutput;
 use crate::report::{self, Report, Row};
 use crate::scene::Scene;
 use crate::summary::RunSummary;
@@ -107,7 +107,7 @@ pub(super) fn luminaires(out: &mut String, rows: &[report::ScheduleRow], rep: &R
         out,
         "schedule",
         "Luminaires by type",
-        &report::text::schedule(rows),
+        &report::render::schedule(rows),
     );
     out.push_str(
         "<p class=\"note\">Lamp lm: rated lamp flux of one luminaire (its profile); LOR: light \
@@ -142,7 +142,7 @@ pub(super) fn targets(out: &mut String, rows: &[report::TargetRow]) {
         out,
         "targets-table",
         "Average illuminance against the design",
-        &report::text::targets(rows),
+        &report::render::targets(rows),
     );
     out.push_str("</section>\n");
 }
@@ -152,7 +152,7 @@ pub(super) fn surfaces(out: &mut String, rows: &[Row], id: &str, what: &'static 
         "material" => "Surfaces by material",
         _ => "Surfaces by node",
     };
-    let table = report::text::surfaces(title, what, rows);
+    let table = report::render::surfaces(title, what, rows);
     section(out, id, &table.title, &table);
 }
 
@@ -170,7 +170,7 @@ pub(super) fn working_plane(
             "Illuminance on the working plane, points at least {:.2} m from its edges",
             p.border
         ),
-        &report::text::plane(p),
+        &report::render::plane(p),
     );
     let _ = writeln!(
         out,
@@ -235,7 +235,7 @@ pub(super) fn cubic(out: &mut String, c: &report::Cubic) {
          1.2–1.8 is the range commonly recommended for modelling faces); altitude is the vector's elevation (−90°: straight down); \
          E<sub>cyl</sub> is cylindrical illuminance.</p>\n",
     );
-    let tables = report::text::cubic(c);
+    let tables = report::render::cubic(c);
     let mut tables = tables.iter();
     if c.working_plane.is_some()
         && let Some(t) = tables.next()

@@ -19,7 +19,7 @@ mod sections;
 mod style;
 
 use crate::Result;
-use crate::baked::BakedOutput;
+use crate::readback::BakedOutput;
 use crate::report::Report;
 use crate::scene::Scene;
 use html::escape;

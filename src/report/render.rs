@@ -1,5 +1,5 @@
 //! The report for people: its sections as tables of text ([`Section`]s), written as an aligned
-//! plain-text table (terminal) or Markdown here, and as HTML tables by `sheet`. Illuminances in
+//! plain-text table (terminal) or Markdown here, and as HTML tables by `html_report`. Illuminances in
 //! whole lx, areas to 0.01 m², reflectance and U₀ to two decimals, luminance to 0.1 cd/m²;
 //! a missing value (and a covered area of none) shows as `—`. A surface section's title says what its figures come from
 //! (`Surfaces by node (from lightmap texels)`).
