@@ -16,9 +16,8 @@
 //! reads half a texel inside (toward its triangle's centroid): at the outline's foot whatever
 //! stands there shades a quarter of the sphere, and filtering would smear that over the wall.
 
-use super::reflected::{At, Points};
-use super::{Display, Options, Sampled};
-use crate::progress::Progress;
+use super::reflected::{At, Points, Reading};
+use super::{Display, Sampled};
 use crate::result::{Atlas, BakedSurface};
 use crate::scene::luma;
 use crate::solution::{Solution, receivers};
@@ -26,17 +25,14 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 /// Light every sampled texel; returns how many were gathered rather than interpolated.
-#[allow(clippy::too_many_arguments)]
-pub fn light(
-    s: &Solution,
-    surfaces: &[BakedSurface],
-    origins: &[Vec<u32>],
-    samples: &[Sampled],
-    atlases: &mut [Atlas],
-    o: &Options,
-    display: &Display,
-    progress: &dyn Progress,
-) -> usize {
+pub fn light(r: &Reading, samples: &[Sampled], atlases: &mut [Atlas], display: &Display) -> usize {
+    let Reading {
+        s,
+        surfaces,
+        origins,
+        o,
+        progress,
+    } = *r;
     let mesh = s.mesh();
     let lit: Vec<usize> = (0..samples.len())
         .filter(|&i| samples[i].sample.is_some())
@@ -112,8 +108,7 @@ pub fn light(
             }
         })
         .collect();
-    let (indirect, gathered) =
-        super::reflected::at_texels(s, surfaces, origins, &at, &direct, o, progress);
+    let (indirect, gathered) = super::reflected::at_texels(r, &at, &direct);
     for (k, &i) in lit.iter().enumerate() {
         let t = &samples[i];
         let g = &mesh.groups[t.surface as usize];
