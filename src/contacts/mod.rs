@@ -131,6 +131,36 @@ struct Tri {
 /// Find every cover in `scene` with gaps up to `gap` (m).
 pub fn find(scene: &Scene, gap: f64, occ: &Occluder) -> Contacts {
     let tolerance = 1e-6 * occ.diagonal.max(1e-300);
+    let tris = triangles(scene);
+    let surface_area = surface_areas(scene);
+    let index = box_index(&tris, tolerance);
+    let context = Context {
+        scene,
+        surface_area: &surface_area,
+        gap,
+        tolerance,
+        occ,
+    };
+    let found: Vec<Found> = tris
+        .par_chunks(1024)
+        .map(|chunk| context.found(chunk, &tris, &index))
+        .collect();
+    let sorted = by_surface(found, scene.surfaces.len());
+    let cuts = (0..scene.surfaces.len())
+        .into_par_iter()
+        .map(|s| context.cut_surface(s, &sorted.covers[s], &sorted.seams[s]))
+        .collect();
+    Contacts {
+        cuts,
+        gap,
+        tolerance,
+        ..sorted
+    }
+}
+
+/// Every scene triangle with area, in surface then triangle order, with its planar face's
+/// extent.
+fn triangles(scene: &Scene) -> Vec<Tri> {
     let mut tris: Vec<Tri> = scene
         .surfaces
         .iter()
@@ -153,7 +183,19 @@ pub fn find(scene: &Scene, gap: f64, occ: &Occluder) -> Contacts {
                 })
         })
         .collect();
-    let surface_area: Vec<f64> = scene
+    // A gap wider than h/8 counts as contact only when small beside both faces (a twentieth of
+    // the smaller one's extent): a panel 3 cm under a ceiling, not a shelf 30 cm above a desk,
+    // nor a monitor's back 12 cm behind its screen in a mesh drawing a row of monitors.
+    let extents = faces::extents(&tris);
+    for (t, e) in tris.iter_mut().zip(extents) {
+        t.extent = e;
+    }
+    tris
+}
+
+/// Each scene surface's area (m²): which of two coplanar surfaces is on top.
+fn surface_areas(scene: &Scene) -> Vec<f64> {
+    scene
         .surfaces
         .iter()
         .map(|s| {
@@ -165,15 +207,12 @@ pub fn find(scene: &Scene, gap: f64, occ: &Occluder) -> Contacts {
                 })
                 .sum()
         })
-        .collect();
-    // A gap wider than h/8 counts as contact only when small beside both faces (a twentieth of
-    // the smaller one's extent): a panel 3 cm under a ceiling, not a shelf 30 cm above a desk,
-    // nor a monitor's back 12 cm behind its screen in a mesh drawing a row of monitors.
-    let extents = faces::extents(&tris);
-    for (t, e) in tris.iter_mut().zip(extents) {
-        t.extent = e;
-    }
-    let index = BoxIndex::new(
+        .collect()
+}
+
+/// An index of the triangles' boxes, each grown by `tolerance`.
+fn box_index(tris: &[Tri], tolerance: f64) -> BoxIndex {
+    BoxIndex::new(
         (tris.iter())
             .map(|t| {
                 let pad = DVec3::splat(tolerance);
@@ -184,74 +223,41 @@ pub fn find(scene: &Scene, gap: f64, occ: &Occluder) -> Contacts {
                 (lo - pad, hi + pad)
             })
             .collect(),
-    );
-    // What can cover a triangle or cut it along a seam lies within the gap of its plane, and
-    // within the gap × the tilt that still counts as parallel of its outline: its box grown by
-    // that (a desk top's box grown upward, not sideways), with margin.
-    let reach = |t: &Tri| {
-        let tilt = 0.05;
-        let pad = (t.normal.abs() + DVec3::splat(tilt)).min(DVec3::ONE) * gap
-            + DVec3::splat(4.0 * tolerance);
-        let (lo, hi) = (
-            t.p[0].min(t.p[1]).min(t.p[2]),
-            t.p[0].max(t.p[1]).max(t.p[2]),
-        );
-        (lo - pad, hi + pad)
+    )
+}
+
+/// The covers found on a chunk of triangles, each with its surface and whether it is cut along
+/// (see [`kept`]), and the seams, each with its surface.
+type Found = (Vec<(u32, Cover, bool)>, Vec<(u32, Seam)>);
+
+/// Whether each cover `c` of triangle `t` is cut along. What a surface covers of this triangle
+/// smaller than a quarter patch (a desk leg's foot on a floor) is left uncut: the mesh cannot
+/// show it, and cutting it costs patches. A triangle covered whole (the foot's own bottom, on
+/// the floor) needs no cut: it is kept, however small, as is any cover of a quarter of its
+/// triangle or more (a lintel against a 15 cm door jamb: left uncut, the jamb's patches reach
+/// into the seam and their receivers read the far side).
+fn kept(t: &Tri, c: &[Cover], min_area: f64) -> Vec<bool> {
+    let covered_by = |by: u32, back: bool| -> f64 {
+        (c.iter().filter(|x: &&Cover| x.by == by && x.back == back))
+            .map(|x| x.area)
+            .sum()
     };
-    let context = Context {
-        scene,
-        surface_area: &surface_area,
-        gap,
-        tolerance,
-        occ,
-    };
-    // Covers below the patch scale (2 × the gap is h/2) are not cut along (seams: see
-    // `Context::seam`).
-    let min_area = (2.0 * gap).powi(2);
-    // Each cover with whether it is cut along (see `keep` below).
-    type Found = (Vec<(u32, Cover, bool)>, Vec<(u32, Seam)>);
-    let found: Vec<Found> = tris
-        .par_chunks(1024)
-        .map(|chunk| {
-            let (mut covers, mut seams) = (Vec::new(), Vec::new());
-            let mut near = Vec::new();
-            for t in chunk {
-                let (lo, hi) = reach(t);
-                index.near(lo, hi, &mut near);
-                let (mut c, mut m) = (Vec::new(), Vec::new());
-                for &u in &near {
-                    context.covers(t, &tris[u as usize], &mut c);
-                    context.seam(t, &tris[u as usize], &mut m);
-                }
-                // What a surface covers of this triangle smaller than a quarter patch (a desk
-                // leg's foot on a floor) is left uncut: the mesh cannot show it, and cutting it
-                // costs patches. A triangle covered whole (the foot's own bottom, on the floor)
-                // needs no cut: it is kept, however small, as is any cover of a quarter of its
-                // triangle or more (a lintel against a 15 cm door jamb: left uncut, the jamb's
-                // patches reach into the seam and their receivers read the far side).
-                let covered_by = |by: u32, back: bool| -> f64 {
-                    (c.iter().filter(|x: &&Cover| x.by == by && x.back == back))
-                        .map(|x| x.area)
-                        .sum()
-                };
-                let quarter = (t.p[1] - t.p[0]).cross(t.p[2] - t.p[0]).length() / 8.0;
-                let keep: Vec<bool> = c
-                    .iter()
-                    .map(|x| {
-                        let a = covered_by(x.by, x.back);
-                        a >= min_area || a >= quarter
-                    })
-                    .collect();
-                covers.extend(c.into_iter().zip(keep).map(|(c, k)| (t.surface, c, k)));
-                seams.extend(m.into_iter().map(|m| (t.surface, m)));
-            }
-            (covers, seams)
+    let quarter = (t.p[1] - t.p[0]).cross(t.p[2] - t.p[0]).length() / 8.0;
+    c.iter()
+        .map(|x| {
+            let a = covered_by(x.by, x.back);
+            a >= min_area || a >= quarter
         })
-        .collect();
-    // Chunks come in triangle order and triangles in surface order: both stay sorted.
-    let mut covers: Vec<Vec<Cover>> = vec![Vec::new(); scene.surfaces.len()];
-    let mut uncut: Vec<Vec<Cover>> = vec![Vec::new(); scene.surfaces.len()];
-    let mut seams: Vec<Vec<Seam>> = vec![Vec::new(); scene.surfaces.len()];
+        .collect()
+}
+
+/// The found covers and seams sorted per surface (covers cut along, covers left uncut, seams;
+/// no cuts yet). Chunks come in triangle order and triangles in surface order: each list stays
+/// sorted by triangle.
+fn by_surface(found: Vec<Found>, surfaces: usize) -> Contacts {
+    let mut covers: Vec<Vec<Cover>> = vec![Vec::new(); surfaces];
+    let mut uncut: Vec<Vec<Cover>> = vec![Vec::new(); surfaces];
+    let mut seams: Vec<Vec<Seam>> = vec![Vec::new(); surfaces];
     for (c, m) in found {
         for (s, c, kept) in c {
             match kept {
@@ -263,41 +269,11 @@ pub fn find(scene: &Scene, gap: f64, occ: &Occluder) -> Contacts {
             seams[s as usize].push(m);
         }
     }
-    let cuts = (0..scene.surfaces.len())
-        .into_par_iter()
-        .map(|s| {
-            if covers[s].is_empty() && seams[s].is_empty() {
-                return None;
-            }
-            let surface = &scene.surfaces[s];
-            // Triangles shorter than a patch (8 × the gap: 2h) are covered or not as a whole.
-            let mut c = cut::cut(surface, &covers[s], &seams[s], tolerance, 8.0 * gap);
-            let double = scene.materials[surface.material].double_sided;
-            classify_seamed(&mut c, double, occ);
-            let copies = cut::part_creases(
-                &mut c,
-                if double {
-                    cut::FRONT | cut::BACK
-                } else {
-                    cut::FRONT
-                },
-            );
-            // Creases along the surface's outer edges only (a wall's foot where a room is drawn
-            // with nothing under its floor): nothing was cut or parted.
-            let untouched = covers[s].is_empty()
-                && seams[s].iter().all(|x| x.crease)
-                && copies == 0
-                && c.triangles.len() == surface.triangles.len();
-            (!untouched).then_some(c)
-        })
-        .collect();
     Contacts {
         covers,
         uncut,
         seams,
-        cuts,
-        gap,
-        tolerance,
+        ..Contacts::none()
     }
 }
 
@@ -371,12 +347,83 @@ fn classify_seamed(c: &mut cut::CutSurface, double: bool, occ: &Occluder) {
     }
 }
 
+/// What finding contacts shares: the scene, its surfaces' areas, the gap and tolerance (m), and
+/// the occluder.
 struct Context<'a> {
     scene: &'a Scene,
     surface_area: &'a [f64],
     gap: f64,
     tolerance: f64,
     occ: &'a Occluder,
+}
+
+impl Context<'_> {
+    /// Where what can cover `t` or cut it along a seam lies: within the gap of its plane, and
+    /// within the gap × the tilt that still counts as parallel of its outline: its box grown
+    /// by that (a desk top's box grown upward, not sideways), with margin.
+    fn reach(&self, t: &Tri) -> (DVec3, DVec3) {
+        let (gap, tolerance) = (self.gap, self.tolerance);
+        let tilt = 0.05;
+        let pad = (t.normal.abs() + DVec3::splat(tilt)).min(DVec3::ONE) * gap
+            + DVec3::splat(4.0 * tolerance);
+        let (lo, hi) = (
+            t.p[0].min(t.p[1]).min(t.p[2]),
+            t.p[0].max(t.p[1]).max(t.p[2]),
+        );
+        (lo - pad, hi + pad)
+    }
+
+    /// The covers and seams on the triangles of `chunk` made by the triangles near each
+    /// (`index`: the boxes of `tris`).
+    fn found(&self, chunk: &[Tri], tris: &[Tri], index: &BoxIndex) -> Found {
+        // Covers below the patch scale (2 × the gap is h/2) are not cut along (seams: see
+        // `Context::seam`).
+        let min_area = (2.0 * self.gap).powi(2);
+        let (mut covers, mut seams) = (Vec::new(), Vec::new());
+        let mut near = Vec::new();
+        for t in chunk {
+            let (lo, hi) = self.reach(t);
+            index.near(lo, hi, &mut near);
+            let (mut c, mut m) = (Vec::new(), Vec::new());
+            for &u in &near {
+                self.covers(t, &tris[u as usize], &mut c);
+                self.seam(t, &tris[u as usize], &mut m);
+            }
+            let keep = kept(t, &c, min_area);
+            covers.extend(c.into_iter().zip(keep).map(|(c, k)| (t.surface, c, k)));
+            seams.extend(m.into_iter().map(|m| (t.surface, m)));
+        }
+        (covers, seams)
+    }
+
+    /// Surface `s` cut along its covers and seams, the pieces along seams classified; `None`
+    /// when it has none, or only creases along its outer edges that part nothing.
+    fn cut_surface(&self, s: usize, covers: &[Cover], seams: &[Seam]) -> Option<cut::CutSurface> {
+        let (scene, gap) = (self.scene, self.gap);
+        if covers.is_empty() && seams.is_empty() {
+            return None;
+        }
+        let surface = &scene.surfaces[s];
+        // Triangles shorter than a patch (8 × the gap: 2h) are covered or not as a whole.
+        let mut c = cut::cut(surface, covers, seams, self.tolerance, 8.0 * gap);
+        let double = scene.materials[surface.material].double_sided;
+        classify_seamed(&mut c, double, self.occ);
+        let copies = cut::part_creases(
+            &mut c,
+            if double {
+                cut::FRONT | cut::BACK
+            } else {
+                cut::FRONT
+            },
+        );
+        // Creases along the surface's outer edges only (a wall's foot where a room is drawn
+        // with nothing under its floor): nothing was cut or parted.
+        let untouched = covers.is_empty()
+            && seams.iter().all(|x| x.crease)
+            && copies == 0
+            && c.triangles.len() == surface.triangles.len();
+        (!untouched).then_some(c)
+    }
 }
 
 impl Context<'_> {
