@@ -299,6 +299,65 @@ impl<'a> PatchOperator<'a> {
         black: &dyn Fn(usize) -> bool,
         open: &[f64],
     ) -> BalanceStats {
+        let t = self.targets(black, open);
+        let areas: Vec<f64> = self.mesh.patches.iter().map(|p| p.area).collect();
+        let ones = vec![1.0; self.mesh.patches.len()];
+        let errors = Errors {
+            areas: &areas,
+            t: &t,
+        };
+        let mut cols = self.column_sums(&areas);
+        let mut stats = BalanceStats {
+            iterations: 0,
+            row_error_before: errors.rows(&self.apply_scalar(&ones)),
+            column_error_before: errors.columns(&cols),
+            worst_column_before: errors.worst(&cols),
+            row_error_after: 0.0,
+            column_error_after: 0.0,
+            worst_column_after: 0.0,
+            closed_patches: t.closed.iter().filter(|c| **c).count(),
+        };
+        let row_target = t.rows();
+        let mut previous = f64::INFINITY;
+        for _ in 0..max_iterations {
+            // `cols` holds the current scalings' column sums (before the first step, the ones
+            // measured above).
+            stats.column_error_after = errors.columns(&cols);
+            stats.worst_column_after = errors.worst(&cols);
+            // Stop at the tolerance, or when an iteration no longer gains 5 %: the rest is
+            // inconsistency between the estimated targets, not something more sweeps remove.
+            if stats.column_error_after < tolerance || stats.column_error_after > 0.95 * previous {
+                break;
+            }
+            previous = stats.column_error_after;
+            stats.iterations += 1;
+            self.scale_columns(&cols, &t, true);
+            let rows = self.apply_scalar(&ones);
+            for i in 0..rows.len() {
+                if t.closed[i] && rows[i] > 0.0 {
+                    self.row[i] *= row_target[i] / rows[i];
+                }
+            }
+            cols = self.column_sums(&areas);
+        }
+        // Rows and columns cannot both reach targets whose area-weighted totals differ (a floor
+        // patch with a vertex pressed under a desk leg's foot gathers two thirds of what it
+        // sends): the columns decide whether light is kept, so a last plain column step makes
+        // them exact and the rows carry the inconsistency (about 10⁻⁸ on average).
+        if stats.iterations > 0 {
+            self.scale_columns(&cols, &t, false);
+            cols = self.column_sums(&areas);
+            stats.column_error_after = errors.columns(&cols);
+            stats.worst_column_after = errors.worst(&cols);
+        }
+        stats.row_error_after = errors.rows(&self.apply_scalar(&ones));
+        stats
+    }
+
+    /// What [`PatchOperator::balance`] scales to: per patch one minus the back faces it sees
+    /// (rows also minus the black nodes it sees; columns of open patches also minus their
+    /// measured escape), which patches are closed and which columns are balanced.
+    fn targets(&self, black: &dyn Fn(usize) -> bool, open: &[f64]) -> Targets {
         let mesh = self.mesh;
         let mean = |p: &crate::patches::Patch, f: &dyn Fn(usize) -> f64| {
             p.v.iter().map(|&v| f(v as usize)).sum::<f64>() / 3.0
@@ -316,117 +375,127 @@ impl<'a> PatchOperator<'a> {
             .collect();
         // Without black nodes rows and columns share their targets (two patch-sized arrays
         // fewer on a 10⁶-triangle bake).
-        use std::borrow::Cow;
-        let row_target: Cow<[f64]> = match self.links.has_dark() {
-            false => Cow::Borrowed(&target),
-            true => mesh
-                .patches
+        let row_target = self.links.has_dark().then(|| {
+            mesh.patches
                 .iter()
                 .zip(&target)
                 .map(|(p, t)| (t - mean(p, &|r| self.links.dark(r) as f64)).max(0.0))
-                .collect(),
-        };
+                .collect()
+        });
         // Columns: the closed patches', and the open ones' whose escape was measured.
         let measured =
             |j: usize| !closed[j] && open.get(j).is_some_and(|o| target[j] - o > MIN_TARGET);
-        let col_target: Cow<[f64]> = match open.is_empty() {
-            true => Cow::Borrowed(&target),
-            false => (0..target.len())
+        let col_target = (!open.is_empty()).then(|| {
+            (0..target.len())
                 .map(|j| match measured(j) {
                     true => target[j] - open[j],
                     false => target[j],
                 })
-                .collect(),
-        };
-        let closed_column: Cow<[bool]> = match self.links.has_dark() || !open.is_empty() {
-            false => Cow::Borrowed(&closed),
-            true => (0..closed.len())
-                .map(|j| (closed[j] || measured(j)) && !black(j))
-                .collect(),
-        };
-        let target = col_target;
-        let areas: Vec<f64> = mesh.patches.iter().map(|p| p.area).collect();
-        let ones = vec![1.0; mesh.patches.len()];
-        // The area-weighted mean deviation is what loses or creates flux each bounce; the largest
-        // single deviation is reported too.
-        let error = |sums: &[f64], target: &[f64], set: &[bool]| -> f64 {
-            let (mut deviation, mut area) = (0.0, 0.0);
-            for i in (0..sums.len()).filter(|&i| set[i]) {
-                deviation += areas[i] * (sums[i] - target[i]).abs();
-                area += areas[i];
-            }
-            deviation / area.max(1e-300)
-        };
-        let worst = |sums: &[f64]| -> f64 {
-            (0..sums.len())
-                .filter(|&i| closed_column[i])
-                .map(|i| (sums[i] - target[i]).abs())
-                .fold(0.0, f64::max)
-        };
-        let row_error = |sums: &[f64]| error(sums, &row_target, &closed);
-        let column_error = |sums: &[f64]| error(sums, &target, &closed_column);
-        let column_sums = |op: &Self| -> Vec<f64> {
-            op.apply_transpose(&areas)
-                .iter()
-                .zip(&areas)
-                .map(|(z, a)| z / a)
                 .collect()
-        };
-        let mut cols = column_sums(self);
-        let mut stats = BalanceStats {
-            iterations: 0,
-            row_error_before: row_error(&self.apply_scalar(&ones)),
-            column_error_before: column_error(&cols),
-            worst_column_before: worst(&cols),
-            row_error_after: 0.0,
-            column_error_after: 0.0,
-            worst_column_after: 0.0,
-            closed_patches: closed.iter().filter(|c| **c).count(),
-        };
-        let mut previous = f64::INFINITY;
-        for _ in 0..max_iterations {
-            // `cols` holds the current scalings' column sums (before the first step, the ones
-            // measured above).
-            stats.column_error_after = column_error(&cols);
-            stats.worst_column_after = worst(&cols);
-            // Stop at the tolerance, or when an iteration no longer gains 5 %: the rest is
-            // inconsistency between the estimated targets, not something more sweeps remove.
-            if stats.column_error_after < tolerance || stats.column_error_after > 0.95 * previous {
-                break;
-            }
-            previous = stats.column_error_after;
-            stats.iterations += 1;
-            for j in 0..cols.len() {
-                if closed_column[j] && cols[j] > 0.0 {
-                    // Over-relaxed Sinkhorn step (exponent ω = 1.5): the slow, smooth part of
-                    // the error goes several times faster; the factor is bounded for safety.
-                    self.col[j] *= (target[j] / cols[j]).powf(OVERRELAX).clamp(0.5, 2.0);
-                }
-            }
-            let rows = self.apply_scalar(&ones);
-            for i in 0..rows.len() {
-                if closed[i] && rows[i] > 0.0 {
-                    self.row[i] *= row_target[i] / rows[i];
-                }
-            }
-            cols = column_sums(self);
+        });
+        let closed_column = (self.links.has_dark() || !open.is_empty()).then(|| {
+            (0..closed.len())
+                .map(|j| (closed[j] || measured(j)) && !black(j))
+                .collect()
+        });
+        Targets {
+            target,
+            closed,
+            row_target,
+            col_target,
+            closed_column,
         }
-        // Rows and columns cannot both reach targets whose area-weighted totals differ (a floor
-        // patch with a vertex pressed under a desk leg's foot gathers two thirds of what it
-        // sends): the columns decide whether light is kept, so a last plain column step makes
-        // them exact and the rows carry the inconsistency (about 10⁻⁸ on average).
-        if stats.iterations > 0 {
-            for j in 0..cols.len() {
-                if closed_column[j] && cols[j] > 0.0 {
-                    self.col[j] *= (target[j] / cols[j]).clamp(0.5, 2.0);
-                }
+    }
+
+    /// Each patch's column sum (where its light goes, Σᵢ Aᵢ·G_ij / Aⱼ) under the current
+    /// scalings; `areas`: the patches' areas.
+    fn column_sums(&self, areas: &[f64]) -> Vec<f64> {
+        self.apply_transpose(areas)
+            .iter()
+            .zip(areas)
+            .map(|(z, a)| z / a)
+            .collect()
+    }
+
+    /// One Sinkhorn step on the balanced columns toward their targets from their sums `cols`:
+    /// over-relaxed (exponent ω = 1.5) where `relax`, the slow, smooth part of the error going
+    /// several times faster; the factor bounded for safety.
+    fn scale_columns(&mut self, cols: &[f64], t: &Targets, relax: bool) {
+        let (target, closed_column) = (t.columns(), t.closed_columns());
+        for j in 0..cols.len() {
+            if closed_column[j] && cols[j] > 0.0 {
+                self.col[j] *= match relax {
+                    true => (target[j] / cols[j]).powf(OVERRELAX).clamp(0.5, 2.0),
+                    false => (target[j] / cols[j]).clamp(0.5, 2.0),
+                };
             }
-            cols = column_sums(self);
-            stats.column_error_after = column_error(&cols);
-            stats.worst_column_after = worst(&cols);
         }
-        stats.row_error_after = row_error(&self.apply_scalar(&ones));
-        stats
+    }
+}
+
+/// The targets of [`PatchOperator::balance`]: one minus the back faces per patch, whether each
+/// patch is closed, and where black nodes or measured escape make them differ, the rows' and
+/// columns' own targets and the set of columns balanced (`None`: `target` and `closed`).
+struct Targets {
+    target: Vec<f64>,
+    closed: Vec<bool>,
+    row_target: Option<Vec<f64>>,
+    col_target: Option<Vec<f64>>,
+    closed_column: Option<Vec<bool>>,
+}
+
+impl Targets {
+    /// What each closed patch's row sums to.
+    fn rows(&self) -> &[f64] {
+        self.row_target.as_deref().unwrap_or(&self.target)
+    }
+
+    /// What each balanced column sums to.
+    fn columns(&self) -> &[f64] {
+        self.col_target.as_deref().unwrap_or(&self.target)
+    }
+
+    /// Which columns are balanced (and measured).
+    fn closed_columns(&self) -> &[bool] {
+        self.closed_column.as_deref().unwrap_or(&self.closed)
+    }
+}
+
+/// How far row and column sums are from their [`Targets`], weighted by the patches' `areas`.
+struct Errors<'a> {
+    areas: &'a [f64],
+    t: &'a Targets,
+}
+
+impl Errors<'_> {
+    /// The area-weighted mean |sum − target| over the patches in `set`: what loses or creates
+    /// flux each bounce.
+    fn mean(&self, sums: &[f64], target: &[f64], set: &[bool]) -> f64 {
+        let (mut deviation, mut area) = (0.0, 0.0);
+        for i in (0..sums.len()).filter(|&i| set[i]) {
+            deviation += self.areas[i] * (sums[i] - target[i]).abs();
+            area += self.areas[i];
+        }
+        deviation / area.max(1e-300)
+    }
+
+    /// The mean deviation of the closed patches' row sums.
+    fn rows(&self, sums: &[f64]) -> f64 {
+        self.mean(sums, self.t.rows(), &self.t.closed)
+    }
+
+    /// The mean deviation of the balanced columns' sums.
+    fn columns(&self, sums: &[f64]) -> f64 {
+        self.mean(sums, self.t.columns(), self.t.closed_columns())
+    }
+
+    /// The largest single deviation of a balanced column's sum.
+    fn worst(&self, sums: &[f64]) -> f64 {
+        let (target, closed_column) = (self.t.columns(), self.t.closed_columns());
+        (0..sums.len())
+            .filter(|&i| closed_column[i])
+            .map(|i| (sums[i] - target[i]).abs())
+            .fold(0.0, f64::max)
     }
 }
 
