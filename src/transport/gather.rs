@@ -117,6 +117,22 @@ pub struct Gatherer<'a> {
     pub covered: Option<&'a Gatherer<'a>>,
 }
 
+/// What one gather collects: the links it found and the covered fractions.
+struct Collected<'o> {
+    links: &'o mut Vec<Link>,
+    coverage: Coverage,
+}
+
+/// A node the traversal visits: its index, what an ancestor far node's two rays said of it
+/// ([`Seen`]), its lowest height over the receiver's plane and its centre's distance (m).
+#[derive(Clone, Copy)]
+struct Visit {
+    i: u32,
+    seen: Seen,
+    below: f64,
+    dist: f64,
+}
+
 /// Shadow-ray answers shared by gathers at one point with different normals (the six faces of a
 /// probe): a ray toward the same target from origins a hair apart (each pulled off along its
 /// face's normal) gets the first face's answer instead of being traced again.
@@ -191,9 +207,12 @@ impl Gatherer<'_> {
         out: &mut Vec<Link>,
         mut shared: Option<&mut SharedRays>,
     ) -> Coverage {
-        let mut coverage = Coverage::default();
+        let mut collected = Collected {
+            links: out,
+            coverage: Coverage::default(),
+        };
         if self.tree.is_empty() {
-            return coverage;
+            return collected.coverage;
         }
         // (node, what an ancestor far node's two rays said: see [`Seen`]).
         let mut stack = vec![(0u32, Seen::No)];
@@ -204,120 +223,172 @@ impl Gatherer<'_> {
                 continue; // wholly behind the receiver
             }
             let dist = (node.center - p).length();
-            if node.is_leaf() {
-                let leaf = self.tree.leaf(node.start);
-                let front = leaf.normal.dot(p - node.centroid) > 0.0;
-                let patch_index = self.tree.order[node.start as usize] as usize;
-                if !front && (self.fronts_only || self.mesh.patches[patch_index].double_sided) {
-                    continue; // its twin, facing this way, is counted instead (or nothing is)
-                }
-                let corners = leaf.corners;
-                if !lambert::rises_above(p, n, &corners) {
-                    continue; // its form factor is zero
-                }
-                let weight =
-                    if self.split_leaves && !seen.covers(front) && !self.occluder.convex_empty {
-                        super::lit::visible_form_factor(self.occluder, p, n, corners, leaf.normal)
-                    } else {
-                        // Visibility before the form factor: most leaves far from the receiver turn
-                        // out hidden, and a hidden patch needs no form factor.
-                        let vis = if seen.covers(front) {
-                            1.0
-                        } else {
-                            let level = sample_level(node.radius, dist, self.tau);
-                            self.patch_visibility(p, n, i, leaf, level, &mut shared)
-                        };
-                        if vis <= 0.0 {
-                            continue;
-                        }
-                        lambert::form_factor_rising(p, n, &corners) * vis
-                    };
-                if weight <= 0.0 {
-                    continue;
-                }
-                coverage.total += weight;
-                if !front {
-                    coverage.back += weight;
-                } else if self.is_dark(i) {
-                    coverage.dark += weight;
-                } else {
-                    out.push(Link::plain(i, weight));
-                }
-                continue;
-            }
-            if self.fronts_only && node.facing(p) == Some(false) {
-                continue; // turned away: nothing of it is gathered
-            }
-            let mut seen = seen;
-            if self.split_leaves && seen == Seen::No && !self.occluder.convex_empty {
-                // Direct light: a node's visibility is proved or the node is refined, never
-                // sampled (a penumbra's edge would be where two rays happen to fall).
-                match self.proved(p, n, node) {
-                    Some(true) => seen = Seen::All,
-                    Some(false) => continue,
-                    None => {
-                        push_children(&mut stack, node, Seen::No);
-                        continue;
-                    }
-                }
-            }
-            if node.mixed {
-                // Patches from both sides of a wall: what one part shows says nothing of the
-                // other, so no ray settles it (a proof does: [`Gatherer::proved`]).
-                let kept = if seen == Seen::All { seen } else { Seen::No };
-                push_children(&mut stack, node, kept);
-                continue;
-            }
-            if node.radius >= self.tau * dist {
-                push_children(&mut stack, node, seen); // too close
-                continue;
-            }
-            if below < 0.0 && node.horizon_bound(p, n, dist) < HORIZON {
-                continue; // far, on the horizon: what rises above it is worth nothing
-            }
-            let facing = node.facing(p);
-            if below < 0.0 || (facing.is_none() && !node.curved) {
-                // Far, but not one source: it crosses the receiver's plane or shows both sides
-                // without being clutter. Its patches are gathered one by one, unless its
-                // representatives all say it is hidden; when they all say it is seen, its
-                // patches (those facing the receiver, when it shows both sides) are gathered
-                // without rays of their own.
-                let settled = match seen {
-                    Seen::No => match self.sight(p, n, i, facing, &mut shared) {
-                        Sight::Hidden => continue,
-                        Sight::Unknown => Seen::No,
-                        Sight::Seen if facing.is_some() => Seen::All,
-                        Sight::Seen => Seen::Front,
-                    },
-                    seen => seen, // an ancestor settled it already
-                };
-                push_children(&mut stack, node, settled);
-                continue;
-            }
-            // A one-sided node's form factor decides how much its visibility is worth: below
-            // SMALL_NODE one ray (to the patch at its area median) stands for it.
-            let moments = self.tree.moments(i as usize);
-            let f = facing.map(|_| moments.form_factor(p, n).abs());
-            let vis = match f {
-                _ if self.split_leaves && seen == Seen::All => 1.0, // proved
-                Some(_) if seen.covers(facing == Some(true)) => 1.0,
-                Some(f) if f < SMALL_NODE => self.ray_visibility(p, n, i, &[1], &mut shared),
-                Some(_) => self.ray_visibility(p, n, i, &[0, 2], &mut shared),
-                None => self.cluster_visibility(p, n, i, &mut shared),
+            let v = Visit {
+                i,
+                seen,
+                below,
+                dist,
             };
-            if vis > 0.0 && vis < 1.0 {
-                // Partly hidden: a shadow boundary runs through the node. Refine rather than
-                // guess the visible fraction from two rays.
-                push_children(&mut stack, node, Seen::No);
-                continue;
-            }
-            match facing.zip(f) {
-                Some((front, f)) => self.add_far(i, p, n, (front, f), vis, out, &mut coverage),
-                // Seen from both sides (clutter): one cluster, its normals to order 2.
-                None => self.add_cluster(i, p, n, vis, out, &mut coverage),
+            if node.is_leaf() {
+                if let Some((weight, front)) = self.leaf_weight(p, n, v, &mut shared) {
+                    self.add_leaf(i, weight, front, &mut collected);
+                }
+            } else if let Some(children) = self.inner(p, n, v, &mut shared, &mut collected) {
+                push_children(&mut stack, node, children);
             }
         }
-        coverage
+        collected.coverage
+    }
+
+    /// The visible form factor of leaf `v.i` from `p` (normal `n`) and whether its patch faces
+    /// `p`; `None` when it adds nothing (its twin is counted instead, or nothing is; it does not
+    /// rise above the receiver's plane; it is hidden).
+    fn leaf_weight(
+        &self,
+        p: DVec3,
+        n: DVec3,
+        v: Visit,
+        shared: &mut Option<&mut SharedRays>,
+    ) -> Option<(f64, bool)> {
+        let (i, seen) = (v.i, v.seen);
+        let node = &self.tree.bounds[i as usize];
+        let leaf = self.tree.leaf(node.start);
+        let front = leaf.normal.dot(p - node.centroid) > 0.0;
+        let patch_index = self.tree.order[node.start as usize] as usize;
+        if !front && (self.fronts_only || self.mesh.patches[patch_index].double_sided) {
+            return None; // its twin, facing this way, is counted instead (or nothing is)
+        }
+        let corners = leaf.corners;
+        if !lambert::rises_above(p, n, &corners) {
+            return None; // its form factor is zero
+        }
+        let weight = if self.split_leaves && !seen.covers(front) && !self.occluder.convex_empty {
+            super::lit::visible_form_factor(self.occluder, p, n, corners, leaf.normal)
+        } else {
+            // Visibility before the form factor: most leaves far from the receiver turn
+            // out hidden, and a hidden patch needs no form factor.
+            let vis = if seen.covers(front) {
+                1.0
+            } else {
+                let level = sample_level(node.radius, v.dist, self.tau);
+                self.patch_visibility(p, n, i, leaf, level, shared)
+            };
+            if vis <= 0.0 {
+                return None;
+            }
+            lambert::form_factor_rising(p, n, &corners) * vis
+        };
+        if weight <= 0.0 {
+            return None;
+        }
+        Some((weight, front))
+    }
+
+    /// Leaf `i` seen with visible form factor `weight`: its front linked (a black one only
+    /// covers), its back covered (it absorbs).
+    fn add_leaf(&self, i: u32, weight: f64, front: bool, c: &mut Collected) {
+        c.coverage.total += weight;
+        if !front {
+            c.coverage.back += weight;
+        } else if self.is_dark(i) {
+            c.coverage.dark += weight;
+        } else {
+            c.links.push(Link::plain(i, weight));
+        }
+    }
+
+    /// What the traversal does with inner node `v.i`: `None` when it is skipped or accepted as
+    /// one source (its link added to `c`), else what its children are visited knowing.
+    fn inner(
+        &self,
+        p: DVec3,
+        n: DVec3,
+        v: Visit,
+        shared: &mut Option<&mut SharedRays>,
+        c: &mut Collected,
+    ) -> Option<Seen> {
+        let (i, below, dist) = (v.i, v.below, v.dist);
+        let node = &self.tree.bounds[i as usize];
+        if self.fronts_only && node.facing(p) == Some(false) {
+            return None; // turned away: nothing of it is gathered
+        }
+        let mut seen = v.seen;
+        if self.split_leaves && seen == Seen::No && !self.occluder.convex_empty {
+            // Direct light: a node's visibility is proved or the node is refined, never
+            // sampled (a penumbra's edge would be where two rays happen to fall).
+            match self.proved(p, n, node) {
+                Some(true) => seen = Seen::All,
+                Some(false) => return None,
+                None => return Some(Seen::No),
+            }
+        }
+        if node.mixed {
+            // Patches from both sides of a wall: what one part shows says nothing of the
+            // other, so no ray settles it (a proof does: [`Gatherer::proved`]).
+            let kept = if seen == Seen::All { seen } else { Seen::No };
+            return Some(kept);
+        }
+        if node.radius >= self.tau * dist {
+            return Some(seen); // too close
+        }
+        if below < 0.0 && node.horizon_bound(p, n, dist) < HORIZON {
+            return None; // far, on the horizon: what rises above it is worth nothing
+        }
+        let facing = node.facing(p);
+        if below < 0.0 || (facing.is_none() && !node.curved) {
+            // Far, but not one source: it crosses the receiver's plane or shows both sides
+            // without being clutter. Its patches are gathered one by one, unless its
+            // representatives all say it is hidden; when they all say it is seen, its
+            // patches (those facing the receiver, when it shows both sides) are gathered
+            // without rays of their own.
+            let settled = match seen {
+                Seen::No => match self.sight(p, n, i, facing, shared) {
+                    Sight::Hidden => return None,
+                    Sight::Unknown => Seen::No,
+                    Sight::Seen if facing.is_some() => Seen::All,
+                    Sight::Seen => Seen::Front,
+                },
+                seen => seen, // an ancestor settled it already
+            };
+            return Some(settled);
+        }
+        self.source(p, n, Visit { seen, ..v }, facing, shared, c)
+    }
+
+    /// Far node `v.i` (one-sided, `facing`, or curved clutter) taken as one source when its rays
+    /// agree: its link added to `c`, `None` returned; partly hidden, `Some(Seen::No)`: refined.
+    fn source(
+        &self,
+        p: DVec3,
+        n: DVec3,
+        v: Visit,
+        facing: Option<bool>,
+        shared: &mut Option<&mut SharedRays>,
+        c: &mut Collected,
+    ) -> Option<Seen> {
+        let (i, seen) = (v.i, v.seen);
+        // A one-sided node's form factor decides how much its visibility is worth: below
+        // SMALL_NODE one ray (to the patch at its area median) stands for it.
+        let moments = self.tree.moments(i as usize);
+        let f = facing.map(|_| moments.form_factor(p, n).abs());
+        let vis = match f {
+            _ if self.split_leaves && seen == Seen::All => 1.0, // proved
+            Some(_) if seen.covers(facing == Some(true)) => 1.0,
+            Some(f) if f < SMALL_NODE => self.ray_visibility(p, n, i, &[1], shared),
+            Some(_) => self.ray_visibility(p, n, i, &[0, 2], shared),
+            None => self.cluster_visibility(p, n, i, shared),
+        };
+        if vis > 0.0 && vis < 1.0 {
+            // Partly hidden: a shadow boundary runs through the node. Refine rather than
+            // guess the visible fraction from two rays.
+            return Some(Seen::No);
+        }
+        match facing.zip(f) {
+            Some((front, f)) => self.add_far(i, p, n, (front, f), vis, c),
+            // Seen from both sides (clutter): one cluster, its normals to order 2.
+            None => self.add_cluster(i, p, n, vis, c),
+        }
+        None
     }
 
     /// What is proved of the visibility of all of `node` from `p` (normal `n`): the segments
@@ -352,7 +423,6 @@ impl Gatherer<'_> {
     /// Node `i` accepted as one far-field source seen from `p` (`front`: its patches face `p`;
     /// `f`: its form factor) with visible fraction `vis`: second-order area moments and the
     /// first moment of exitance.
-    #[allow(clippy::too_many_arguments)]
     fn add_far(
         &self,
         i: u32,
@@ -360,9 +430,9 @@ impl Gatherer<'_> {
         n: DVec3,
         (front, f): (bool, f64),
         vis: f64,
-        out: &mut Vec<Link>,
-        coverage: &mut Coverage,
+        c: &mut Collected,
     ) {
+        let coverage = &mut c.coverage;
         let node = &self.tree.nodes[i as usize];
         if front {
             coverage.total += f * vis;
@@ -378,7 +448,7 @@ impl Gatherer<'_> {
         }
         if front && vis > 0.0 && f > 0.0 {
             let g = self.tree.moments(i as usize).density_gradient(p, n) * vis;
-            out.push(Link::far(i, f * vis, g, node.area));
+            c.links.push(Link::far(i, f * vis, g, node.area));
         }
     }
 
@@ -386,15 +456,8 @@ impl Gatherer<'_> {
     /// at its centroid whose intensity follows its exitance-weighted normals to order 2, scaled
     /// by the share of its front faces it does not hide from itself (`silhouette`). It covers the
     /// area it shows toward `p`.
-    fn add_cluster(
-        &self,
-        i: u32,
-        p: DVec3,
-        n: DVec3,
-        vis: f64,
-        out: &mut Vec<Link>,
-        coverage: &mut Coverage,
-    ) {
+    fn add_cluster(&self, i: u32, p: DVec3, n: DVec3, vis: f64, collected: &mut Collected) {
+        let coverage = &mut collected.coverage;
         let c = self.tree.bounds[i as usize].centroid;
         let d2 = (c - p).length_squared();
         let w = (p - c) / d2.sqrt();
@@ -410,7 +473,7 @@ impl Gatherer<'_> {
             return;
         }
         if k > 0.0 {
-            out.push(Link::cluster_link(i, k, w));
+            collected.links.push(Link::cluster_link(i, k, w));
         }
     }
 
