@@ -136,7 +136,7 @@ pub fn into_patches(
     let covered = covered_triangles(mesh);
     let into_covered: Vec<Vec<f64>> = covered
         .par_chunks(FLUX_CHUNK)
-        .map(|chunk| flux.into_covered(chunk))
+        .map(|chunk| flux.onto_covered(chunk))
         .collect();
     for part in into_covered {
         for k in 0..sources.len() {
@@ -244,7 +244,7 @@ impl Flux<'_> {
     }
 
     /// The flux (lm) per source onto a chunk of covered triangles (given by their corners).
-    fn into_covered(&self, chunk: &[[DVec3; 3]]) -> Vec<f64> {
+    fn onto_covered(&self, chunk: &[[DVec3; 3]]) -> Vec<f64> {
         let occ = self.occ;
         let (sources, groups) = (&self.lights.sources, &self.lights.groups);
         let mut total = vec![0.0; sources.len()];
