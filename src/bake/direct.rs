@@ -10,7 +10,7 @@
 use crate::direct::enclosed::Solids;
 use crate::direct::sources::DirectSource;
 use crate::direct::targets::IntoPatch;
-use crate::patches::PatchMesh;
+use crate::patches::{Patch, PatchMesh};
 use crate::progress::Progress;
 use crate::scene::Scene;
 use crate::solution::{DirectLight, receivers};
@@ -100,76 +100,28 @@ pub fn closure(sources: &[DirectSource], received: &[f64], escaped: &[f64]) -> V
 /// Largest correction [`closure`] applies (2 %): the integration errs by a few per mille.
 const MAX_CLOSURE: f64 = 0.02;
 
+/// Direct flux into every patch of `mesh` from the scene's lights and luminaires, onto back
+/// faces and covered parts, and per source (see [`PatchFlux`]).
 pub fn into_patches(
     scene: &Scene,
     lights: &DirectLight,
     mesh: &PatchMesh,
     occ: &Occluder,
 ) -> PatchFlux {
-    let (sources, groups) = (&lights.sources, &lights.groups);
-    let solids = Solids::new(scene);
+    let sources = &lights.sources;
+    let flux = Flux {
+        lights,
+        mesh,
+        occ,
+        solids: Solids::new(scene),
+    };
     // Fixed chunks of patches, each summed into its own totals, the chunks' totals added in
     // order: deterministic whatever the thread count. Each patch keeps only its nonzero fronts
     // per source (8 bytes each, not patches × sources), summed once the closure is known.
     let parts: Vec<Chunk> = mesh
         .patches
         .par_chunks(FLUX_CHUNK)
-        .map(|chunk| {
-            let mut part = Chunk {
-                entries: Vec::new(),
-                ends: Vec::with_capacity(chunk.len()),
-                back: vec![0.0; sources.len()],
-                per_source: vec![0.0; sources.len()],
-            };
-            let mut row = vec![(0.0, 0.0); sources.len()];
-            for p in chunk {
-                let corners = p.corners(&mesh.receivers);
-                // A group's query starts from the corners the patch-flux integration traces
-                // from (pulled a hair inside the patch, `direct::flux`), pulled off the side
-                // that faces it (the back of a single-sided patch absorbs what reaches it); its
-                // hull holds the centroid and every point the integration refines to.
-                let c = (corners[0] + corners[1] + corners[2]) / 3.0;
-                let inset = corners.map(|v| v + (c - v) * 1e-4);
-                let settle = |lo: DVec3, hi: DVec3, n: DVec3| {
-                    occ.settle(&inset.map(|v| v + n * occ.epsilon), lo, hi)
-                };
-                row.fill((0.0, 0.0));
-                // Sources that can light only this patch's back, when that back is lit by its
-                // twin instead (double-sided) or faces the inside of a closed solid they lie
-                // outside of, send it nothing: no rays for them.
-                let dark_back = match p.double_sided {
-                    true => Some(None),
-                    false => solids.of(mesh.groups[p.group as usize].surface).map(Some),
-                };
-                let mut into = IntoPatch {
-                    sources,
-                    occ,
-                    corners,
-                    normal: p.normal,
-                    c,
-                    size: corners
-                        .iter()
-                        .map(|v| (*v - c).length())
-                        .fold(0.0, f64::max),
-                    dark_back,
-                    double_sided: p.double_sided,
-                    row: &mut row,
-                };
-                let normals = [p.normal, -p.normal];
-                lights
-                    .cut
-                    .run(sources, groups, c, &normals, settle, &mut into);
-                for (k, &(f, b)) in row.iter().enumerate() {
-                    if f != 0.0 {
-                        part.entries.push((k as u32, f as f32));
-                    }
-                    part.back[k] += b;
-                    part.per_source[k] += f + b;
-                }
-                part.ends.push(part.entries.len() as u32);
-            }
-            part
-        })
+        .map(|chunk| flux.chunk(chunk))
         .collect();
     let mut per_source = vec![0.0; sources.len()];
     let mut back = vec![0.0; sources.len()];
@@ -181,38 +133,10 @@ pub fn into_patches(
     }
     // What reaches covered parts (through a gap a few millimetres wide, under a cover) is
     // absorbed there: counted with the backs, so the energy report sees it.
-    let covered: Vec<[DVec3; 3]> = (mesh.groups.iter())
-        .filter_map(|g| g.covered.as_ref())
-        .flat_map(|c| {
-            c.triangles
-                .iter()
-                .map(|t| t.map(|v| c.positions[v as usize]))
-        })
-        .collect();
+    let covered = covered_triangles(mesh);
     let into_covered: Vec<Vec<f64>> = covered
         .par_chunks(FLUX_CHUNK)
-        .map(|chunk| {
-            let mut total = vec![0.0; sources.len()];
-            for corners in chunk {
-                let normal = (corners[1] - corners[0]).cross(corners[2] - corners[0]);
-                let Some(normal) = normal.try_normalize() else {
-                    continue;
-                };
-                // Its corners lie on the outline, where a ray may slip out through the gap:
-                // the triangle shrunk a hundredth toward its centroid is traced, and its flux
-                // scaled back to the whole area.
-                let c = (corners[0] + corners[1] + corners[2]) / 3.0;
-                let inset = corners.map(|v| v + (c - v) * 0.01);
-                let settle = |lo: DVec3, hi: DVec3, n: DVec3| {
-                    occ.settle(&inset.map(|v| v + n * occ.epsilon), lo, hi)
-                };
-                groups.visit(c, &[normal], settle, |k, known| {
-                    let (front, _) = sources[k].patch_flux(occ, &inset, normal, known);
-                    total[k] += front / (0.99 * 0.99);
-                });
-            }
-            total
-        })
+        .map(|chunk| flux.onto_covered(chunk))
         .collect();
     for part in into_covered {
         for k in 0..sources.len() {
@@ -230,7 +154,138 @@ pub fn into_patches(
     let weight: Vec<DVec3> = (sources.iter().zip(&closure))
         .map(|(s, f)| s.color() * *f)
         .collect();
-    let mut per_patch = Vec::with_capacity(mesh.patches.len());
+    PatchFlux {
+        per_patch: fronts(parts, &weight, mesh.patches.len()),
+        back: (back.iter().zip(&weight)).fold(DVec3::ZERO, |sum, (b, w)| sum + *w * *b),
+        per_source,
+        closure,
+        escaped,
+    }
+}
+
+/// What [`into_patches`] reads: the lights, the mesh, the occluder and the scene's closed
+/// solids.
+struct Flux<'a> {
+    lights: &'a DirectLight<'a>,
+    mesh: &'a PatchMesh,
+    occ: &'a Occluder,
+    solids: Solids,
+}
+
+impl Flux<'_> {
+    /// The flux into a chunk of patches: each patch's nonzero fronts, and per source what
+    /// landed on backs and in all.
+    fn chunk(&self, chunk: &[Patch]) -> Chunk {
+        let sources = &self.lights.sources;
+        let mut part = Chunk {
+            entries: Vec::new(),
+            ends: Vec::with_capacity(chunk.len()),
+            back: vec![0.0; sources.len()],
+            per_source: vec![0.0; sources.len()],
+        };
+        let mut row = vec![(0.0, 0.0); sources.len()];
+        for p in chunk {
+            self.patch(p, &mut row);
+            for (k, &(f, b)) in row.iter().enumerate() {
+                if f != 0.0 {
+                    part.entries.push((k as u32, f as f32));
+                }
+                part.back[k] += b;
+                part.per_source[k] += f + b;
+            }
+            part.ends.push(part.entries.len() as u32);
+        }
+        part
+    }
+
+    /// The `(front, back)` flux (lm) per source into patch `p`, written to `row`: the light's
+    /// cut run over the groups from the patch's centroid.
+    fn patch(&self, p: &Patch, row: &mut [(f64, f64)]) {
+        let (mesh, occ) = (self.mesh, self.occ);
+        let (sources, groups) = (&self.lights.sources, &self.lights.groups);
+        let corners = p.corners(&mesh.receivers);
+        // A group's query starts from the corners the patch-flux integration traces
+        // from (pulled a hair inside the patch, `direct::flux`), pulled off the side
+        // that faces it (the back of a single-sided patch absorbs what reaches it); its
+        // hull holds the centroid and every point the integration refines to.
+        let c = (corners[0] + corners[1] + corners[2]) / 3.0;
+        let inset = corners.map(|v| v + (c - v) * 1e-4);
+        let settle = |lo: DVec3, hi: DVec3, n: DVec3| {
+            occ.settle(&inset.map(|v| v + n * occ.epsilon), lo, hi)
+        };
+        row.fill((0.0, 0.0));
+        // Sources that can light only this patch's back, when that back is lit by its
+        // twin instead (double-sided) or faces the inside of a closed solid they lie
+        // outside of, send it nothing: no rays for them.
+        let dark_back = match p.double_sided {
+            true => Some(None),
+            false => (self.solids)
+                .of(mesh.groups[p.group as usize].surface)
+                .map(Some),
+        };
+        let mut into = IntoPatch {
+            sources,
+            occ,
+            corners,
+            normal: p.normal,
+            c,
+            size: corners
+                .iter()
+                .map(|v| (*v - c).length())
+                .fold(0.0, f64::max),
+            dark_back,
+            double_sided: p.double_sided,
+            row,
+        };
+        let normals = [p.normal, -p.normal];
+        self.lights
+            .cut
+            .run(sources, groups, c, &normals, settle, &mut into);
+    }
+
+    /// The flux (lm) per source onto a chunk of covered triangles (given by their corners).
+    fn onto_covered(&self, chunk: &[[DVec3; 3]]) -> Vec<f64> {
+        let occ = self.occ;
+        let (sources, groups) = (&self.lights.sources, &self.lights.groups);
+        let mut total = vec![0.0; sources.len()];
+        for corners in chunk {
+            let normal = (corners[1] - corners[0]).cross(corners[2] - corners[0]);
+            let Some(normal) = normal.try_normalize() else {
+                continue;
+            };
+            // Its corners lie on the outline, where a ray may slip out through the gap:
+            // the triangle shrunk a hundredth toward its centroid is traced, and its flux
+            // scaled back to the whole area.
+            let c = (corners[0] + corners[1] + corners[2]) / 3.0;
+            let inset = corners.map(|v| v + (c - v) * 0.01);
+            let settle = |lo: DVec3, hi: DVec3, n: DVec3| {
+                occ.settle(&inset.map(|v| v + n * occ.epsilon), lo, hi)
+            };
+            groups.visit(c, &[normal], settle, |k, known| {
+                let (front, _) = sources[k].patch_flux(occ, &inset, normal, known);
+                total[k] += front / (0.99 * 0.99);
+            });
+        }
+        total
+    }
+}
+
+/// The corners of every covered triangle of the mesh, group by group.
+fn covered_triangles(mesh: &PatchMesh) -> Vec<[DVec3; 3]> {
+    (mesh.groups.iter())
+        .filter_map(|g| g.covered.as_ref())
+        .flat_map(|c| {
+            c.triangles
+                .iter()
+                .map(|t| t.map(|v| c.positions[v as usize]))
+        })
+        .collect()
+}
+
+/// Each patch's front flux (RGB): its nonzero fronts per source weighted by the sources'
+/// colours and closures, the chunks in order.
+fn fronts(parts: Vec<Chunk>, weight: &[DVec3], patches: usize) -> Vec<DVec3> {
+    let mut per_patch = Vec::with_capacity(patches);
     for part in parts {
         let mut start = 0;
         for end in part.ends {
@@ -241,13 +296,7 @@ pub fn into_patches(
             start = end as usize;
         }
     }
-    PatchFlux {
-        per_patch,
-        back: (back.iter().zip(&weight)).fold(DVec3::ZERO, |sum, (b, w)| sum + *w * *b),
-        per_source,
-        closure,
-        escaped,
-    }
+    per_patch
 }
 
 /// A chunk of [`into_patches`]: each patch's nonzero fronts per source (`entries`, f32 to halve

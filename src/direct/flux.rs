@@ -158,87 +158,94 @@ pub fn patch_flux(
     // Shadow rays only once light can arrive at all.
     let sees = |p: DVec3| r.sees(occ, p + (c - p) * 1e-4, normal);
     let vis = t.map(sees);
-    let flux = integrate(r, &sees, normal, &t, spread, at, vis, 0, tolerance);
+    let integration = Integration {
+        r,
+        sees: &sees,
+        n: normal,
+        budget: tolerance,
+    };
+    let flux = integration.integrate(&t, spread, at, vis, 0);
     if facing { (flux, 0.0) } else { (0.0, flux) }
 }
 
-#[allow(clippy::too_many_arguments)]
-fn integrate(
-    r: &dyn Radiator,
-    sees: &dyn Fn(DVec3) -> bool,
+/// What the integration of one patch's flux keeps while it refines: the radiator, whether a
+/// point on the patch sees it, the patch's unit normal and the error budget (lm).
+struct Integration<'a> {
+    r: &'a dyn Radiator,
+    sees: &'a dyn Fn(DVec3) -> bool,
     n: DVec3,
-    t: &[DVec3; 3],
-    spread: Spread,
-    at: Option<[f64; 3]>,
-    vis: [bool; 3],
-    depth: u32,
     budget: f64,
-) -> f64 {
-    let measure = r.measure(t, n);
-    let same = vis[0] == vis[1] && vis[1] == vis[2];
-    let seen = vis.iter().filter(|v| **v).count() as f64 / 3.0;
-    // The value if this piece is a leaf, and the largest error that could make.
-    let (value, error) = match spread {
-        Spread::Zero => return 0.0,
-        Spread::Uniform(i) if same => return if vis[0] { i * measure } else { 0.0 },
-        Spread::Uniform(i) => (i, i),
-        Spread::Varies { mean, error, hi } => (mean, if same { error } else { hi }),
-    };
-    // Stop when the piece's possible error is negligible against the source (the budget) or
-    // against the piece itself (relative accuracy; shadow edges get the full bound as error).
-    if depth >= MAX_DEPTH || error * measure < budget || error <= RELATIVE * value {
-        return value * measure * seen;
+}
+
+impl Integration<'_> {
+    /// The flux into the piece `t` (its intensity `spread`, its corners' intensities `at` when
+    /// the radiator samples them, and their visibility `vis`), `depth` splits deep: its four
+    /// pieces summed until the possible error is below the budget or small beside the value.
+    fn integrate(
+        &self,
+        t: &[DVec3; 3],
+        spread: Spread,
+        at: Option<[f64; 3]>,
+        vis: [bool; 3],
+        depth: u32,
+    ) -> f64 {
+        let (r, sees, n, budget) = (self.r, self.sees, self.n, self.budget);
+        let measure = r.measure(t, n);
+        let same = vis[0] == vis[1] && vis[1] == vis[2];
+        let seen = vis.iter().filter(|v| **v).count() as f64 / 3.0;
+        // The value if this piece is a leaf, and the largest error that could make.
+        let (value, error) = match spread {
+            Spread::Zero => return 0.0,
+            Spread::Uniform(i) if same => return if vis[0] { i * measure } else { 0.0 },
+            Spread::Uniform(i) => (i, i),
+            Spread::Varies { mean, error, hi } => (mean, if same { error } else { hi }),
+        };
+        // Stop when the piece's possible error is negligible against the source (the budget) or
+        // against the piece itself (relative accuracy; shadow edges get the full bound as error).
+        if depth >= MAX_DEPTH || error * measure < budget || error <= RELATIVE * value {
+            return value * measure * seen;
+        }
+        let m = [
+            (t[0] + t[1]) * 0.5,
+            (t[1] + t[2]) * 0.5,
+            (t[2] + t[0]) * 0.5,
+        ];
+        let pieces = [
+            [t[0], m[0], m[2]],
+            [m[0], t[1], m[1]],
+            [m[2], m[1], t[2]],
+            [m[0], m[1], m[2]],
+        ];
+        // Corner intensities of the pieces: the parent's corners and the three midpoints.
+        let ats = at.map(|a| {
+            let am = m.map(|p| r.intensity(r.toward(p)));
+            [
+                [a[0], am[0], am[2]],
+                [am[0], a[1], am[1]],
+                [am[2], am[1], a[2]],
+                [am[0], am[1], am[2]],
+            ]
+        });
+        let spreads: [Spread; 4] =
+            std::array::from_fn(|k| r.spread(&pieces[k], ats.as_ref().map(|a| &a[k])));
+        // Shadow rays only where some light can arrive, and only where the corners disagree: a
+        // piece whose corners all see the source (or none does) is refined for its intensity alone,
+        // its pieces inheriting that visibility.
+        if spreads.iter().all(|s| *s == Spread::Zero) {
+            return 0.0;
+        }
+        let mv = if same { [vis[0]; 3] } else { m.map(sees) };
+        let vis = [
+            [vis[0], mv[0], mv[2]],
+            [mv[0], vis[1], mv[1]],
+            [mv[2], mv[1], vis[2]],
+            [mv[0], mv[1], mv[2]],
+        ];
+        (0..4)
+            .map(|k| {
+                let at = ats.map(|a| a[k]);
+                self.integrate(&pieces[k], spreads[k], at, vis[k], depth + 1)
+            })
+            .sum()
     }
-    let m = [
-        (t[0] + t[1]) * 0.5,
-        (t[1] + t[2]) * 0.5,
-        (t[2] + t[0]) * 0.5,
-    ];
-    let pieces = [
-        [t[0], m[0], m[2]],
-        [m[0], t[1], m[1]],
-        [m[2], m[1], t[2]],
-        [m[0], m[1], m[2]],
-    ];
-    // Corner intensities of the pieces: the parent's corners and the three midpoints.
-    let ats = at.map(|a| {
-        let am = m.map(|p| r.intensity(r.toward(p)));
-        [
-            [a[0], am[0], am[2]],
-            [am[0], a[1], am[1]],
-            [am[2], am[1], a[2]],
-            [am[0], am[1], am[2]],
-        ]
-    });
-    let spreads: [Spread; 4] =
-        std::array::from_fn(|k| r.spread(&pieces[k], ats.as_ref().map(|a| &a[k])));
-    // Shadow rays only where some light can arrive, and only where the corners disagree: a
-    // piece whose corners all see the source (or none does) is refined for its intensity alone,
-    // its pieces inheriting that visibility.
-    if spreads.iter().all(|s| *s == Spread::Zero) {
-        return 0.0;
-    }
-    let mv = if same { [vis[0]; 3] } else { m.map(sees) };
-    let vis = [
-        [vis[0], mv[0], mv[2]],
-        [mv[0], vis[1], mv[1]],
-        [mv[2], mv[1], vis[2]],
-        [mv[0], mv[1], mv[2]],
-    ];
-    (0..4)
-        .map(|k| {
-            let at = ats.map(|a| a[k]);
-            integrate(
-                r,
-                sees,
-                n,
-                &pieces[k],
-                spreads[k],
-                at,
-                vis[k],
-                depth + 1,
-                budget,
-            )
-        })
-        .sum()
 }

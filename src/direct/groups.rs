@@ -216,15 +216,12 @@ impl Groups {
         }
         let mut stack = vec![0u32];
         let mut aside = estimate.is_some().then(Vec::new);
-        self.walk(
-            &mut stack,
+        let view = View {
             p,
             normals,
-            &settle,
-            aside.as_mut(),
-            &mut cluster,
-            &mut f,
-        );
+            settle: &settle,
+        };
+        self.walk(&mut stack, &view, aside.as_mut(), &mut cluster, &mut f);
         let (Some(estimate), Some(mut aside)) = (estimate.as_mut(), aside) else {
             return;
         };
@@ -243,7 +240,7 @@ impl Groups {
             } else {
                 stack.extend([node.children[1], node.children[0]]);
                 let aside = Some(&mut aside);
-                self.walk(&mut stack, p, normals, &settle, aside, &mut cluster, &mut f);
+                self.walk(&mut stack, &view, aside, &mut cluster, &mut f);
             }
         }
     }
@@ -272,17 +269,15 @@ impl Groups {
 
     /// Visit the subtrees on `stack` ([`Groups::visit_with`]'s traversal); groups that could be
     /// settled go to `aside` unasked when given, with the normal of their plane.
-    #[allow(clippy::too_many_arguments)]
-    fn walk(
+    fn walk<S: Fn(DVec3, DVec3, DVec3) -> Option<bool>>(
         &self,
         stack: &mut Vec<u32>,
-        p: DVec3,
-        normals: &[DVec3],
-        settle: &impl Fn(DVec3, DVec3, DVec3) -> Option<bool>,
+        view: &View<S>,
         mut aside: Option<&mut Vec<(u32, DVec3)>>,
         cluster: &mut impl FnMut(u32, DVec3) -> bool,
         f: &mut impl FnMut(usize, Known),
     ) {
+        let (p, normals, settle) = (view.p, view.normals, view.settle);
         while let Some(i) = stack.pop() {
             let node = &self.nodes[i as usize];
             let (centre, half) = ((node.lo + node.hi) * 0.5, (node.hi - node.lo) * 0.5);
@@ -312,6 +307,14 @@ impl Groups {
             }
         }
     }
+}
+
+/// Where a visit of the groups looks from: the point, the unit normals of the planes through
+/// it, and what is proved of the shadow rays from it to a box (see [`Groups::visit`]).
+struct View<'v, S> {
+    p: DVec3,
+    normals: &'v [DVec3],
+    settle: &'v S,
 }
 
 #[cfg(test)]

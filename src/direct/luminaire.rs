@@ -140,20 +140,25 @@ impl<'a> Source<'a> {
     /// halvings), without allocating: most luminaires are far enough to stay whole, and this
     /// runs for every receiver and luminaire.
     fn each_sub(&self, p: DVec3, rule: (f64, u32), f: &mut dyn FnMut(DVec3, f64)) {
-        self.split_rect([0.0, 0.0], self.half, p, 1.0, 0, rule, f);
+        let whole = Rect {
+            centre: [0.0, 0.0],
+            half: self.half,
+            share: 1.0,
+            depth: 0,
+        };
+        self.split_rect(whole, p, rule, f);
     }
 
-    #[allow(clippy::too_many_arguments)]
-    fn split_rect(
-        &self,
-        centre: [f64; 2],
-        half: [f64; 2],
-        p: DVec3,
-        share: f64,
-        depth: u32,
-        rule: (f64, u32),
-        out: &mut dyn FnMut(DVec3, f64),
-    ) {
+    /// [`Source::each_sub`] within the piece `r` of the opening: the piece whole when it is
+    /// small enough seen from `p` (or `rule`'s halvings are spent), else its halves across its
+    /// longer side.
+    fn split_rect(&self, r: Rect, p: DVec3, rule: (f64, u32), out: &mut dyn FnMut(DVec3, f64)) {
+        let Rect {
+            centre,
+            half,
+            share,
+            depth,
+        } = r;
         let world =
             self.position + self.world_from_photometric * DVec3::new(centre[0], centre[1], 0.0);
         let longer = if half[0] >= half[1] { 0 } else { 1 };
@@ -167,7 +172,13 @@ impl<'a> Source<'a> {
         for sign in [-1.0, 1.0] {
             let mut c = centre;
             c[longer] += sign * h[longer];
-            self.split_rect(c, h, p, share / 2.0, depth + 1, rule, out);
+            let piece = Rect {
+                centre: c,
+                half: h,
+                share: share / 2.0,
+                depth: depth + 1,
+            };
+            self.split_rect(piece, p, rule, out);
         }
     }
 
@@ -400,6 +411,16 @@ impl<'a> Source<'a> {
     pub fn budget(&self) -> f64 {
         1e-6 * self.flux
     }
+}
+
+/// A piece of a luminaire's opening while it is split into sub-sources: its centre and half
+/// size (photometric x and y, m), its share of the output, and how many halvings made it.
+#[derive(Clone, Copy)]
+struct Rect {
+    centre: [f64; 2],
+    half: [f64; 2],
+    share: f64,
+    depth: u32,
 }
 
 /// One sub-source of an opening.

@@ -91,16 +91,14 @@ pub(crate) fn bake(
         .map(|&(w, h)| Atlas::new(w, h))
         .collect();
     let samples = rasterise(surfaces, &open, &charts, &packing, &mut atlases);
-    let gathered = texels::light(
+    let reading = reflected::Reading {
         s,
         surfaces,
-        &origins,
-        &samples,
-        &mut atlases,
+        origins: &origins,
         o,
-        display,
         progress,
-    );
+    };
+    let gathered = texels::light(&reading, &samples, &mut atlases, display);
     let mut filled: Vec<Vec<bool>> = (atlases.iter())
         .map(|a| vec![false; a.width as usize * a.height as usize])
         .collect();

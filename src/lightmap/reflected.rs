@@ -95,25 +95,29 @@ pub struct At {
     pub normal: DVec3,
 }
 
-#[allow(clippy::too_many_arguments)]
-pub fn at_texels(
-    s: &Solution,
-    surfaces: &[BakedSurface],
-    origins: &[Vec<u32>],
-    at: &[At],
-    direct: &[DVec3],
-    o: &Options,
-    progress: &dyn Progress,
-) -> (Vec<DVec3>, usize) {
-    let mesh = s.mesh();
-    let gather = |pts: &[(DVec3, DVec3)]| -> Vec<DVec3> {
-        receivers::map(&Points(pts), progress, |_, r| {
+/// What reading light at texels shares: the solve, its re-indexed surfaces with each vertex's
+/// receiver in its mesh group (`origins`), the settings and where progress goes.
+pub struct Reading<'a> {
+    pub s: &'a Solution<'a>,
+    pub surfaces: &'a [BakedSurface],
+    pub origins: &'a [Vec<u32>],
+    pub o: &'a Options,
+    pub progress: &'a dyn Progress,
+}
+
+impl Reading<'_> {
+    /// The inter-reflected illuminance gathered at each (point, normal), in parallel.
+    fn gather(&self, pts: &[(DVec3, DVec3)]) -> Vec<DVec3> {
+        let s = self.s;
+        receivers::map(&Points(pts), self.progress, |_, r| {
             s.indirect_at(r.point, r.planes.as_slice()[0])
         })
-    };
-    // `off`: read half a texel inside (a point on a contact's outline), else a hair inside.
-    let world = |surface: u32, triangle: u32, l: [f64; 3], off: bool| -> (DVec3, DVec3) {
-        let b = &surfaces[surface as usize];
+    }
+
+    /// The point and normal read at barycentric `l` of a triangle, moved inside it: half a
+    /// texel where `off` (a point on a contact's outline), else a hair.
+    fn world(&self, surface: u32, triangle: u32, l: [f64; 3], off: bool) -> (DVec3, DVec3) {
+        let b = &self.surfaces[surface as usize];
         let tri = b.triangles[triangle as usize];
         let (mut p, mut n, mut c) = (DVec3::ZERO, DVec3::ZERO, DVec3::ZERO);
         for j in 0..3 {
@@ -126,43 +130,31 @@ pub fn at_texels(
         // inside, as its corners (at the outline's foot any step hides a quarter of the sphere).
         let inward = c - p;
         let reach = if off {
-            0.5 * o.texel_size
+            0.5 * self.o.texel_size
         } else {
-            0.01 * o.texel_size
+            0.01 * self.o.texel_size
         };
         let step = reach.min(0.5 * inward.length());
         (
             p + inward.normalize_or_zero() * step,
             n.normalize_or(b.normals[tri[0] as usize]),
         )
-    };
-    let mut out = vec![DVec3::ZERO; at.len()];
-    let mut gathers = 0;
-    if o.tolerance <= 0.0 {
-        let pts: Vec<_> = at.iter().map(|a| (a.point, a.normal)).collect();
-        return (gather(&pts), at.len());
     }
-    // The solve's value at each vertex, or where it was read off an outline, a gather half a
-    // texel inside (toward where the solve read).
-    let mut outline: BTreeMap<(u32, u32), (DVec3, DVec3)> = BTreeMap::new();
-    let mut by_triangle: BTreeMap<(u32, u32), Vec<Local>> = BTreeMap::new();
-    for (k, a) in at.iter().enumerate() {
-        by_triangle
-            .entry((a.surface, a.triangle))
-            .or_default()
-            .push((k, a.bary));
-    }
-    let solved = |surface: u32, v: u32| -> Result<DVec3, (DVec3, DVec3)> {
-        let g = &mesh.groups[surface as usize];
-        let b = &surfaces[surface as usize];
-        let k = origins[surface as usize][v as usize] as usize;
+
+    /// The solve's value at vertex `v` of `surface`, or, where the solve read it off a
+    /// contact's outline, the point and normal half a texel inside to gather it at instead.
+    fn solved(&self, surface: u32, v: u32) -> Result<DVec3, (DVec3, DVec3)> {
+        let (s, o) = (self.s, self.o);
+        let g = &s.mesh().groups[surface as usize];
+        let b = &self.surfaces[surface as usize];
+        let k = self.origins[surface as usize][v as usize] as usize;
         if k >= g.receivers.len() {
             return Ok(DVec3::ZERO);
         }
         match outline_step(
             s,
             surface as usize,
-            &origins[surface as usize],
+            &self.origins[surface as usize],
             v,
             o.texel_size,
         ) {
@@ -176,105 +168,193 @@ pub fn at_texels(
                 Err((p, b.normals[v as usize]))
             }
         }
-    };
-    for &(surface, triangle) in by_triangle.keys() {
-        for v in surfaces[surface as usize].triangles[triangle as usize] {
-            if let Err(p) = solved(surface, v) {
-                outline.insert((surface, v), p);
+    }
+
+    /// The gathered values at the outline vertices of the given triangles, by (surface,
+    /// vertex), gathered in (surface, vertex) order.
+    fn outline_values<'t>(
+        &self,
+        triangles: impl Iterator<Item = &'t (u32, u32)>,
+    ) -> HashMap<(u32, u32), DVec3> {
+        let mut outline: BTreeMap<(u32, u32), (DVec3, DVec3)> = BTreeMap::new();
+        for &(surface, triangle) in triangles {
+            for v in self.surfaces[surface as usize].triangles[triangle as usize] {
+                if let Err(p) = self.solved(surface, v) {
+                    outline.insert((surface, v), p);
+                }
             }
         }
+        let pts: Vec<_> = outline.values().copied().collect();
+        outline.keys().copied().zip(self.gather(&pts)).collect()
     }
-    let pts: Vec<_> = outline.values().copied().collect();
-    let values: HashMap<(u32, u32), DVec3> = outline.keys().copied().zip(gather(&pts)).collect();
-    gathers += pts.len();
+}
+
+/// The texels of each triangle (by surface and triangle, in order), with their barycentric
+/// coordinates.
+fn by_triangle(at: &[At]) -> BTreeMap<(u32, u32), Vec<Local>> {
+    let mut by_triangle: BTreeMap<(u32, u32), Vec<Local>> = BTreeMap::new();
+    for (k, a) in at.iter().enumerate() {
+        by_triangle
+            .entry((a.surface, a.triangle))
+            .or_default()
+            .push((k, a.bary));
+    }
+    by_triangle
+}
+
+/// The inter-reflected illuminance at each texel `at` (lx, RGB) and the number of gathers made:
+/// interpolated over pieces of triangles and refined where a check misses (see the module's
+/// doc). `direct`: each texel's direct illuminance, which scales the tolerance.
+pub fn at_texels(r: &Reading, at: &[At], direct: &[DVec3]) -> (Vec<DVec3>, usize) {
+    let out = vec![DVec3::ZERO; at.len()];
+    if r.o.tolerance <= 0.0 {
+        let pts: Vec<_> = at.iter().map(|a| (a.point, a.normal)).collect();
+        return (r.gather(&pts), at.len());
+    }
+    // The solve's value at each vertex, or where it was read off an outline, a gather half a
+    // texel inside (toward where the solve read).
+    let by_triangle = by_triangle(at);
+    let outline = r.outline_values(by_triangle.keys());
+    let gathers = outline.len();
     let mut pieces: Vec<Piece> = by_triangle
         .into_iter()
         .map(|((surface, triangle), texels)| {
-            let tri = surfaces[surface as usize].triangles[triangle as usize];
+            let tri = r.surfaces[surface as usize].triangles[triangle as usize];
             Piece {
                 surface,
                 triangle,
                 corners: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
-                values: tri.map(|v| solved(surface, v).unwrap_or_else(|_| values[&(surface, v)])),
+                values: tri.map(|v| {
+                    r.solved(surface, v)
+                        .unwrap_or_else(|_| outline[&(surface, v)])
+                }),
                 texels,
                 depth: 0,
-                outline: tri.iter().any(|&v| values.contains_key(&(surface, v))),
+                outline: tri.iter().any(|&v| outline.contains_key(&(surface, v))),
             }
         })
         .collect();
-    // Whether the point `l` of a triangle lies on one of its edges whose two ends are both on
-    // a contact's outline.
-    let on_outline = |surface: u32, triangle: u32, l: [f64; 3]| -> bool {
-        let tri = surfaces[surface as usize].triangles[triangle as usize];
-        (0..3).any(|k| {
-            let (a, b) = (tri[(k + 1) % 3], tri[(k + 2) % 3]);
-            l[k] < 1e-12 && values.contains_key(&(surface, a)) && values.contains_key(&(surface, b))
-        })
-    };
-    let interpolate = |p: &Piece, out: &mut [DVec3]| {
-        for (k, l) in &p.texels {
-            out[*k] = p.values[0] * l[0] + p.values[1] * l[1] + p.values[2] * l[2];
-        }
+    let mut refinement = Refinement {
+        r,
+        at,
+        direct,
+        outline,
+        out,
+        gathers,
     };
     while !pieces.is_empty() {
+        pieces = refinement.level(pieces);
+    }
+    (refinement.out, refinement.gathers)
+}
+
+/// One refinement of texel values, level by level: the values so far and the gathers made.
+struct Refinement<'a> {
+    r: &'a Reading<'a>,
+    at: &'a [At],
+    direct: &'a [DVec3],
+    /// The gathered values at outline vertices, by (surface, vertex).
+    outline: HashMap<(u32, u32), DVec3>,
+    out: Vec<DVec3>,
+    gathers: usize,
+}
+
+impl Refinement<'_> {
+    /// One level: small pieces interpolated, the others checked at their centroids; failing
+    /// pieces gathered texel by texel or split. Returns the next level's pieces.
+    fn level(&mut self, pieces: Vec<Piece>) -> Vec<Piece> {
         let (small, checked): (Vec<Piece>, Vec<Piece>) = pieces
             .into_iter()
             .partition(|p| p.texels.len() < MIN_CHECKED && !p.outline);
         for p in &small {
-            interpolate(p, &mut out);
+            interpolate(p, &mut self.out);
         }
+        let (failed, texelwise) = self.check(checked);
+        let pts: Vec<_> = texelwise
+            .iter()
+            .map(|&k| (self.at[k].point, self.at[k].normal))
+            .collect();
+        self.gathers += pts.len();
+        for (k, g) in texelwise.iter().zip(self.r.gather(&pts)) {
+            self.out[*k] = g;
+        }
+        self.split_failed(failed)
+    }
+
+    /// Checks each piece by a gather at its centroid: interpolates the pieces that pass and
+    /// returns those that fail, to split, and the texels of failing pieces too small or too
+    /// deep to split, to gather one by one.
+    fn check(&mut self, checked: Vec<Piece>) -> (Vec<Piece>, Vec<usize>) {
         let centroid = |p: &Piece| -> [f64; 3] {
             let c = p.corners;
             [0, 1, 2].map(|j| (c[0][j] + c[1][j] + c[2][j]) / 3.0)
         };
         let pts: Vec<_> = (checked.iter())
-            .map(|p| world(p.surface, p.triangle, centroid(p), false))
+            .map(|p| self.r.world(p.surface, p.triangle, centroid(p), false))
             .collect();
-        gathers += pts.len();
+        self.gathers += pts.len();
         let mut failed = Vec::new();
         let mut texelwise = Vec::new();
 
-        for (p, g) in checked.into_iter().zip(gather(&pts)) {
+        for (p, g) in checked.into_iter().zip(self.r.gather(&pts)) {
             let linear = (p.values[0] + p.values[1] + p.values[2]) / 3.0;
-            let d =
-                p.texels.iter().map(|(k, _)| luma(direct[*k])).sum::<f64>() / p.texels.len() as f64;
+            let d = p
+                .texels
+                .iter()
+                .map(|(k, _)| luma(self.direct[*k]))
+                .sum::<f64>()
+                / p.texels.len() as f64;
             let miss = (luma(g) - luma(linear)).abs();
 
-            if miss <= o.tolerance * (luma(g) + d) {
-                interpolate(&p, &mut out);
+            if miss <= self.r.o.tolerance * (luma(g) + d) {
+                interpolate(&p, &mut self.out);
             } else if p.texels.len() <= GATHER_ALL || p.depth >= MAX_DEPTH {
                 texelwise.extend(p.texels.iter().map(|(k, _)| *k));
             } else {
                 failed.push(p);
             }
         }
-        let pts: Vec<_> = texelwise
-            .iter()
-            .map(|&k| (at[k].point, at[k].normal))
-            .collect();
-        gathers += pts.len();
-        for (k, g) in texelwise.iter().zip(gather(&pts)) {
-            out[*k] = g;
-        }
-        // Split the failing pieces at their edge midpoints (AB, BC, CA).
+        (failed, texelwise)
+    }
+
+    /// The failing pieces split at their edge midpoints (AB, BC, CA), each midpoint gathered.
+    fn split_failed(&mut self, failed: Vec<Piece>) -> Vec<Piece> {
         let mid = |a: [f64; 3], b: [f64; 3]| [0, 1, 2].map(|j| (a[j] + b[j]) / 2.0);
         let pts: Vec<_> = (failed.iter())
             .flat_map(|p| {
                 let c = p.corners;
                 [mid(c[0], c[1]), mid(c[1], c[2]), mid(c[2], c[0])].map(|m| {
-                    let off = on_outline(p.surface, p.triangle, m);
-                    world(p.surface, p.triangle, m, off)
+                    let off = self.on_outline(p.surface, p.triangle, m);
+                    self.r.world(p.surface, p.triangle, m, off)
                 })
             })
             .collect();
-        gathers += pts.len();
-        let mids = gather(&pts);
-        pieces = Vec::new();
+        self.gathers += pts.len();
+        let mids = self.r.gather(&pts);
+        let mut pieces = Vec::new();
         for (p, m) in failed.into_iter().zip(mids.chunks(3)) {
             pieces.extend(split(p, [m[0], m[1], m[2]]));
         }
+        pieces
     }
-    (out, gathers)
+
+    /// Whether the point `l` of a triangle lies on one of its edges whose two ends are both on
+    /// a contact's outline.
+    fn on_outline(&self, surface: u32, triangle: u32, l: [f64; 3]) -> bool {
+        let tri = self.r.surfaces[surface as usize].triangles[triangle as usize];
+        let values = &self.outline;
+        (0..3).any(|k| {
+            let (a, b) = (tri[(k + 1) % 3], tri[(k + 2) % 3]);
+            l[k] < 1e-12 && values.contains_key(&(surface, a)) && values.contains_key(&(surface, b))
+        })
+    }
+}
+
+/// Writes the texels of `p` interpolated linearly from its corners' values.
+fn interpolate(p: &Piece, out: &mut [DVec3]) {
+    for (k, l) in &p.texels {
+        out[*k] = p.values[0] * l[0] + p.values[1] * l[1] + p.values[2] * l[2];
+    }
 }
 
 /// The four pieces of `p` cut at its edge midpoints (values `m` at AB, BC, CA), its texels

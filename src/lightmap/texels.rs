@@ -16,9 +16,8 @@
 //! reads half a texel inside (toward its triangle's centroid): at the outline's foot whatever
 //! stands there shades a quarter of the sphere, and filtering would smear that over the wall.
 
-use super::reflected::{At, Points};
-use super::{Display, Options, Sampled};
-use crate::progress::Progress;
+use super::reflected::{At, Points, Reading};
+use super::{Display, Sampled};
 use crate::result::{Atlas, BakedSurface};
 use crate::scene::luma;
 use crate::solution::{Solution, receivers};
@@ -26,76 +25,15 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 /// Light every sampled texel; returns how many were gathered rather than interpolated.
-#[allow(clippy::too_many_arguments)]
-pub fn light(
-    s: &Solution,
-    surfaces: &[BakedSurface],
-    origins: &[Vec<u32>],
-    samples: &[Sampled],
-    atlases: &mut [Atlas],
-    o: &Options,
-    display: &Display,
-    progress: &dyn Progress,
-) -> usize {
+pub fn light(r: &Reading, samples: &[Sampled], atlases: &mut [Atlas], display: &Display) -> usize {
+    let Reading { s, progress, .. } = *r;
     let mesh = s.mesh();
     let lit: Vec<usize> = (0..samples.len())
         .filter(|&i| samples[i].sample.is_some())
         .collect();
     progress.stage("lightmaps", lit.len() as u64);
     // Where each texel reads, and the barycentric coordinates it interpolates with.
-    let placed: Vec<(DVec3, DVec3, [f64; 3])> = samples
-        .par_iter()
-        .map(|t| match &t.sample {
-            Some(x) => {
-                let b = &surfaces[t.surface as usize];
-                let tri = b.triangles[x.triangle as usize];
-                let at = |l: &[f64; 3]| -> (DVec3, DVec3) {
-                    let (mut p, mut n) = (DVec3::ZERO, DVec3::ZERO);
-                    for j in 0..3 {
-                        p += b.positions[tri[j] as usize] * l[j];
-                        n += b.normals[tri[j] as usize] * l[j];
-                    }
-                    (p, n.normalize_or(b.normals[tri[0] as usize]))
-                };
-                let (near, n) = at(&x.bary);
-                let mut bary = x.bary;
-                if let Some(l) = &x.extended {
-                    let (far, _) = at(l);
-                    if really_there(s, near, far, n, o.texel_size) {
-                        return (far, n, *l);
-                    }
-                    // No surface under its centre, and the edge a contact's outline: the texel
-                    // reads half a texel inside its triangle, toward the triangle's centroid,
-                    // so bilinear filtering carries the light of the surface beside the edge,
-                    // not that of the edge itself (in the shadow of what stands on it, within
-                    // the contact's gap). At other edges (a room's corner) it reads the edge.
-                    let surface = t.surface as usize;
-                    let outline = on_outline(
-                        s,
-                        surfaces,
-                        surface,
-                        &origins[surface],
-                        tri,
-                        &x.bary,
-                        o.texel_size,
-                    );
-                    if !outline {
-                        return (unocclude(s, near, n, o.texel_size), n, x.bary);
-                    }
-                    let (centroid, _) = at(&[1.0 / 3.0; 3]);
-                    let d = centroid.distance(near);
-                    let toward = match d > 0.0 {
-                        true => (0.5 * o.texel_size / d).min(1.0),
-                        false => 0.0,
-                    };
-                    bary = std::array::from_fn(|k| x.bary[k] + toward * (1.0 / 3.0 - x.bary[k]));
-                }
-                let (point, _) = at(&bary);
-                (unocclude(s, point, n, o.texel_size), n, bary)
-            }
-            None => (DVec3::ZERO, DVec3::Y, [1.0, 0.0, 0.0]),
-        })
-        .collect();
+    let placed: Vec<(DVec3, DVec3, [f64; 3])> = samples.par_iter().map(|t| place(r, t)).collect();
     let points: Vec<(DVec3, DVec3)> = lit.iter().map(|&i| (placed[i].0, placed[i].1)).collect();
     let direct: Vec<DVec3> = receivers::map(&Points(&points), progress, |_, r| {
         s.lights().at(mesh, s.occluder(), r)[0]
@@ -112,8 +50,7 @@ pub fn light(
             }
         })
         .collect();
-    let (indirect, gathered) =
-        super::reflected::at_texels(s, surfaces, origins, &at, &direct, o, progress);
+    let (indirect, gathered) = super::reflected::at_texels(r, &at, &direct);
     for (k, &i) in lit.iter().enumerate() {
         let t = &samples[i];
         let g = &mesh.groups[t.surface as usize];
@@ -139,6 +76,63 @@ pub fn light(
             display(DVec3::ZERO, DVec3::ZERO, g.material);
     }
     gathered
+}
+
+/// Where texel sample `t` reads (point and normal), and the barycentric coordinates it
+/// interpolates with: its centre where the surface really goes on beyond its chart's edge,
+/// else the edge point nearest it or, beside a contact's outline, half a texel inside.
+fn place(r: &Reading, t: &Sampled) -> (DVec3, DVec3, [f64; 3]) {
+    let (s, surfaces, origins, o) = (r.s, r.surfaces, r.origins, r.o);
+    match &t.sample {
+        Some(x) => {
+            let b = &surfaces[t.surface as usize];
+            let tri = b.triangles[x.triangle as usize];
+            let at = |l: &[f64; 3]| -> (DVec3, DVec3) {
+                let (mut p, mut n) = (DVec3::ZERO, DVec3::ZERO);
+                for j in 0..3 {
+                    p += b.positions[tri[j] as usize] * l[j];
+                    n += b.normals[tri[j] as usize] * l[j];
+                }
+                (p, n.normalize_or(b.normals[tri[0] as usize]))
+            };
+            let (near, n) = at(&x.bary);
+            let mut bary = x.bary;
+            if let Some(l) = &x.extended {
+                let (far, _) = at(l);
+                if really_there(s, near, far, n, o.texel_size) {
+                    return (far, n, *l);
+                }
+                // No surface under its centre, and the edge a contact's outline: the texel
+                // reads half a texel inside its triangle, toward the triangle's centroid,
+                // so bilinear filtering carries the light of the surface beside the edge,
+                // not that of the edge itself (in the shadow of what stands on it, within
+                // the contact's gap). At other edges (a room's corner) it reads the edge.
+                let surface = t.surface as usize;
+                let outline = on_outline(
+                    s,
+                    surfaces,
+                    surface,
+                    &origins[surface],
+                    tri,
+                    &x.bary,
+                    o.texel_size,
+                );
+                if !outline {
+                    return (unocclude(s, near, n, o.texel_size), n, x.bary);
+                }
+                let (centroid, _) = at(&[1.0 / 3.0; 3]);
+                let d = centroid.distance(near);
+                let toward = match d > 0.0 {
+                    true => (0.5 * o.texel_size / d).min(1.0),
+                    false => 0.0,
+                };
+                bary = std::array::from_fn(|k| x.bary[k] + toward * (1.0 / 3.0 - x.bary[k]));
+            }
+            let (point, _) = at(&bary);
+            (unocclude(s, point, n, o.texel_size), n, bary)
+        }
+        None => (DVec3::ZERO, DVec3::Y, [1.0, 0.0, 0.0]),
+    }
 }
 
 /// Whether the point `bary` of triangle `tri` of surface `surface` lies on an edge whose two

@@ -265,6 +265,56 @@ fn refine_surface(
     s: usize,
 ) -> Option<SurfacePatches> {
     let cut = contacts.cut(s);
+    let mut m = refined_mesh(surface, cut, h)?;
+    let sides: &'static [Side] = if scene.materials[surface.material].double_sided {
+        &[Side::Front, Side::Back]
+    } else {
+        &[Side::Front]
+    };
+    if let Some(a) = adapt {
+        let signs: Vec<f64> = sides
+            .iter()
+            .map(|s| if *s == Side::Front { 1.0 } else { -1.0 })
+            .collect();
+        adapt::refine(&mut m, &signs, a);
+    }
+    let mut open = Vec::with_capacity(sides.len());
+    let mut covered = Vec::with_capacity(sides.len());
+    let mut outline = Vec::with_capacity(sides.len());
+    for k in 0..sides.len() {
+        let Some(c) = cut else {
+            // Nothing covers the surface: every triangle receives, no receiver is on an outline.
+            open.push((0..m.triangles.len() as u32).collect());
+            covered.push(None);
+            outline.push(Vec::new());
+            continue;
+        };
+        let (mine, part, gap_at) = side_of(&m, c, [cut::FRONT, cut::BACK][k]);
+        covered.push(part);
+        open.push(mine);
+        outline.push(gap_at);
+    }
+    Some(SurfacePatches {
+        sides,
+        open,
+        covered,
+        outline,
+        positions: m.positions,
+        normals: m.normals,
+        uv0: m.uv0,
+        uv1: m.uv1,
+        triangles: m.triangles,
+    })
+}
+
+/// `surface` (or its `cut` along its contacts, when it has one) refined to patch size `h`, its
+/// normals and texture coordinates interpolated and unused vertices dropped; each triangle
+/// tagged with the cut triangle it came from (no tags when uncut). `None` when nothing is left.
+fn refined_mesh(
+    surface: &crate::scene::Surface,
+    cut: Option<&cut::CutSurface>,
+    h: f64,
+) -> Option<adapt::SurfaceMesh> {
     let (positions, in_normals, in_uv0, in_uv1, in_triangles) = match cut {
         None => (
             &surface.positions,
@@ -296,12 +346,7 @@ fn refine_surface(
     let (uv0, uv1) = (interp(in_uv0), interp(in_uv1));
     let (positions, normals, uv0, uv1, triangles, _) =
         compact(&refined.positions, &normals, uv0, uv1, &refined.triangles);
-    let sides: &'static [Side] = if scene.materials[surface.material].double_sided {
-        &[Side::Front, Side::Back]
-    } else {
-        &[Side::Front]
-    };
-    let mut m = adapt::SurfaceMesh {
+    Some(adapt::SurfaceMesh {
         positions,
         normals,
         uv0,
@@ -311,71 +356,43 @@ fn refine_surface(
             Some(_) => refined.parent,
             None => Vec::new(),
         },
-    };
-    if let Some(a) = adapt {
-        let signs: Vec<f64> = sides
-            .iter()
-            .map(|s| if *s == Side::Front { 1.0 } else { -1.0 })
-            .collect();
-        adapt::refine(&mut m, &signs, a);
-    }
-    let mut open = Vec::with_capacity(sides.len());
-    let mut covered = Vec::with_capacity(sides.len());
-    let mut outline = Vec::with_capacity(sides.len());
-    for k in 0..sides.len() {
-        let Some(c) = cut else {
-            // Nothing covers the surface: every triangle receives, no receiver is on an outline.
-            open.push((0..m.triangles.len() as u32).collect());
-            covered.push(None);
-            outline.push(Vec::new());
-            continue;
-        };
-        let bit = [cut::FRONT, cut::BACK][k];
-        let (mut mine, mut theirs) = (Vec::new(), Vec::new());
-        let mut gap_at: Vec<Option<f64>> = vec![None; m.positions.len()];
-        let mut used = vec![false; m.positions.len()];
-        for (i, t) in m.triangles.iter().enumerate() {
-            let parent = m.tags[i] as usize;
-            if c.covered[parent] & bit != 0 {
-                theirs.push(*t);
-                for &v in t {
-                    let w = &mut gap_at[v as usize];
-                    *w = Some(w.unwrap_or(0.0).max(c.gap[parent]));
-                }
-            } else {
-                mine.push(i as u32);
-                for &v in t {
-                    used[v as usize] = true;
-                }
-            }
-        }
-        // Receivers shared with covered triangles lie on an outline.
-        for (w, u) in gap_at.iter_mut().zip(&used) {
-            if !u {
-                *w = None;
-            }
-        }
-        covered.push(CoveredPart::of(
-            &m.positions,
-            &m.normals,
-            &m.uv0,
-            &m.uv1,
-            &theirs,
-        ));
-        open.push(mine);
-        outline.push(gap_at);
-    }
-    Some(SurfacePatches {
-        sides,
-        open,
-        covered,
-        outline,
-        positions: m.positions,
-        normals: m.normals,
-        uv0: m.uv0,
-        uv1: m.uv1,
-        triangles: m.triangles,
     })
+}
+
+/// The side `bit` of cut mesh `m` (tagged with `c`'s triangles): the triangles it receives on,
+/// its covered part, and per vertex the gap of the cover whose outline it lies on (a receiver
+/// shared with covered triangles), if any.
+fn side_of(
+    m: &adapt::SurfaceMesh,
+    c: &cut::CutSurface,
+    bit: u8,
+) -> (Vec<u32>, Option<CoveredPart>, Vec<Option<f64>>) {
+    let (mut mine, mut theirs) = (Vec::new(), Vec::new());
+    let mut gap_at: Vec<Option<f64>> = vec![None; m.positions.len()];
+    let mut used = vec![false; m.positions.len()];
+    for (i, t) in m.triangles.iter().enumerate() {
+        let parent = m.tags[i] as usize;
+        if c.covered[parent] & bit != 0 {
+            theirs.push(*t);
+            for &v in t {
+                let w = &mut gap_at[v as usize];
+                *w = Some(w.unwrap_or(0.0).max(c.gap[parent]));
+            }
+        } else {
+            mine.push(i as u32);
+            for &v in t {
+                used[v as usize] = true;
+            }
+        }
+    }
+    // Receivers shared with covered triangles lie on an outline.
+    for (w, u) in gap_at.iter_mut().zip(&used) {
+        if !u {
+            *w = None;
+        }
+    }
+    let part = CoveredPart::of(&m.positions, &m.normals, &m.uv0, &m.uv1, &theirs);
+    (mine, part, gap_at)
 }
 
 type Compacted = (

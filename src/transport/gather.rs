@@ -38,21 +38,16 @@
 //! Black nodes ([`Gatherer::dark`]: nothing reflected, nothing emitted into the field) are
 //! visited like any other, for what they cover, but get no link.
 
+mod sight;
+
 use super::link::Link;
 use super::tree::{NodeBounds, PatchTree};
 use crate::geom::lambert;
 use crate::patches::PatchMesh;
-use crate::visibility::{Blocker, Occluder};
+use crate::visibility::Occluder;
 use glam::DVec3;
+use sight::Sight;
 use std::collections::HashMap;
-
-/// What a far node's representatives say about its visibility from a receiver.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-enum Sight {
-    Hidden,
-    Seen,
-    Unknown,
-}
 
 /// What the two rays of a far ancestor ([`Gatherer::sight`]) said of a node's patches.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -117,18 +112,27 @@ pub struct Gatherer<'a> {
     pub covered: Option<&'a Gatherer<'a>>,
 }
 
+/// What one gather collects: the links it found and the covered fractions.
+struct Collected<'o> {
+    links: &'o mut Vec<Link>,
+    coverage: Coverage,
+}
+
+/// A node the traversal visits: its index, what an ancestor far node's two rays said of it
+/// ([`Seen`]), its lowest height over the receiver's plane and its centre's distance (m).
+#[derive(Clone, Copy)]
+struct Visit {
+    i: u32,
+    seen: Seen,
+    below: f64,
+    dist: f64,
+}
+
 /// Shadow-ray answers shared by gathers at one point with different normals (the six faces of a
 /// probe): a ray toward the same target from origins a hair apart (each pulled off along its
 /// face's normal) gets the first face's answer instead of being traced again.
 #[derive(Default)]
 pub struct SharedRays(HashMap<(u32, u8), bool>);
-
-/// Key offsets in [`SharedRays`]: leaf sample points (0..16), node representatives, cluster
-/// representatives.
-const REP_KEY: u8 = 16;
-const CLUSTER_KEY: u8 = 32;
-/// Offset (after the representatives 0..3) of the ray to [`Gatherer::patch_above`]'s point.
-const ABOVE_KEY: u8 = 3;
 
 /// Coverage from which a receiver counts as closed whatever else it sees
 /// (`transport::links`): below it, what covered parts cover is measured.
@@ -148,9 +152,6 @@ pub fn absorbed_share(covered: f64) -> f64 {
 /// Covered share below which none is absorbed, and from which all is.
 const MOUTH: f64 = 0.1;
 const INSIDE: f64 = 0.5;
-
-/// Nodes [`Gatherer::patch_above`] visits at most.
-const ABOVE_SEARCH: usize = 32;
 
 impl Gatherer<'_> {
     /// Is node `i` black ([`Gatherer::dark`])?
@@ -191,9 +192,12 @@ impl Gatherer<'_> {
         out: &mut Vec<Link>,
         mut shared: Option<&mut SharedRays>,
     ) -> Coverage {
-        let mut coverage = Coverage::default();
+        let mut collected = Collected {
+            links: out,
+            coverage: Coverage::default(),
+        };
         if self.tree.is_empty() {
-            return coverage;
+            return collected.coverage;
         }
         // (node, what an ancestor far node's two rays said: see [`Seen`]).
         let mut stack = vec![(0u32, Seen::No)];
@@ -204,120 +208,172 @@ impl Gatherer<'_> {
                 continue; // wholly behind the receiver
             }
             let dist = (node.center - p).length();
-            if node.is_leaf() {
-                let leaf = self.tree.leaf(node.start);
-                let front = leaf.normal.dot(p - node.centroid) > 0.0;
-                let patch_index = self.tree.order[node.start as usize] as usize;
-                if !front && (self.fronts_only || self.mesh.patches[patch_index].double_sided) {
-                    continue; // its twin, facing this way, is counted instead (or nothing is)
-                }
-                let corners = leaf.corners;
-                if !lambert::rises_above(p, n, &corners) {
-                    continue; // its form factor is zero
-                }
-                let weight =
-                    if self.split_leaves && !seen.covers(front) && !self.occluder.convex_empty {
-                        super::lit::visible_form_factor(self.occluder, p, n, corners, leaf.normal)
-                    } else {
-                        // Visibility before the form factor: most leaves far from the receiver turn
-                        // out hidden, and a hidden patch needs no form factor.
-                        let vis = if seen.covers(front) {
-                            1.0
-                        } else {
-                            let level = sample_level(node.radius, dist, self.tau);
-                            self.patch_visibility(p, n, i, leaf, level, &mut shared)
-                        };
-                        if vis <= 0.0 {
-                            continue;
-                        }
-                        lambert::form_factor_rising(p, n, &corners) * vis
-                    };
-                if weight <= 0.0 {
-                    continue;
-                }
-                coverage.total += weight;
-                if !front {
-                    coverage.back += weight;
-                } else if self.is_dark(i) {
-                    coverage.dark += weight;
-                } else {
-                    out.push(Link::plain(i, weight));
-                }
-                continue;
-            }
-            if self.fronts_only && node.facing(p) == Some(false) {
-                continue; // turned away: nothing of it is gathered
-            }
-            let mut seen = seen;
-            if self.split_leaves && seen == Seen::No && !self.occluder.convex_empty {
-                // Direct light: a node's visibility is proved or the node is refined, never
-                // sampled (a penumbra's edge would be where two rays happen to fall).
-                match self.proved(p, n, node) {
-                    Some(true) => seen = Seen::All,
-                    Some(false) => continue,
-                    None => {
-                        push_children(&mut stack, node, Seen::No);
-                        continue;
-                    }
-                }
-            }
-            if node.mixed {
-                // Patches from both sides of a wall: what one part shows says nothing of the
-                // other, so no ray settles it (a proof does: [`Gatherer::proved`]).
-                let kept = if seen == Seen::All { seen } else { Seen::No };
-                push_children(&mut stack, node, kept);
-                continue;
-            }
-            if node.radius >= self.tau * dist {
-                push_children(&mut stack, node, seen); // too close
-                continue;
-            }
-            if below < 0.0 && node.horizon_bound(p, n, dist) < HORIZON {
-                continue; // far, on the horizon: what rises above it is worth nothing
-            }
-            let facing = node.facing(p);
-            if below < 0.0 || (facing.is_none() && !node.curved) {
-                // Far, but not one source: it crosses the receiver's plane or shows both sides
-                // without being clutter. Its patches are gathered one by one, unless its
-                // representatives all say it is hidden; when they all say it is seen, its
-                // patches (those facing the receiver, when it shows both sides) are gathered
-                // without rays of their own.
-                let settled = match seen {
-                    Seen::No => match self.sight(p, n, i, facing, &mut shared) {
-                        Sight::Hidden => continue,
-                        Sight::Unknown => Seen::No,
-                        Sight::Seen if facing.is_some() => Seen::All,
-                        Sight::Seen => Seen::Front,
-                    },
-                    seen => seen, // an ancestor settled it already
-                };
-                push_children(&mut stack, node, settled);
-                continue;
-            }
-            // A one-sided node's form factor decides how much its visibility is worth: below
-            // SMALL_NODE one ray (to the patch at its area median) stands for it.
-            let moments = self.tree.moments(i as usize);
-            let f = facing.map(|_| moments.form_factor(p, n).abs());
-            let vis = match f {
-                _ if self.split_leaves && seen == Seen::All => 1.0, // proved
-                Some(_) if seen.covers(facing == Some(true)) => 1.0,
-                Some(f) if f < SMALL_NODE => self.ray_visibility(p, n, i, &[1], &mut shared),
-                Some(_) => self.ray_visibility(p, n, i, &[0, 2], &mut shared),
-                None => self.cluster_visibility(p, n, i, &mut shared),
+            let v = Visit {
+                i,
+                seen,
+                below,
+                dist,
             };
-            if vis > 0.0 && vis < 1.0 {
-                // Partly hidden: a shadow boundary runs through the node. Refine rather than
-                // guess the visible fraction from two rays.
-                push_children(&mut stack, node, Seen::No);
-                continue;
-            }
-            match facing.zip(f) {
-                Some((front, f)) => self.add_far(i, p, n, (front, f), vis, out, &mut coverage),
-                // Seen from both sides (clutter): one cluster, its normals to order 2.
-                None => self.add_cluster(i, p, n, vis, out, &mut coverage),
+            if node.is_leaf() {
+                if let Some((weight, front)) = self.leaf_weight(p, n, v, &mut shared) {
+                    self.add_leaf(i, weight, front, &mut collected);
+                }
+            } else if let Some(children) = self.inner(p, n, v, &mut shared, &mut collected) {
+                push_children(&mut stack, node, children);
             }
         }
-        coverage
+        collected.coverage
+    }
+
+    /// The visible form factor of leaf `v.i` from `p` (normal `n`) and whether its patch faces
+    /// `p`; `None` when it adds nothing (its twin is counted instead, or nothing is; it does not
+    /// rise above the receiver's plane; it is hidden).
+    fn leaf_weight(
+        &self,
+        p: DVec3,
+        n: DVec3,
+        v: Visit,
+        shared: &mut Option<&mut SharedRays>,
+    ) -> Option<(f64, bool)> {
+        let (i, seen) = (v.i, v.seen);
+        let node = &self.tree.bounds[i as usize];
+        let leaf = self.tree.leaf(node.start);
+        let front = leaf.normal.dot(p - node.centroid) > 0.0;
+        let patch_index = self.tree.order[node.start as usize] as usize;
+        if !front && (self.fronts_only || self.mesh.patches[patch_index].double_sided) {
+            return None; // its twin, facing this way, is counted instead (or nothing is)
+        }
+        let corners = leaf.corners;
+        if !lambert::rises_above(p, n, &corners) {
+            return None; // its form factor is zero
+        }
+        let weight = if self.split_leaves && !seen.covers(front) && !self.occluder.convex_empty {
+            super::lit::visible_form_factor(self.occluder, p, n, corners, leaf.normal)
+        } else {
+            // Visibility before the form factor: most leaves far from the receiver turn
+            // out hidden, and a hidden patch needs no form factor.
+            let vis = if seen.covers(front) {
+                1.0
+            } else {
+                let level = sample_level(node.radius, v.dist, self.tau);
+                self.patch_visibility(p, n, i, leaf, level, shared)
+            };
+            if vis <= 0.0 {
+                return None;
+            }
+            lambert::form_factor_rising(p, n, &corners) * vis
+        };
+        if weight <= 0.0 {
+            return None;
+        }
+        Some((weight, front))
+    }
+
+    /// Leaf `i` seen with visible form factor `weight`: its front linked (a black one only
+    /// covers), its back covered (it absorbs).
+    fn add_leaf(&self, i: u32, weight: f64, front: bool, c: &mut Collected) {
+        c.coverage.total += weight;
+        if !front {
+            c.coverage.back += weight;
+        } else if self.is_dark(i) {
+            c.coverage.dark += weight;
+        } else {
+            c.links.push(Link::plain(i, weight));
+        }
+    }
+
+    /// What the traversal does with inner node `v.i`: `None` when it is skipped or accepted as
+    /// one source (its link added to `c`), else what its children are visited knowing.
+    fn inner(
+        &self,
+        p: DVec3,
+        n: DVec3,
+        v: Visit,
+        shared: &mut Option<&mut SharedRays>,
+        c: &mut Collected,
+    ) -> Option<Seen> {
+        let (i, below, dist) = (v.i, v.below, v.dist);
+        let node = &self.tree.bounds[i as usize];
+        if self.fronts_only && node.facing(p) == Some(false) {
+            return None; // turned away: nothing of it is gathered
+        }
+        let mut seen = v.seen;
+        if self.split_leaves && seen == Seen::No && !self.occluder.convex_empty {
+            // Direct light: a node's visibility is proved or the node is refined, never
+            // sampled (a penumbra's edge would be where two rays happen to fall).
+            match self.proved(p, n, node) {
+                Some(true) => seen = Seen::All,
+                Some(false) => return None,
+                None => return Some(Seen::No),
+            }
+        }
+        if node.mixed {
+            // Patches from both sides of a wall: what one part shows says nothing of the
+            // other, so no ray settles it (a proof does: [`Gatherer::proved`]).
+            let kept = if seen == Seen::All { seen } else { Seen::No };
+            return Some(kept);
+        }
+        if node.radius >= self.tau * dist {
+            return Some(seen); // too close
+        }
+        if below < 0.0 && node.horizon_bound(p, n, dist) < HORIZON {
+            return None; // far, on the horizon: what rises above it is worth nothing
+        }
+        let facing = node.facing(p);
+        if below < 0.0 || (facing.is_none() && !node.curved) {
+            // Far, but not one source: it crosses the receiver's plane or shows both sides
+            // without being clutter. Its patches are gathered one by one, unless its
+            // representatives all say it is hidden; when they all say it is seen, its
+            // patches (those facing the receiver, when it shows both sides) are gathered
+            // without rays of their own.
+            let settled = match seen {
+                Seen::No => match self.sight(p, n, i, facing, shared) {
+                    Sight::Hidden => return None,
+                    Sight::Unknown => Seen::No,
+                    Sight::Seen if facing.is_some() => Seen::All,
+                    Sight::Seen => Seen::Front,
+                },
+                seen => seen, // an ancestor settled it already
+            };
+            return Some(settled);
+        }
+        self.source(p, n, Visit { seen, ..v }, facing, shared, c)
+    }
+
+    /// Far node `v.i` (one-sided, `facing`, or curved clutter) taken as one source when its rays
+    /// agree: its link added to `c`, `None` returned; partly hidden, `Some(Seen::No)`: refined.
+    fn source(
+        &self,
+        p: DVec3,
+        n: DVec3,
+        v: Visit,
+        facing: Option<bool>,
+        shared: &mut Option<&mut SharedRays>,
+        c: &mut Collected,
+    ) -> Option<Seen> {
+        let (i, seen) = (v.i, v.seen);
+        // A one-sided node's form factor decides how much its visibility is worth: below
+        // SMALL_NODE one ray (to the patch at its area median) stands for it.
+        let moments = self.tree.moments(i as usize);
+        let f = facing.map(|_| moments.form_factor(p, n).abs());
+        let vis = match f {
+            _ if self.split_leaves && seen == Seen::All => 1.0, // proved
+            Some(_) if seen.covers(facing == Some(true)) => 1.0,
+            Some(f) if f < SMALL_NODE => self.ray_visibility(p, n, i, &[1], shared),
+            Some(_) => self.ray_visibility(p, n, i, &[0, 2], shared),
+            None => self.cluster_visibility(p, n, i, shared),
+        };
+        if vis > 0.0 && vis < 1.0 {
+            // Partly hidden: a shadow boundary runs through the node. Refine rather than
+            // guess the visible fraction from two rays.
+            return Some(Seen::No);
+        }
+        match facing.zip(f) {
+            Some((front, f)) => self.add_far(i, p, n, (front, f), vis, c),
+            // Seen from both sides (clutter): one cluster, its normals to order 2.
+            None => self.add_cluster(i, p, n, vis, c),
+        }
+        None
     }
 
     /// What is proved of the visibility of all of `node` from `p` (normal `n`): the segments
@@ -352,7 +408,6 @@ impl Gatherer<'_> {
     /// Node `i` accepted as one far-field source seen from `p` (`front`: its patches face `p`;
     /// `f`: its form factor) with visible fraction `vis`: second-order area moments and the
     /// first moment of exitance.
-    #[allow(clippy::too_many_arguments)]
     fn add_far(
         &self,
         i: u32,
@@ -360,9 +415,9 @@ impl Gatherer<'_> {
         n: DVec3,
         (front, f): (bool, f64),
         vis: f64,
-        out: &mut Vec<Link>,
-        coverage: &mut Coverage,
+        c: &mut Collected,
     ) {
+        let coverage = &mut c.coverage;
         let node = &self.tree.nodes[i as usize];
         if front {
             coverage.total += f * vis;
@@ -378,7 +433,7 @@ impl Gatherer<'_> {
         }
         if front && vis > 0.0 && f > 0.0 {
             let g = self.tree.moments(i as usize).density_gradient(p, n) * vis;
-            out.push(Link::far(i, f * vis, g, node.area));
+            c.links.push(Link::far(i, f * vis, g, node.area));
         }
     }
 
@@ -386,15 +441,8 @@ impl Gatherer<'_> {
     /// at its centroid whose intensity follows its exitance-weighted normals to order 2, scaled
     /// by the share of its front faces it does not hide from itself (`silhouette`). It covers the
     /// area it shows toward `p`.
-    fn add_cluster(
-        &self,
-        i: u32,
-        p: DVec3,
-        n: DVec3,
-        vis: f64,
-        out: &mut Vec<Link>,
-        coverage: &mut Coverage,
-    ) {
+    fn add_cluster(&self, i: u32, p: DVec3, n: DVec3, vis: f64, collected: &mut Collected) {
+        let coverage = &mut collected.coverage;
         let c = self.tree.bounds[i as usize].centroid;
         let d2 = (c - p).length_squared();
         let w = (p - c) / d2.sqrt();
@@ -410,272 +458,8 @@ impl Gatherer<'_> {
             return;
         }
         if k > 0.0 {
-            out.push(Link::cluster_link(i, k, w));
+            collected.links.push(Link::cluster_link(i, k, w));
         }
-    }
-
-    /// What two rays say about far node `i`, which cannot be one source (it crosses the
-    /// receiver's plane or shows it both sides). Two of its representatives above the receiver's
-    /// plane (and, when it shows both sides and is not curved clutter, facing `p`) are the
-    /// targets. Both blocked (for a curved node, by something not its own): [`Sight::Hidden`],
-    /// the node is skipped as a whole, the same inference as for a far source whose two rays
-    /// are blocked. Both clear, on a node that is not curved clutter: [`Sight::Seen`], its
-    /// patches are gathered without rays of their own, as a far source whose two rays get
-    /// through is accepted whole; of a node seen from both sides only the patches facing `p`
-    /// (its representatives faced it: they say nothing of the backs behind its front, which
-    /// counted as seen absorbers would lose light). Not for curved clutter: its rays ignore its
-    /// own patches, which may hide each other. A node whose form factor is below [`SMALL_NODE`]
-    /// however its patches turn gets one ray, to its median patch (or another representative
-    /// above the plane; when none is, a point on one of its patches above it,
-    /// [`Gatherer::patch_above`]: a node the plane cuts near its top otherwise has nothing to
-    /// aim at and would be refined). Otherwise — fewer than [`HIDDEN_MIN_PATCHES`] patches, no
-    /// targets, or the rays disagree — [`Sight::Unknown`]: it is refined and its patches
-    /// traced. In an open-plan office most such nodes are furniture behind other furniture,
-    /// whose patches would otherwise be traced one by one and mostly found hidden.
-    fn sight(
-        &self,
-        p: DVec3,
-        n: DVec3,
-        i: u32,
-        facing: Option<bool>,
-        shared: &mut Option<&mut SharedRays>,
-    ) -> Sight {
-        if self.occluder.convex_empty {
-            return Sight::Seen;
-        }
-        let node = &self.tree.bounds[i as usize];
-        let own_hits = self.tree.own_hits(self.mesh).filter(|_| node.curved);
-        // A representative facing away is a fair target when the node's own patches do not
-        // count as blockers (a curved node); otherwise its own front would hide it.
-        let backs = facing.is_some() || own_hits.is_some();
-        let fair = |(q, m): (DVec3, DVec3)| n.dot(q - p) > 0.0 && (backs || m.dot(p - q) > 0.0);
-        // Representatives are read only when a test needs them.
-        let rep = |k: usize| self.tree.rep(i as usize, k);
-        // Worth little (its form factor is below SMALL_NODE however its patches turn), like a
-        // small one-sided far node: one ray to the patch at its area median decides.
-        let near = (node.center - p).length() - node.radius;
-        let area = self.tree.nodes[i as usize].area;
-        if area < SMALL_NODE * std::f64::consts::PI * near * near {
-            // The median patch, or when it lies below the receiver's plane (or turns its back)
-            // another representative: a node crossing the plane often has only one above it.
-            let target = [1, 0, 2]
-                .into_iter()
-                .find_map(|k| Some((k as u8, rep(k))).filter(|(_, r)| fair(*r)))
-                .or_else(|| self.patch_above(p, n, i, fair).map(|t| (ABOVE_KEY, t)));
-            return match target {
-                Some(t) => self.rep_sight(p, n, i, [t], own_hits, shared),
-                None => Sight::Unknown,
-            };
-        }
-        if node.end - node.start < HIDDEN_MIN_PATCHES {
-            return Sight::Unknown;
-        }
-        // The first and last quartiles when both are fair targets, else the median with
-        // whichever of them is.
-        let (r0, r2) = (rep(0), rep(2));
-        let targets = match (fair(r0), fair(r2)) {
-            (true, true) => [(0, r0), (2, r2)],
-            (a, b) if a != b => {
-                let r1 = rep(1);
-                if !fair(r1) {
-                    return Sight::Unknown;
-                }
-                if a {
-                    [(0, r0), (1, r1)]
-                } else {
-                    [(1, r1), (2, r2)]
-                }
-            }
-            _ => return Sight::Unknown,
-        };
-        self.rep_sight(p, n, i, targets, own_hits, shared)
-    }
-
-    /// [`Gatherer::sight`]'s verdict from rays to `targets` on node `i` (each a key offset for
-    /// [`SharedRays`] and a point on one of its patches with the patch's normal): all blocked,
-    /// all clear (not for curved clutter), or neither.
-    fn rep_sight(
-        &self,
-        p: DVec3,
-        n: DVec3,
-        i: u32,
-        targets: impl IntoIterator<Item = (u8, (DVec3, DVec3))>,
-        own_hits: Option<&(Occluder, Vec<u32>)>,
-        shared: &mut Option<&mut SharedRays>,
-    ) -> Sight {
-        let node = &self.tree.bounds[i as usize];
-        let (mut any_clear, mut any_blocked) = (false, false);
-        for (k, (q, m)) in targets {
-            let clear = match own_hits {
-                Some((patches, rank)) => Self::ray(shared, (i, CLUSTER_KEY + k), || {
-                    own_first(patches, rank, (p, n), (q, m), node)
-                }),
-                None => Self::ray(shared, (i, REP_KEY + k), || self.occluder.clear(p, n, q, m)),
-            };
-            any_clear |= clear;
-            any_blocked |= !clear;
-        }
-        match (any_clear, any_blocked) {
-            (false, true) => Sight::Hidden,
-            (true, false) if own_hits.is_none() => Sight::Seen,
-            _ => Sight::Unknown,
-        }
-    }
-
-    /// A point on one of node `i`'s patches above the plane through `p` (unit normal `n`), with
-    /// the patch's normal: on the first leaf with such a point in a depth-first search that
-    /// skips subtrees wholly below the plane, gives up after [`ABOVE_SEARCH`] nodes, and takes
-    /// only points `fair` accepts (the test [`Gatherer::sight`] puts its representatives to).
-    /// The target of a small node crossing the plane none of whose representatives rises above
-    /// it.
-    fn patch_above(
-        &self,
-        p: DVec3,
-        n: DVec3,
-        i: u32,
-        fair: impl Fn((DVec3, DVec3)) -> bool,
-    ) -> Option<(DVec3, DVec3)> {
-        let mut stack = vec![i];
-        for _ in 0..ABOVE_SEARCH {
-            let node = &self.tree.bounds[stack.pop()? as usize];
-            if node.height_range(p, n).1 <= 0.0 {
-                continue;
-            }
-            if node.is_leaf() {
-                // Its centroid, else the highest of three points a quarter of the way in from
-                // its corners (a patch the plane cuts near one corner).
-                let leaf = self.tree.leaf(node.start);
-                let c = node.centroid;
-                let height = |q: &DVec3| n.dot(*q - p);
-                let q = if height(&c) > 0.0 {
-                    c
-                } else {
-                    let inner = leaf.corners.map(|v| v + (c - v) * 0.25);
-                    inner
-                        .into_iter()
-                        .max_by(|a, b| height(a).total_cmp(&height(b)))?
-                };
-                if fair((q, leaf.normal)) {
-                    return Some((q, leaf.normal));
-                }
-                continue;
-            }
-            stack.push(node.children[1]);
-            stack.push(node.children[0]);
-        }
-        None
-    }
-
-    /// One shadow ray's answer: from `shared` when it has one for `key`, else traced (and
-    /// recorded there).
-    fn ray(
-        shared: &mut Option<&mut SharedRays>,
-        key: (u32, u8),
-        trace: impl FnOnce() -> bool,
-    ) -> bool {
-        match shared {
-            Some(s) => *s.0.entry(key).or_insert_with(trace),
-            None => trace(),
-        }
-    }
-
-    /// Fraction of the fixed sample points on leaf `i`'s patch (`leaf`) visible from `p`.
-    fn patch_visibility(
-        &self,
-        p: DVec3,
-        n: DVec3,
-        i: u32,
-        leaf: &super::tree::LeafGeom,
-        level: u32,
-        shared: &mut Option<&mut SharedRays>,
-    ) -> f64 {
-        if self.occluder.convex_empty {
-            return 1.0;
-        }
-        let corners = leaf.corners;
-        let pts = crate::geom::samples::triangle_points(level);
-        let visible = pts
-            .iter()
-            .enumerate()
-            .filter(|(s, b)| {
-                Self::ray(shared, (i, *s as u8), || {
-                    let q = corners[0] * b[0] + corners[1] * b[1] + corners[2] * b[2];
-                    self.occluder.clear(p, n, q, leaf.normal)
-                })
-            })
-            .count();
-        visible as f64 / pts.len() as f64
-    }
-
-    /// Visible fraction of a cluster: rays toward two representative patches, where a blocker
-    /// that is one of the cluster's own patches does not count (the cluster hides its own far
-    /// side, which `silhouette` accounts for).
-    fn cluster_visibility(
-        &self,
-        p: DVec3,
-        n: DVec3,
-        i: u32,
-        shared: &mut Option<&mut SharedRays>,
-    ) -> f64 {
-        if self.occluder.convex_empty {
-            return 1.0;
-        }
-        let Some((patches, rank)) = self.tree.own_hits(self.mesh) else {
-            return self.ray_visibility(p, n, i, &[0, 2], shared);
-        };
-        let node = &self.tree.bounds[i as usize];
-        let visible = [0, 2]
-            .iter()
-            .filter(|&&k| {
-                Self::ray(shared, (i, CLUSTER_KEY + k as u8), || {
-                    let (q, m) = self.tree.rep(i as usize, k);
-                    own_first(patches, rank, (p, n), (q, m), node)
-                })
-            })
-            .count();
-        visible as f64 / 2.0
-    }
-
-    /// Visible fraction of node `i`'s representative patches `at` (indices into
-    /// [`super::tree::REP_QUANTILES`]), one ray each.
-    fn ray_visibility(
-        &self,
-        p: DVec3,
-        n: DVec3,
-        i: u32,
-        at: &[usize],
-        shared: &mut Option<&mut SharedRays>,
-    ) -> f64 {
-        if self.occluder.convex_empty {
-            return 1.0;
-        }
-        let visible = at
-            .iter()
-            .filter(|&&k| {
-                Self::ray(shared, (i, REP_KEY + k as u8), || {
-                    let (q, m) = self.tree.rep(i as usize, k);
-                    self.occluder.clear(p, n, q, m)
-                })
-            })
-            .count();
-        visible as f64 / at.len() as f64
-    }
-}
-
-/// Is the segment from `a` to `b` (points with their normals) clear but for node `node`'s own
-/// patches (`patches`: every patch as a ray target, `rank`: each one's position in leaf order),
-/// that is, is the first thing it meets, if anything, one of them?
-fn own_first(
-    patches: &Occluder,
-    rank: &[u32],
-    a: (DVec3, DVec3),
-    b: (DVec3, DVec3),
-    node: &NodeBounds,
-) -> bool {
-    match patches.first_hit_near(a, b, node.center, node.radius) {
-        None => true,
-        Some(Blocker::Before) => false,
-        Some(Blocker::At(hit)) => (node.start..node.end).contains(&rank[hit]),
     }
 }
 
@@ -690,11 +474,6 @@ const SMALL_NODE: f64 = 1e-3;
 /// furniture. Kept small so that a large wall far away, cut by the plane, keeps nearly all its
 /// light.
 const HORIZON: f64 = 1e-5;
-
-/// Patches a far node must hold before its rays may settle it ([`Gatherer::sight`]): two rays
-/// on a smaller node cost about what tracing its leaves would, and where little is hidden (a
-/// small office) they are mostly spent for nothing.
-const HIDDEN_MIN_PATCHES: u32 = 8;
 
 /// Push a node's children so the first (stored right after it in depth-first order) is visited
 /// next: the traversal then walks the node array forwards, which the cache rewards.

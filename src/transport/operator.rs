@@ -130,104 +130,105 @@ impl<'a> PatchOperator<'a> {
         }
         // Receiver → the rows it reads (itself, or the gathered rows it is blended from).
         let at = self.links.to_rows(at);
-        // Receiver → node (scatter along the links): leaf and far-field coefficients per node,
-        // first moments and cluster distributions per inner node (only they are far sources).
-        let nodes = self.tree.nodes.len();
-        let inner = self.tree.inner_nodes;
-        let slot = &self.tree.slot;
-        // Cluster accumulators only for the nodes cluster links name.
-        let clusters = &self.links.clusters;
-        // A fixed number of parts (never the thread count), each accumulated over its receivers
-        // in order into its own arrays, the parts summed in order: deterministic. The count is
-        // fixed rather than the part size because every part costs a pass over all nodes: parts
-        // of a fixed number of receivers would make that pass quadratic in the scene.
-        let n = at.len();
-        let per_part = n.div_ceil(TRANSPOSE_PARTS).max(1);
-        type Part = (Vec<f64>, Vec<DVec3>, Vec<[f64; DIST]>);
-        let parts: Vec<Part> = (0..TRANSPOSE_PARTS)
-            .into_par_iter()
-            .map(|k| {
-                let part = (k * per_part).min(n)..((k + 1) * per_part).min(n);
-                let mut acc = vec![0.0; nodes];
-                let mut grad = vec![DVec3::ZERO; inner];
-                let mut sh = vec![[0.0; DIST]; clusters.len()];
-                for r in part {
-                    if at[r] == 0.0 {
-                        continue;
-                    }
-                    let row = self.links.row(r);
-                    for l in row.leaves.iter() {
-                        acc[l.node as usize] += at[r] * l.coeff as f64;
-                    }
-                    for l in row.far.iter() {
-                        if l.is_cluster() {
-                            let (k, w) = l.cluster();
-                            let weights = crate::geom::sh::dist_weights(w);
-                            let c = clusters.get(l.node as usize).expect("a named node");
-                            for (a, x) in sh[c].iter_mut().zip(weights) {
-                                *a += at[r] * k * x;
-                            }
-                            continue;
-                        }
-                        acc[l.node as usize] += at[r] * l.coeff as f64;
-                        let s = slot[l.node as usize] as usize;
-                        if s != LEAF_SLOT as usize {
-                            grad[s] += l.relative() * (l.coeff as f64 * at[r]);
-                        }
-                    }
-                }
-                (acc, grad, sh)
-            })
-            .collect();
-        // The parts summed into the first, in order.
-        let mut parts = parts.into_iter();
-        let (mut node_acc, mut node_grad, mut node_sh) = parts.next().expect("parts");
-        for (acc, grad, sh) in parts {
-            node_acc.par_iter_mut().zip(&acc).for_each(|(a, b)| *a += b);
-            node_grad
-                .par_iter_mut()
-                .zip(&grad)
-                .for_each(|(a, b)| *a += *b);
-            node_sh.par_iter_mut().zip(&sh).for_each(|(a, b)| {
-                for (x, y) in a.iter_mut().zip(b) {
-                    *x += y;
-                }
-            });
-        }
+        let mut scattered = self.scatter(&at);
         // The links' gradients are stored relative to their node's size: scaled back per node.
-        for (node, &s) in self.tree.nodes.iter().zip(slot.iter()) {
-            if let Some(g) = node_grad.get_mut(s as usize) {
+        for (node, &s) in self.tree.nodes.iter().zip(self.tree.slot.iter()) {
+            if let Some(g) = scattered.grad.get_mut(s as usize) {
                 *g = match node.area > 0.0 {
                     true => *g / moment_scale(node.area),
                     false => DVec3::ZERO,
                 };
             }
         }
-        // Node → patches (top-down push), in place. A node's mean is Σ Aⱼ·Bⱼ / A and its dipole
-        // Σ Aⱼ·Bⱼ·(cⱼ − c), so patch j collects Aⱼ·Σ_ancestors [acc/A − grad·c + grad·cⱼ]: each
-        // inner node's (acc/A − grad·c, grad) is added into its inner children's, parents first
-        // (the nodes are in pre-order), and a leaf reads its parent's sums. Cluster links read
-        // Σ Bⱼ·(Aⱼ's normal distribution): patch j collects its own (the leaf's `normal_sh`)
-        // against the sum of its ancestors' accumulations, pushed down the same way.
+        self.push_down(scattered)
+    }
+
+    /// Receiver → node (scatter along the links) of the receivers' values `at`: leaf and
+    /// far-field coefficients per node, first moments and cluster distributions per inner node
+    /// (only they are far sources).
+    fn scatter(&self, at: &[f64]) -> Scattered {
+        // A fixed number of parts (never the thread count), each accumulated over its receivers
+        // in order into its own arrays, the parts summed in order: deterministic. The count is
+        // fixed rather than the part size because every part costs a pass over all nodes: parts
+        // of a fixed number of receivers would make that pass quadratic in the scene.
+        let n = at.len();
+        let per_part = n.div_ceil(TRANSPOSE_PARTS).max(1);
+        let parts: Vec<Scattered> = (0..TRANSPOSE_PARTS)
+            .into_par_iter()
+            .map(|k| {
+                let part = (k * per_part).min(n)..((k + 1) * per_part).min(n);
+                self.scatter_part(at, part)
+            })
+            .collect();
+        // The parts summed into the first, in order.
+        let mut parts = parts.into_iter();
+        let mut sum = parts.next().expect("parts");
+        for part in parts {
+            sum.add(&part);
+        }
+        sum
+    }
+
+    /// [`PatchOperator::scatter`] of the receivers `part`, in order, into arrays of its own.
+    fn scatter_part(&self, at: &[f64], part: std::ops::Range<usize>) -> Scattered {
+        let slot = &self.tree.slot;
+        // Cluster accumulators only for the nodes cluster links name.
+        let clusters = &self.links.clusters;
+        let mut acc = vec![0.0; self.tree.nodes.len()];
+        let mut grad = vec![DVec3::ZERO; self.tree.inner_nodes];
+        let mut sh = vec![[0.0; DIST]; clusters.len()];
+        for r in part {
+            if at[r] == 0.0 {
+                continue;
+            }
+            let row = self.links.row(r);
+            for l in row.leaves.iter() {
+                acc[l.node as usize] += at[r] * l.coeff as f64;
+            }
+            for l in row.far.iter() {
+                if l.is_cluster() {
+                    let (k, w) = l.cluster();
+                    let weights = crate::geom::sh::dist_weights(w);
+                    let c = clusters.get(l.node as usize).expect("a named node");
+                    for (a, x) in sh[c].iter_mut().zip(weights) {
+                        *a += at[r] * k * x;
+                    }
+                    continue;
+                }
+                acc[l.node as usize] += at[r] * l.coeff as f64;
+                let s = slot[l.node as usize] as usize;
+                if s != LEAF_SLOT as usize {
+                    grad[s] += l.relative() * (l.coeff as f64 * at[r]);
+                }
+            }
+        }
+        Scattered { acc, grad, sh }
+    }
+
+    /// Node → patches (top-down push), in place. A node's mean is Σ Aⱼ·Bⱼ / A and its dipole
+    /// Σ Aⱼ·Bⱼ·(cⱼ − c), so patch j collects Aⱼ·Σ_ancestors [acc/A − grad·c + grad·cⱼ]: each
+    /// inner node's (acc/A − grad·c, grad) is added into its inner children's, parents first
+    /// (the nodes are in pre-order), and a leaf reads its parent's sums. Cluster links read
+    /// Σ Bⱼ·(Aⱼ's normal distribution): patch j collects its own (the leaf's `normal_sh`)
+    /// against the sum of its ancestors' accumulations, pushed down the same way.
+    fn push_down(&self, scattered: Scattered) -> Vec<f64> {
+        let Scattered {
+            acc: mut node_acc,
+            grad: mut node_grad,
+            sh: node_sh,
+        } = scattered;
+        let (nodes, slot) = (self.tree.nodes.len(), &self.tree.slot);
+        let clusters = &self.links.clusters;
         node_acc.par_iter_mut().enumerate().for_each(|(i, a)| {
             *a /= self.tree.nodes[i].area;
             if slot[i] != LEAF_SLOT {
                 *a -= node_grad[slot[i] as usize].dot(self.tree.centroid[i]);
             }
         });
-        let mut z = vec![0.0; mesh.patches.len()];
-        // Leaf c (own value `own`) under ancestors whose sums are s, g and sh.
-        let mut leaf = |c: usize, own: f64, s: f64, g: DVec3, sh: Option<&[f64; DIST]>| {
-            let p = self.tree.order[self.tree.range[c][0] as usize] as usize;
-            let cj = self.tree.centroid[c];
-            let clusters: f64 = sh.map_or(0.0, |sh| {
-                let own = super::tree::leaf_sh(&mesh.patches[p]);
-                (0..DIST).map(|k| sh[k] * own[k]).sum()
-            });
-            z[p] = ((own + s + g.dot(cj)) * mesh.patches[p].area + clusters) * self.col[p];
-        };
+        let mut z = vec![0.0; self.mesh.patches.len()];
         if nodes > 0 && slot[0] == LEAF_SLOT {
-            leaf(0, node_acc[0], 0.0, DVec3::ZERO, None); // a tree of one patch
+            let (p, v) = self.leaf(0, node_acc[0], 0.0, DVec3::ZERO, None); // a tree of one patch
+            z[p] = v;
         }
         // Cluster sums go down a stack of the inner nodes above the current one (their ends in
         // `order` and cumulative sums): only the named nodes have accumulators of their own.
@@ -238,25 +239,17 @@ impl<'a> PatchOperator<'a> {
             }
             let si = slot[i] as usize;
             let (a, g) = (node_acc[i], node_grad[si]);
-            let [start, end] = self.tree.range[i];
             let sh = (!clusters.is_empty()).then(|| {
-                while path.last().is_some_and(|(e, _)| *e <= start) {
-                    path.pop();
-                }
                 let own = clusters.get(i).map(|c| node_sh[c]);
-                let sum = match (own, path.last()) {
-                    (Some(own), Some((_, up))) => std::array::from_fn(|k| own[k] + up[k]),
-                    (Some(own), None) => own,
-                    (None, Some((_, up))) => *up,
-                    (None, None) => [0.0; DIST],
-                };
-                path.push((end, sum));
-                sum
+                cluster_sum(&mut path, own, self.tree.range[i])
             });
             for c in self.tree.children[i] {
                 let c = c as usize;
                 match slot[c] {
-                    LEAF_SLOT => leaf(c, node_acc[c], a, g, sh.as_ref()),
+                    LEAF_SLOT => {
+                        let (p, v) = self.leaf(c, node_acc[c], a, g, sh.as_ref());
+                        z[p] = v;
+                    }
                     sc => {
                         node_acc[c] += a;
                         node_grad[sc as usize] += g;
@@ -265,6 +258,22 @@ impl<'a> PatchOperator<'a> {
             }
         }
         z
+    }
+
+    /// The patch of leaf `c` (own value `own`) under ancestors whose sums are `s`, `g` and `sh`,
+    /// and its value in the transpose.
+    fn leaf(&self, c: usize, own: f64, s: f64, g: DVec3, sh: Option<&[f64; DIST]>) -> (usize, f64) {
+        let mesh = self.mesh;
+        let p = self.tree.order[self.tree.range[c][0] as usize] as usize;
+        let cj = self.tree.centroid[c];
+        let clusters: f64 = sh.map_or(0.0, |sh| {
+            let own = super::tree::leaf_sh(&mesh.patches[p]);
+            (0..DIST).map(|k| sh[k] * own[k]).sum()
+        });
+        (
+            p,
+            ((own + s + g.dot(cj)) * mesh.patches[p].area + clusters) * self.col[p],
+        )
     }
 
     /// Scale rows and columns of the closed patches to their targets: one minus the part of the
@@ -290,6 +299,65 @@ impl<'a> PatchOperator<'a> {
         black: &dyn Fn(usize) -> bool,
         open: &[f64],
     ) -> BalanceStats {
+        let t = self.targets(black, open);
+        let areas: Vec<f64> = self.mesh.patches.iter().map(|p| p.area).collect();
+        let ones = vec![1.0; self.mesh.patches.len()];
+        let errors = Errors {
+            areas: &areas,
+            t: &t,
+        };
+        let mut cols = self.column_sums(&areas);
+        let mut stats = BalanceStats {
+            iterations: 0,
+            row_error_before: errors.rows(&self.apply_scalar(&ones)),
+            column_error_before: errors.columns(&cols),
+            worst_column_before: errors.worst(&cols),
+            row_error_after: 0.0,
+            column_error_after: 0.0,
+            worst_column_after: 0.0,
+            closed_patches: t.closed.iter().filter(|c| **c).count(),
+        };
+        let row_target = t.rows();
+        let mut previous = f64::INFINITY;
+        for _ in 0..max_iterations {
+            // `cols` holds the current scalings' column sums (before the first step, the ones
+            // measured above).
+            stats.column_error_after = errors.columns(&cols);
+            stats.worst_column_after = errors.worst(&cols);
+            // Stop at the tolerance, or when an iteration no longer gains 5 %: the rest is
+            // inconsistency between the estimated targets, not something more sweeps remove.
+            if stats.column_error_after < tolerance || stats.column_error_after > 0.95 * previous {
+                break;
+            }
+            previous = stats.column_error_after;
+            stats.iterations += 1;
+            self.scale_columns(&cols, &t, true);
+            let rows = self.apply_scalar(&ones);
+            for i in 0..rows.len() {
+                if t.closed[i] && rows[i] > 0.0 {
+                    self.row[i] *= row_target[i] / rows[i];
+                }
+            }
+            cols = self.column_sums(&areas);
+        }
+        // Rows and columns cannot both reach targets whose area-weighted totals differ (a floor
+        // patch with a vertex pressed under a desk leg's foot gathers two thirds of what it
+        // sends): the columns decide whether light is kept, so a last plain column step makes
+        // them exact and the rows carry the inconsistency (about 10⁻⁸ on average).
+        if stats.iterations > 0 {
+            self.scale_columns(&cols, &t, false);
+            cols = self.column_sums(&areas);
+            stats.column_error_after = errors.columns(&cols);
+            stats.worst_column_after = errors.worst(&cols);
+        }
+        stats.row_error_after = errors.rows(&self.apply_scalar(&ones));
+        stats
+    }
+
+    /// What [`PatchOperator::balance`] scales to: per patch one minus the back faces it sees
+    /// (rows also minus the black nodes it sees; columns of open patches also minus their
+    /// measured escape), which patches are closed and which columns are balanced.
+    fn targets(&self, black: &dyn Fn(usize) -> bool, open: &[f64]) -> Targets {
         let mesh = self.mesh;
         let mean = |p: &crate::patches::Patch, f: &dyn Fn(usize) -> f64| {
             p.v.iter().map(|&v| f(v as usize)).sum::<f64>() / 3.0
@@ -307,118 +375,176 @@ impl<'a> PatchOperator<'a> {
             .collect();
         // Without black nodes rows and columns share their targets (two patch-sized arrays
         // fewer on a 10⁶-triangle bake).
-        use std::borrow::Cow;
-        let row_target: Cow<[f64]> = match self.links.has_dark() {
-            false => Cow::Borrowed(&target),
-            true => mesh
-                .patches
+        let row_target = self.links.has_dark().then(|| {
+            mesh.patches
                 .iter()
                 .zip(&target)
                 .map(|(p, t)| (t - mean(p, &|r| self.links.dark(r) as f64)).max(0.0))
-                .collect(),
-        };
+                .collect()
+        });
         // Columns: the closed patches', and the open ones' whose escape was measured.
         let measured =
             |j: usize| !closed[j] && open.get(j).is_some_and(|o| target[j] - o > MIN_TARGET);
-        let col_target: Cow<[f64]> = match open.is_empty() {
-            true => Cow::Borrowed(&target),
-            false => (0..target.len())
+        let col_target = (!open.is_empty()).then(|| {
+            (0..target.len())
                 .map(|j| match measured(j) {
                     true => target[j] - open[j],
                     false => target[j],
                 })
-                .collect(),
-        };
-        let closed_column: Cow<[bool]> = match self.links.has_dark() || !open.is_empty() {
-            false => Cow::Borrowed(&closed),
-            true => (0..closed.len())
-                .map(|j| (closed[j] || measured(j)) && !black(j))
-                .collect(),
-        };
-        let target = col_target;
-        let areas: Vec<f64> = mesh.patches.iter().map(|p| p.area).collect();
-        let ones = vec![1.0; mesh.patches.len()];
-        // The area-weighted mean deviation is what loses or creates flux each bounce; the largest
-        // single deviation is reported too.
-        let error = |sums: &[f64], target: &[f64], set: &[bool]| -> f64 {
-            let (mut deviation, mut area) = (0.0, 0.0);
-            for i in (0..sums.len()).filter(|&i| set[i]) {
-                deviation += areas[i] * (sums[i] - target[i]).abs();
-                area += areas[i];
-            }
-            deviation / area.max(1e-300)
-        };
-        let worst = |sums: &[f64]| -> f64 {
-            (0..sums.len())
-                .filter(|&i| closed_column[i])
-                .map(|i| (sums[i] - target[i]).abs())
-                .fold(0.0, f64::max)
-        };
-        let row_error = |sums: &[f64]| error(sums, &row_target, &closed);
-        let column_error = |sums: &[f64]| error(sums, &target, &closed_column);
-        let column_sums = |op: &Self| -> Vec<f64> {
-            op.apply_transpose(&areas)
-                .iter()
-                .zip(&areas)
-                .map(|(z, a)| z / a)
                 .collect()
-        };
-        let mut cols = column_sums(self);
-        let mut stats = BalanceStats {
-            iterations: 0,
-            row_error_before: row_error(&self.apply_scalar(&ones)),
-            column_error_before: column_error(&cols),
-            worst_column_before: worst(&cols),
-            row_error_after: 0.0,
-            column_error_after: 0.0,
-            worst_column_after: 0.0,
-            closed_patches: closed.iter().filter(|c| **c).count(),
-        };
-        let mut previous = f64::INFINITY;
-        for _ in 0..max_iterations {
-            // `cols` holds the current scalings' column sums (before the first step, the ones
-            // measured above).
-            stats.column_error_after = column_error(&cols);
-            stats.worst_column_after = worst(&cols);
-            // Stop at the tolerance, or when an iteration no longer gains 5 %: the rest is
-            // inconsistency between the estimated targets, not something more sweeps remove.
-            if stats.column_error_after < tolerance || stats.column_error_after > 0.95 * previous {
-                break;
-            }
-            previous = stats.column_error_after;
-            stats.iterations += 1;
-            for j in 0..cols.len() {
-                if closed_column[j] && cols[j] > 0.0 {
-                    // Over-relaxed Sinkhorn step (exponent ω = 1.5): the slow, smooth part of
-                    // the error goes several times faster; the factor is bounded for safety.
-                    self.col[j] *= (target[j] / cols[j]).powf(OVERRELAX).clamp(0.5, 2.0);
-                }
-            }
-            let rows = self.apply_scalar(&ones);
-            for i in 0..rows.len() {
-                if closed[i] && rows[i] > 0.0 {
-                    self.row[i] *= row_target[i] / rows[i];
-                }
-            }
-            cols = column_sums(self);
+        });
+        let closed_column = (self.links.has_dark() || !open.is_empty()).then(|| {
+            (0..closed.len())
+                .map(|j| (closed[j] || measured(j)) && !black(j))
+                .collect()
+        });
+        Targets {
+            target,
+            closed,
+            row_target,
+            col_target,
+            closed_column,
         }
-        // Rows and columns cannot both reach targets whose area-weighted totals differ (a floor
-        // patch with a vertex pressed under a desk leg's foot gathers two thirds of what it
-        // sends): the columns decide whether light is kept, so a last plain column step makes
-        // them exact and the rows carry the inconsistency (about 10⁻⁸ on average).
-        if stats.iterations > 0 {
-            for j in 0..cols.len() {
-                if closed_column[j] && cols[j] > 0.0 {
-                    self.col[j] *= (target[j] / cols[j]).clamp(0.5, 2.0);
-                }
-            }
-            cols = column_sums(self);
-            stats.column_error_after = column_error(&cols);
-            stats.worst_column_after = worst(&cols);
-        }
-        stats.row_error_after = row_error(&self.apply_scalar(&ones));
-        stats
     }
+
+    /// Each patch's column sum (where its light goes, Σᵢ Aᵢ·G_ij / Aⱼ) under the current
+    /// scalings; `areas`: the patches' areas.
+    fn column_sums(&self, areas: &[f64]) -> Vec<f64> {
+        self.apply_transpose(areas)
+            .iter()
+            .zip(areas)
+            .map(|(z, a)| z / a)
+            .collect()
+    }
+
+    /// One Sinkhorn step on the balanced columns toward their targets from their sums `cols`:
+    /// over-relaxed (exponent ω = 1.5) where `relax`, the slow, smooth part of the error going
+    /// several times faster; the factor bounded for safety.
+    fn scale_columns(&mut self, cols: &[f64], t: &Targets, relax: bool) {
+        let (target, closed_column) = (t.columns(), t.closed_columns());
+        for j in 0..cols.len() {
+            if closed_column[j] && cols[j] > 0.0 {
+                self.col[j] *= match relax {
+                    true => (target[j] / cols[j]).powf(OVERRELAX).clamp(0.5, 2.0),
+                    false => (target[j] / cols[j]).clamp(0.5, 2.0),
+                };
+            }
+        }
+    }
+}
+
+/// The targets of [`PatchOperator::balance`]: one minus the back faces per patch, whether each
+/// patch is closed, and where black nodes or measured escape make them differ, the rows' and
+/// columns' own targets and the set of columns balanced (`None`: `target` and `closed`).
+struct Targets {
+    target: Vec<f64>,
+    closed: Vec<bool>,
+    row_target: Option<Vec<f64>>,
+    col_target: Option<Vec<f64>>,
+    closed_column: Option<Vec<bool>>,
+}
+
+impl Targets {
+    /// What each closed patch's row sums to.
+    fn rows(&self) -> &[f64] {
+        self.row_target.as_deref().unwrap_or(&self.target)
+    }
+
+    /// What each balanced column sums to.
+    fn columns(&self) -> &[f64] {
+        self.col_target.as_deref().unwrap_or(&self.target)
+    }
+
+    /// Which columns are balanced (and measured).
+    fn closed_columns(&self) -> &[bool] {
+        self.closed_column.as_deref().unwrap_or(&self.closed)
+    }
+}
+
+/// How far row and column sums are from their [`Targets`], weighted by the patches' `areas`.
+struct Errors<'a> {
+    areas: &'a [f64],
+    t: &'a Targets,
+}
+
+impl Errors<'_> {
+    /// The area-weighted mean |sum − target| over the patches in `set`: what loses or creates
+    /// flux each bounce.
+    fn mean(&self, sums: &[f64], target: &[f64], set: &[bool]) -> f64 {
+        let (mut deviation, mut area) = (0.0, 0.0);
+        for i in (0..sums.len()).filter(|&i| set[i]) {
+            deviation += self.areas[i] * (sums[i] - target[i]).abs();
+            area += self.areas[i];
+        }
+        deviation / area.max(1e-300)
+    }
+
+    /// The mean deviation of the closed patches' row sums.
+    fn rows(&self, sums: &[f64]) -> f64 {
+        self.mean(sums, self.t.rows(), &self.t.closed)
+    }
+
+    /// The mean deviation of the balanced columns' sums.
+    fn columns(&self, sums: &[f64]) -> f64 {
+        self.mean(sums, self.t.columns(), self.t.closed_columns())
+    }
+
+    /// The largest single deviation of a balanced column's sum.
+    fn worst(&self, sums: &[f64]) -> f64 {
+        let (target, closed_column) = (self.t.columns(), self.t.closed_columns());
+        (0..sums.len())
+            .filter(|&i| closed_column[i])
+            .map(|i| (sums[i] - target[i]).abs())
+            .fold(0.0, f64::max)
+    }
+}
+
+/// What the transpose scatters onto the tree's nodes: per node the summed coefficients, per
+/// inner node the first moments, per named cluster node its normal distribution.
+struct Scattered {
+    acc: Vec<f64>,
+    grad: Vec<DVec3>,
+    sh: Vec<[f64; DIST]>,
+}
+
+impl Scattered {
+    /// Adds `other` element by element (each sum on its own: parallel and deterministic).
+    fn add(&mut self, other: &Scattered) {
+        self.acc
+            .par_iter_mut()
+            .zip(&other.acc)
+            .for_each(|(a, b)| *a += b);
+        self.grad
+            .par_iter_mut()
+            .zip(&other.grad)
+            .for_each(|(a, b)| *a += *b);
+        self.sh.par_iter_mut().zip(&other.sh).for_each(|(a, b)| {
+            for (x, y) in a.iter_mut().zip(b) {
+                *x += y;
+            }
+        });
+    }
+}
+
+/// The cluster sum at the inner node spanning `start..end` of the tree's order: its own
+/// accumulation `own` plus those of the inner nodes above it, kept on `path` (their ends and
+/// cumulative sums; nodes come in pre-order, so those ending at or before `start` are done).
+fn cluster_sum(
+    path: &mut Vec<(u32, [f64; DIST])>,
+    own: Option<[f64; DIST]>,
+    [start, end]: [u32; 2],
+) -> [f64; DIST] {
+    while path.last().is_some_and(|(e, _)| *e <= start) {
+        path.pop();
+    }
+    let sum = match (own, path.last()) {
+        (Some(own), Some((_, up))) => std::array::from_fn(|k| own[k] + up[k]),
+        (Some(own), None) => own,
+        (None, Some((_, up))) => *up,
+        (None, None) => [0.0; DIST],
+    };
+    path.push((end, sum));
+    sum
 }
 
 #[cfg(test)]
