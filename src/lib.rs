@@ -10,7 +10,6 @@
 //! Units are SI and photometric (m, lx, cd, cd/m², lm); axes are glTF's, +Y up.
 
 pub mod bake;
-pub mod readback;
 pub mod contacts;
 pub mod design;
 pub mod diff;
@@ -21,7 +20,9 @@ pub mod fit;
 #[doc(hidden)]
 pub mod fixtures;
 pub mod geom;
+pub mod gmres;
 pub mod heap;
+pub mod html_report;
 pub mod import;
 pub mod lightmap;
 pub mod machine;
@@ -31,14 +32,13 @@ pub mod picture;
 pub mod plan;
 pub mod probes;
 pub mod progress;
+pub mod readback;
 pub mod report;
 pub mod result;
 pub mod scene;
 pub mod settings;
 pub mod shardfile;
-pub mod html_report;
 pub mod solution;
-pub mod gmres;
 pub mod summary;
 pub mod table;
 pub mod transport;

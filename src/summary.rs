@@ -7,8 +7,8 @@
 //! error naming it, never a default. Fields that may be `null` are written as `null`, not left
 //! out ([`required`]).
 
-use crate::settings::{Exposure, ProbeGrid, Quality, QualityParams, Settings};
 pub use crate::gmres::SolveStats;
+use crate::settings::{Exposure, ProbeGrid, Quality, QualityParams, Settings};
 pub use crate::transport::operator::BalanceStats;
 use serde::{Deserialize, Deserializer, Serialize};
 

@@ -344,7 +344,10 @@ fn a_legs_foot_leaves_the_floor_uncut_and_covers_itself() {
     let scene = b.build();
     let r = bake(&scene, &Settings::default(), &Silent).expect("bake");
     let named = |name: &str| {
-        let node = scene.nodes.iter().position(|n| n.name.as_deref() == Some(name));
+        let node = scene
+            .nodes
+            .iter()
+            .position(|n| n.name.as_deref() == Some(name));
         scene.nodes[node.unwrap_or_else(|| panic!("{name}"))].surfaces[0]
     };
     let floor = (0..6)
@@ -375,5 +378,8 @@ fn a_legs_foot_leaves_the_floor_uncut_and_covers_itself() {
     let least = shown
         .flat_map(|s| s.illuminance.iter().copied())
         .fold(f32::INFINITY, f32::min);
-    assert!(least.is_finite() && least > 1.0, "the leg's minimum {least} lx");
+    assert!(
+        least.is_finite() && least > 1.0,
+        "the leg's minimum {least} lx"
+    );
 }

@@ -277,7 +277,10 @@ fn dask_retries_a_failed_task_once_and_exits_1_when_it_fails_again() {
     assert_eq!(run.status.code(), Some(0), "{stderr}");
     let attempts = std::fs::read_to_string(dir.join("attempts-1")).unwrap();
     assert_eq!(attempts.trim(), "2", "task 1 ran {attempts} times");
-    assert!(one == std::fs::read(&out).unwrap(), "the retried bake differs");
+    assert!(
+        one == std::fs::read(&out).unwrap(),
+        "the retried bake differs"
+    );
 
     let out = dir.join("failed.glb");
     let run = dask_run(&python, &input, &out, &flaky_bake(&dir, 2));

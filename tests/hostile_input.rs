@@ -702,18 +702,34 @@ fn devices_and_fifos_are_refused_as_inputs() {
         (vec!["luminaire".into(), link("z.ies")], "z.ies".into()),
         (vec!["design".into(), link("z.csv")], "z.csv".into()),
         (
-            vec![scene.into(), "-o".into(), o.into(), "--targets".into(), link("t.json")],
+            vec![
+                scene.into(),
+                "-o".into(),
+                o.into(),
+                "--targets".into(),
+                link("t.json"),
+            ],
             "t.json".into(),
         ),
         (
-            vec![scene.into(), "-o".into(), o.into(), "--probes".into(), link("p.csv")],
+            vec![
+                scene.into(),
+                "-o".into(),
+                o.into(),
+                "--probes".into(),
+                link("p.csv"),
+            ],
             "p.csv".into(),
         ),
     ];
     for (args, name) in cases {
         let start = std::time::Instant::now();
         let run = bake(&args);
-        assert!(start.elapsed().as_secs() < 20, "{args:?} took {:?}", start.elapsed());
+        assert!(
+            start.elapsed().as_secs() < 20,
+            "{args:?} took {:?}",
+            start.elapsed()
+        );
         assert_refused(&run, &out, &[&name, "not a regular file"]);
     }
 }

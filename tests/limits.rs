@@ -338,13 +338,27 @@ fn the_memory_model_bounds_the_measured_peak() {
     use luxbake::bake::budget::{BYTES_BASE, BYTES_PER_PATCH, BYTES_PER_PROBE};
     let dir = scratch("limits-memory-model");
     let floor = dir.join("floor.gltf");
-    let run = bake(["generate", "openplan", "--triangles", "3000", "-q", "-o", s(&floor)]);
+    let run = bake([
+        "generate",
+        "openplan",
+        "--triangles",
+        "3000",
+        "-q",
+        "-o",
+        s(&floor),
+    ]);
     assert!(run.ok(), "{}", run.stderr);
     let office = Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/office/office.gltf");
-    let runs = [("office", office.as_path(), "1"), ("floor", floor.as_path(), "2")];
+    let runs = [
+        ("office", office.as_path(), "1"),
+        ("floor", floor.as_path(), "2"),
+    ];
     for (name, input, threads) in runs {
         {
-            let (out, json) = (dir.join("lit.glb"), dir.join(format!("{name}-{threads}.json")));
+            let (out, json) = (
+                dir.join("lit.glb"),
+                dir.join(format!("{name}-{threads}.json")),
+            );
             let csv = dir.join("probes.csv");
             let run = bake([
                 s(input),
@@ -375,7 +389,10 @@ fn the_memory_model_bounds_the_measured_peak() {
                 model / 1048576.0,
                 model / peak
             );
-            assert!(peak > 0.0 && peak <= model, "{name}: peak {peak} B above the model's {model} B");
+            assert!(
+                peak > 0.0 && peak <= model,
+                "{name}: peak {peak} B above the model's {model} B"
+            );
         }
     }
 }

@@ -7,9 +7,9 @@
 mod support;
 
 use glam::{DVec2, DVec3};
-use luxbake::readback::BakedOutput;
 use luxbake::fixtures::SceneBuilder;
 use luxbake::plan::{self, Options, Plan, Quantity, Source};
+use luxbake::readback::BakedOutput;
 use luxbake::scene::Scene;
 use luxbake::settings::{LightmapSettings, ProbeGrid, Quality, Settings};
 use std::path::PathBuf;

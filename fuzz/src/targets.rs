@@ -8,9 +8,9 @@
 //! each further part is `NAME\nBYTES`, written as a file beside it (a `.bin` buffer, an `.mtl`,
 //! an IES profile), so the fuzzer can also mutate the files a scene references.
 
-use luxbake::readback::{self, BakedOutput};
 use luxbake::import::{self, GltfFile, ImportOptions, UpAxis};
 use luxbake::photometry::{Format, Photometry};
+use luxbake::readback::{self, BakedOutput};
 use luxbake::report::{self, Targets};
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;

@@ -12,7 +12,7 @@
 
 use super::run::{RayStage, Run, Stage};
 use super::{Solved, budget, direct, energy, finish, links, meshing, patch_size, solution_of};
-use super::{solve, summary_of};
+use super::{Stages, solve, summary_of};
 use crate::error::{Error, Result};
 use crate::progress::Progress;
 use crate::result::BakeResult;
@@ -111,9 +111,14 @@ pub fn bake_groups(
             progress.warn(&w);
         }
         let energy = energy::balance(&meshed, &occluder, &flux, &radiosity);
-        let summary = summary_of(
-            scene, settings, h, &meshed, &occluder, &flux, &radiosity, energy, &run,
-        );
+        let stages = Stages {
+            meshed: &meshed,
+            occluder: &occluder,
+            flux: &flux,
+            radiosity: &radiosity,
+            run: &run,
+        };
+        let summary = summary_of(scene, settings, h, stages, energy);
         // Each solution owns its occluder: the same BVH, built again.
         let own = Occluder::build(mesh_scene, options);
         let solution = solution_of(scene, meshed, own, vertex_direct, radiosity, params.tau);

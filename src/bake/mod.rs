@@ -308,9 +308,14 @@ fn complete<'a>(
         progress.warn(&w);
     }
 
-    let summary = summary_of(
-        scene, settings, h, &meshed, &occluder, &flux, &radiosity, energy, &run,
-    );
+    let stages = Stages {
+        meshed: &meshed,
+        occluder: &occluder,
+        flux: &flux,
+        radiosity: &radiosity,
+        run: &run,
+    };
+    let summary = summary_of(scene, settings, h, stages, energy);
     let solution = solution_of(
         scene,
         meshed,
@@ -326,20 +331,31 @@ fn complete<'a>(
     })
 }
 
+/// What the stages up to the energy report made, as the run summary reads it.
+struct Stages<'a> {
+    meshed: &'a meshing::Meshed<'a>,
+    occluder: &'a Occluder,
+    flux: &'a direct::PatchFlux,
+    radiosity: &'a solve::Radiosity,
+    run: &'a Run,
+}
+
 /// The run summary of the stages up to the energy report (the exposure and the timings are
 /// added when the output is shaped).
-#[allow(clippy::too_many_arguments)]
 fn summary_of(
     scene: &Scene,
     settings: &Settings,
     h: f64,
-    meshed: &meshing::Meshed,
-    occluder: &Occluder,
-    flux: &direct::PatchFlux,
-    radiosity: &solve::Radiosity,
+    stages: Stages,
     energy: EnergyBalance,
-    run: &Run,
 ) -> RunSummary {
+    let Stages {
+        meshed,
+        occluder,
+        flux,
+        radiosity,
+        run,
+    } = stages;
     RunSummary {
         tool: format!("luxbake {}", env!("CARGO_PKG_VERSION")),
         settings: SettingsRecord::from(settings),

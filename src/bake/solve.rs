@@ -9,8 +9,8 @@
 
 use super::links::{self, Rows};
 use super::meshing::Meshed;
-use crate::scene::luma;
 use crate::gmres::{self, SolveStats};
+use crate::scene::luma;
 use crate::transport::escape;
 use crate::transport::operator::BalanceStats;
 use crate::transport::{operator::PatchOperator, tree::PatchTree};

@@ -166,10 +166,15 @@ impl<'a> Job<'a> {
             .flatten()
             .chain(args.settings.probes.in_path())
             .collect();
-        let extras = (args.settings.probes.out_path().map(Extra::Probes).into_iter())
-            .chain(args.summary_json.as_deref().map(Extra::Summary))
-            .chain(args.report_out.as_deref().map(Extra::Report))
-            .collect();
+        let extras = (args
+            .settings
+            .probes
+            .out_path()
+            .map(Extra::Probes)
+            .into_iter())
+        .chain(args.summary_json.as_deref().map(Extra::Summary))
+        .chain(args.report_out.as_deref().map(Extra::Report))
+        .collect();
         let wants_report = args.report.is_some()
             || args.report_out.is_some()
             || args.report_by.is_some()
@@ -203,7 +208,8 @@ impl<'a> Job<'a> {
         let Some(_) = self.report else {
             return Ok(None);
         };
-        let options = super::report::options(a.report_by.unwrap_or(ByArg::Both), a.targets.as_deref())?;
+        let options =
+            super::report::options(a.report_by.unwrap_or(ByArg::Both), a.targets.as_deref())?;
         if let Some(t) = &options.targets
             && t.wants_working_plane()
             && self.settings.working_plane.is_none()
@@ -266,7 +272,12 @@ fn run_job(job: Job) -> Result<()> {
         Step::Whole => pool.install(|| luxbake::bake::bake(&scene, settings, &progress))?,
     };
     progress.mark("output");
-    let written = Written { job: &job, scene: &scene, result: &result, pool: &pool };
+    let written = Written {
+        job: &job,
+        scene: &scene,
+        result: &result,
+        pool: &pool,
+    };
     let report_text = written.write(report_options.as_ref(), &progress, start)?;
     progress.done();
     if !job.args.quiet {
@@ -299,9 +310,7 @@ impl Written<'_> {
         let (job, settings) = (self.job, &self.job.settings);
         let options = ExportOptions {
             unlit: !settings.keep_lit_materials,
-            probe_glyphs: settings
-                .probe_glyphs
-                .then(|| export::glyph_scale(settings)),
+            probe_glyphs: settings.probe_glyphs.then(|| export::glyph_scale(settings)),
         };
         // One batch: the lightmaps, the .bin and the glTF (its rename commits the set), then the
         // extras, each renamed after the glTF.

@@ -5,9 +5,9 @@
 //! the factors applied (multipliers of luminaires, intensities of lights, emitted amounts of
 //! materials) to FITTED, and prints the factors and, per surface, design, achieved and ratio.
 
-use super::settings::{SettingsArgs, UpArg};
 use super::progress::CliProgress;
 use super::report::FormatArg;
+use super::settings::{SettingsArgs, UpArg};
 use anyhow::Result;
 use clap::{Args, ValueEnum};
 use luxbake::Error;

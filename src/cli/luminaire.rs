@@ -32,7 +32,8 @@ pub fn run(args: &LuminaireArgs) -> Result<()> {
         luxbake::export::check_files(&[file], &[svg])?;
         super::formats::extension(svg, "--polar", &["svg"], "the polar curve")?;
     }
-    let bytes = luxbake::import::files::read(file).with_context(|| format!("{}: cannot read", file.display()))?;
+    let bytes = luxbake::import::files::read(file)
+        .with_context(|| format!("{}: cannot read", file.display()))?;
     let photometry = Photometry::parse(&bytes, format)
         .map_err(|e| anyhow::anyhow!("{}: {e}", file.display()))?;
     if let Some(svg) = &args.polar {

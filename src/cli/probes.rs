@@ -85,7 +85,6 @@ impl ProbeArgs {
     pub fn in_path(&self) -> Option<&Path> {
         self.probes.as_deref()
     }
-
 }
 
 /// The bytes of a `--probes-out` file at `path` (its format by extension).

@@ -8,10 +8,10 @@
 use anyhow::Result;
 use clap::{Args, ValueEnum};
 use luxbake::Error;
-use luxbake::readback::BakedOutput;
-use luxbake::import::{self, ImportOptions};
-use luxbake::report::{self, By, Format, Options, Targets};
 use luxbake::html_report;
+use luxbake::import::{self, ImportOptions};
+use luxbake::readback::BakedOutput;
+use luxbake::report::{self, By, Format, Options, Targets};
 use std::path::{Path, PathBuf};
 
 /// Print the lighting report of a luxbake output.
@@ -129,7 +129,12 @@ pub fn run(args: &ReportArgs) -> Result<()> {
                 let inputs: Vec<&Path> = scene.input_files.iter().map(PathBuf::as_path).collect();
                 luxbake::export::check_files(&inputs, &[out])?;
             }
-            html_report::document(&input, scene.as_ref(), &rep, &html_report::Options::default())?
+            html_report::document(
+                &input,
+                scene.as_ref(),
+                &rep,
+                &html_report::Options::default(),
+            )?
         }
     };
     match &args.output {

@@ -173,4 +173,3 @@ pub fn settings(args: &SettingsArgs) -> Result<Settings> {
     settings.validate()?;
     Ok(settings)
 }
-

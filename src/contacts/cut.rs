@@ -673,7 +673,11 @@ fn lex_less(a: DVec3, b: DVec3) -> bool {
 }
 
 /// Split a convex polygon of plain points by `dist = 0` (see [`clip_points`]).
-pub(crate) fn clip(poly: &[DVec3], dist: impl Fn(DVec3) -> f64, eps: f64) -> (Vec<DVec3>, Vec<DVec3>) {
+pub(crate) fn clip(
+    poly: &[DVec3],
+    dist: impl Fn(DVec3) -> f64,
+    eps: f64,
+) -> (Vec<DVec3>, Vec<DVec3>) {
     let lerp = |a: &DVec3, b: &DVec3| {
         let (a, b) = if lex_less(*b, *a) { (b, a) } else { (a, b) };
         let (da, db) = (dist(*a), dist(*b));

@@ -39,9 +39,9 @@ mod by_position;
 mod compare;
 mod lightmaps;
 pub mod matching;
+pub mod render;
 mod stats;
 mod surfaces;
-pub mod render;
 
 pub use compare::{compare, default_floor};
 

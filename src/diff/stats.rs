@@ -190,7 +190,13 @@ impl Columns {
     }
 
     /// Test one value; a differing one becomes a candidate for the worst places.
-    pub(crate) fn push(&mut self, c: Check, worst: &mut Worst, at: (usize, Loc), (a, b): (f64, f64)) {
+    pub(crate) fn push(
+        &mut self,
+        c: Check,
+        worst: &mut Worst,
+        at: (usize, Loc),
+        (a, b): (f64, f64),
+    ) {
         self.abs.push(c.abs);
         self.rel.push(c.rel);
         self.failed.push(!c.pass);

@@ -141,7 +141,12 @@ impl AngleBounds {
     /// Is the bound over the cone of [`AngleBounds::over_cone`] above zero: can any light leave
     /// in those directions? The same answer as `over_cone(..) > 0.0`, without looking at C where
     /// every C sector of the γ bands is lit (a downlight seen from below: most queries).
-    pub(crate) fn lights_cone(&self, world_from_photometric: &DMat3, dir: DVec3, radius: f64) -> bool {
+    pub(crate) fn lights_cone(
+        &self,
+        world_from_photometric: &DMat3,
+        dir: DVec3,
+        radius: f64,
+    ) -> bool {
         let g = gamma_deg(world_from_photometric.transpose() * dir);
         let widen = radius.to_degrees() + C_MARGIN;
         let (k, a, b) = band_runs((g - widen, g + widen));

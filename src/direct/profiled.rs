@@ -144,7 +144,12 @@ impl<'a> Surface<'a> {
     }
 
     /// `(front, back)` flux (lm) into a triangle patch of the scene.
-    pub(crate) fn patch_flux(&self, occ: &Occluder, corners: &[DVec3; 3], normal: DVec3) -> (f64, f64) {
+    pub(crate) fn patch_flux(
+        &self,
+        occ: &Occluder,
+        corners: &[DVec3; 3],
+        normal: DVec3,
+    ) -> (f64, f64) {
         let c = (corners[0] + corners[1] + corners[2]) / 3.0;
         let budget = 1e-6 * self.flux;
         let mut total = (0.0, 0.0);

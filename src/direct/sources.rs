@@ -158,7 +158,12 @@ impl<'a> DirectSource<'a> {
     /// Does the source lie wholly behind the plane through `c` with unit normal `n` — so that
     /// there it can light only a patch's back — and, when `solid` is given, wholly outside that
     /// box? Conservative: profiled emitting surfaces always answer no.
-    pub(crate) fn behind_and_outside(&self, c: DVec3, n: DVec3, solid: Option<enclosed::Bounds>) -> bool {
+    pub(crate) fn behind_and_outside(
+        &self,
+        c: DVec3,
+        n: DVec3,
+        solid: Option<enclosed::Bounds>,
+    ) -> bool {
         // Runs for every patch and source: no allocation.
         let corners: [DVec3; 4] = match self {
             // At infinity: outside every box.

@@ -51,7 +51,11 @@ pub struct LocalPrimitive {
 }
 
 /// Convert `readback` into `frame`'s local space; `what` names it in errors.
-pub(crate) fn to_local(baked: &BakedSurface, frame: &LocalFrame, what: &str) -> Result<LocalPrimitive> {
+pub(crate) fn to_local(
+    baked: &BakedSurface,
+    frame: &LocalFrame,
+    what: &str,
+) -> Result<LocalPrimitive> {
     let n = baked.positions.len();
     let bad = |m: String| Error::Bake(format!("{what}: {m}"));
     let check_len = |name: &str, len: usize| {

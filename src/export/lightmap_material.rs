@@ -39,7 +39,12 @@ pub struct Variants {
 
 impl Variants {
     /// The variants `result` needs (none unless `readback`); the first gets index `first`.
-    pub(crate) fn plan(scene: &Scene, result: &BakeResult, baked: bool, first: usize) -> Result<Self> {
+    pub(crate) fn plan(
+        scene: &Scene,
+        result: &BakeResult,
+        baked: bool,
+        first: usize,
+    ) -> Result<Self> {
         let mut index = BTreeMap::new();
         if !baked {
             return Ok(Variants { index });

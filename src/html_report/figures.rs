@@ -6,9 +6,9 @@
 //! Everything is deterministic: same bake and options, same bytes.
 
 use super::inline::data_uri;
-use crate::readback::{BakedOutput, ProbeNode};
 use crate::picture::{legend, scale::ColourScale};
 use crate::probes::metrics::from_faces;
+use crate::readback::{BakedOutput, ProbeNode};
 use crate::report::PlaneRow;
 use crate::scene::Scene;
 use crate::view::{self, Camera, ViewOptions};

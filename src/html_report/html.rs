@@ -45,7 +45,13 @@ pub(crate) fn num(s: impl Into<String>) -> Cell {
 }
 
 /// A table with an id, a caption, headers and rows.
-pub(crate) fn table(out: &mut String, id: &str, caption: &str, headers: &[&str], rows: &[Vec<Cell>]) {
+pub(crate) fn table(
+    out: &mut String,
+    id: &str,
+    caption: &str,
+    headers: &[&str],
+    rows: &[Vec<Cell>],
+) {
     let _ = writeln!(out, r#"<table id="{}">"#, escape(id));
     let _ = writeln!(out, "<caption>{}</caption>", escape(caption));
     out.push_str("<thead><tr>");

@@ -73,7 +73,8 @@ impl Ctx {
 
     /// Read the whole input file.
     pub(crate) fn read_input(&self) -> Result<Vec<u8>> {
-        super::files::read(&self.file).map_err(|e| self.err("", format!("cannot read the file: {e}")))
+        super::files::read(&self.file)
+            .map_err(|e| self.err("", format!("cannot read the file: {e}")))
     }
 
     /// Note that a (canonical) file was read.

@@ -25,12 +25,8 @@ pub fn read(path: &Path) -> std::io::Result<Vec<u8>> {
 
 /// [`read`] as UTF-8 text (a leading byte-order mark kept: parsers skip it where they allow it).
 pub fn read_text(path: &Path) -> std::io::Result<String> {
-    String::from_utf8(read(path)?).map_err(|_| {
-        Error::new(
-            ErrorKind::InvalidData,
-            "stream did not contain valid UTF-8",
-        )
-    })
+    String::from_utf8(read(path)?)
+        .map_err(|_| Error::new(ErrorKind::InvalidData, "stream did not contain valid UTF-8"))
 }
 
 #[cfg(test)]

@@ -22,7 +22,9 @@
 use super::frame::{Frame, PhotometricType};
 use super::grid::{EPS_DEG, Grid};
 use super::symmetry::{Plane, Symmetry, complete_c};
-use super::tokens::{Tokens, check_increasing, err, last_content_line, lines as split_lines, number};
+use super::tokens::{
+    Tokens, check_increasing, err, last_content_line, lines as split_lines, number,
+};
 use super::{FileInfo, Opening, OpeningShape, ParseError, Parsed};
 
 /// The file's lines with typed access by 1-based line number.

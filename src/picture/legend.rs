@@ -41,7 +41,13 @@ pub fn false_colour(
 }
 
 /// The values in the scale's colours, with band edges drawn when `contours`.
-pub(crate) fn coloured(values: &[f64], w: u32, h: u32, scale: &ColourScale, contours: bool) -> Rgb8Image {
+pub(crate) fn coloured(
+    values: &[f64],
+    w: u32,
+    h: u32,
+    scale: &ColourScale,
+    contours: bool,
+) -> Rgb8Image {
     let mut img = Rgb8Image::new(w, h, NO_DATA);
     for (p, v) in img.pixels.iter_mut().zip(values) {
         if !v.is_nan() {

@@ -20,8 +20,8 @@ pub mod raster;
 pub mod surface;
 pub mod svg;
 
-use crate::readback::BakedOutput;
 use crate::picture::scale::ColourScale;
+use crate::readback::BakedOutput;
 use crate::{Error, Result};
 use field::Field;
 use frame::Frame;

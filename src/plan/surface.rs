@@ -22,13 +22,18 @@ use super::Quantity;
 use super::field::{Field, Sampled};
 use super::frame::Frame;
 use super::outline::{self, normal};
-use crate::readback::{BakedOutput, Primitive, keys};
 use crate::picture::scale::round_up;
+use crate::readback::{BakedOutput, Primitive, keys};
 use crate::{Error, Result};
 use glam::{DVec2, DVec3};
 
 /// The plan of the node named (or with path) `node`.
-pub(crate) fn sample(input: &BakedOutput, key: &str, quantity: Quantity, cells: f64) -> Result<Sampled> {
+pub(crate) fn sample(
+    input: &BakedOutput,
+    key: &str,
+    quantity: Quantity,
+    cells: f64,
+) -> Result<Sampled> {
     let (node, face) =
         keys::split_face(key).map_err(|m| Error::Settings(format!("--surface {key}: {m}")))?;
     let i = find_node(input, node)?;

@@ -34,7 +34,12 @@ pub struct Wanted<'a> {
 }
 
 /// All probes of a bake, in order: nodes, grid, explicit, working plane.
-pub(crate) fn all(scene: &Scene, wanted: Wanted, occ: &Occluder, progress: &dyn Progress) -> Vec<Probe> {
+pub(crate) fn all(
+    scene: &Scene,
+    wanted: Wanted,
+    occ: &Occluder,
+    progress: &dyn Progress,
+) -> Vec<Probe> {
     let mut out = node_probes(scene);
     if let Some(g) = wanted.grid {
         out.extend(grid(

@@ -8,8 +8,8 @@
 //! elevation above the horizontal, negative when light flows down; azimuth), scalar
 //! illuminance, vector/scalar ratio, cylindrical illuminance.
 
-use crate::readback::BakedOutput;
 use crate::probes::metrics::from_faces;
+use crate::readback::BakedOutput;
 
 /// Cubic-illuminance figures of one probe (lx, degrees).
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]

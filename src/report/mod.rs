@@ -26,11 +26,11 @@
 
 mod csv;
 pub mod cubic;
+pub mod render;
 pub mod rows;
 pub mod schedule;
 mod sums;
 pub mod targets;
-pub mod render;
 
 pub use cubic::{Cubic, ProbeRow, ProbeSummary};
 pub use rows::{Filter, PlaneRow, Row, Source};

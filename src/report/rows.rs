@@ -9,8 +9,8 @@
 pub use super::sums::{Filter, Source};
 
 use super::sums::Sums;
-use crate::readback::{BakedOutput, PlaneInput, PlanePoint, Primitive};
 use crate::probes::ProbeGrid;
+use crate::readback::{BakedOutput, PlaneInput, PlanePoint, Primitive};
 
 /// One surface group's figures.
 #[derive(Debug, Clone, PartialEq, serde::Serialize)]
@@ -131,7 +131,12 @@ pub(crate) fn source_of(rows: &[Row]) -> Option<Source> {
 
 /// The figures over `prims` (None when nothing with area passes the filter), from texels where
 /// a primitive has them.
-pub(crate) fn row(input: &BakedOutput, name: &str, prims: &[&Primitive], filter: &Filter) -> Option<Row> {
+pub(crate) fn row(
+    input: &BakedOutput,
+    name: &str,
+    prims: &[&Primitive],
+    filter: &Filter,
+) -> Option<Row> {
     row_from(input, name, prims, filter, true)
 }
 

@@ -64,7 +64,13 @@ pub(super) struct Sums {
 
 impl Sums {
     /// Add primitive `p`, from its texels when it has some and `texels`.
-    pub(crate) fn add(&mut self, input: &BakedOutput, p: &Primitive, filter: &Filter, texels: bool) {
+    pub(crate) fn add(
+        &mut self,
+        input: &BakedOutput,
+        p: &Primitive,
+        filter: &Filter,
+        texels: bool,
+    ) {
         let rho = input
             .materials
             .get(p.material)

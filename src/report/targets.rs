@@ -81,7 +81,11 @@ impl Targets {
     }
 
     /// Each target beside the bake's figure.
-    pub(crate) fn rows(&self, input: &BakedOutput, plane_avg: Option<f64>) -> Result<Vec<TargetRow>> {
+    pub(crate) fn rows(
+        &self,
+        input: &BakedOutput,
+        plane_avg: Option<f64>,
+    ) -> Result<Vec<TargetRow>> {
         self.entries
             .iter()
             .map(|(key, target)| {

@@ -20,7 +20,12 @@ use rayon::prelude::*;
 /// Rays a measured patch gets on average.
 const MEAN_RAYS: f64 = 256.0;
 
-pub(crate) fn open_fractions(mesh: &PatchMesh, occ: &Occluder, weight: &[f64], salt: u64) -> Vec<f64> {
+pub(crate) fn open_fractions(
+    mesh: &PatchMesh,
+    occ: &Occluder,
+    weight: &[f64],
+    salt: u64,
+) -> Vec<f64> {
     let measured = weight.iter().filter(|&&w| w > 0.0).count();
     let total: f64 = weight.iter().filter(|&&w| w > 0.0).sum();
     let budget = MEAN_RAYS * measured as f64;

@@ -110,7 +110,11 @@ impl ReceiverLinks {
 
     /// Gather rows at `points` (point, unit normal), appended as rows `rows()..`, in parallel
     /// over fixed chunks, kept in order: deterministic. Returns what each gather said.
-    pub(crate) fn append(&mut self, gatherer: &Gatherer, points: &[(DVec3, DVec3)]) -> Vec<RowStats> {
+    pub(crate) fn append(
+        &mut self,
+        gatherer: &Gatherer,
+        points: &[(DVec3, DVec3)],
+    ) -> Vec<RowStats> {
         let built: Vec<(PackedRows, Vec<RowStats>)> = points
             .par_chunks(CHUNK)
             .map(|chunk| {

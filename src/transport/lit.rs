@@ -77,7 +77,13 @@ thread_local! {
 }
 
 /// Form factor of the part of triangle `t` (unit normal `m`) seen from `p` (unit normal `n`).
-pub(crate) fn visible_form_factor(occ: &Occluder, p: DVec3, n: DVec3, t: [DVec3; 3], m: DVec3) -> f64 {
+pub(crate) fn visible_form_factor(
+    occ: &Occluder,
+    p: DVec3,
+    n: DVec3,
+    t: [DVec3; 3],
+    m: DVec3,
+) -> f64 {
     TRACED.with_borrow_mut(|traced| {
         traced.points.clear();
         traced.sides.clear();

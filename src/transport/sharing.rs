@@ -127,7 +127,12 @@ impl Part {
 }
 
 /// The [`Part`] of `subset` (ascending receiver indices, whole groups).
-pub(crate) fn part(gatherer: &Gatherer, receivers: &[Vertex], subset: &[u32], sharing: &Sharing) -> Part {
+pub(crate) fn part(
+    gatherer: &Gatherer,
+    receivers: &[Vertex],
+    subset: &[u32],
+    sharing: &Sharing,
+) -> Part {
     let n = receivers.len();
     let mut links = ReceiverLinks::empty(gatherer.dark.is_some());
     if sharing.tolerance <= 0.0 {

@@ -251,42 +251,48 @@ impl Occluder {
         if too_many || on.is_empty() {
             return false;
         }
-        // The union of the triangles covers the section when one point of it is covered and no
-        // edge of the union (an edge not shared with a triangle on its other side) comes near it.
-        let centre = polygon.iter().copied().sum::<DVec2>() / polygon.len() as f64;
-        if !on.iter().any(|t| inside_2d(t.map(flat), centre)) {
+        union_covers(&on, (u, v), &polygon, reach)
+    }
+}
+
+/// Whether the union of the triangles `on` (lying on the plane spanned by `u`, `v`) covers the
+/// convex `polygon`: one point of it is covered and no edge of the union (an edge not shared
+/// with a triangle on its other side) comes within `reach` of it.
+fn union_covers(on: &[[DVec3; 3]], (u, v): (DVec3, DVec3), polygon: &[DVec2], reach: f64) -> bool {
+    let flat = |p: DVec3| DVec2::new(u.dot(p), v.dot(p));
+    let centre = polygon.iter().copied().sum::<DVec2>() / polygon.len() as f64;
+    if !on.iter().any(|t| inside_2d(t.map(flat), centre)) {
+        return false;
+    }
+    let key = |p: DVec3| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()];
+    let mut edges: Vec<([[u64; 3]; 2], f64, DVec2, DVec2)> = Vec::with_capacity(on.len() * 3);
+    for t in on {
+        for k in 0..3 {
+            let (a, b, c) = (t[k], t[(k + 1) % 3], t[(k + 2) % 3]);
+            let (a, b) = if key(a) <= key(b) { (a, b) } else { (b, a) };
+            let (fa, fb) = (flat(a), flat(b));
+            let turn = (fb - fa).perp_dot(flat(c) - fa).signum();
+            edges.push(([key(a), key(b)], turn, fa, fb));
+        }
+    }
+    edges.sort_by(|x, y| x.0.cmp(&y.0).then(x.1.total_cmp(&y.1)));
+    let mut i = 0;
+    while i < edges.len() {
+        let mut j = i + 1;
+        while j < edges.len() && edges[j].0 == edges[i].0 {
+            j += 1;
+        }
+        let shared = j - i == 2 && edges[i].1 * edges[i + 1].1 < 0.0;
+        if !shared
+            && edges[i..j]
+                .iter()
+                .any(|e| segment_meets_polygon(e.2, e.3, polygon, reach))
+        {
             return false;
         }
-        let key = |p: DVec3| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()];
-        let mut edges: Vec<([[u64; 3]; 2], f64, DVec2, DVec2)> = Vec::with_capacity(on.len() * 3);
-        for t in &on {
-            for k in 0..3 {
-                let (a, b, c) = (t[k], t[(k + 1) % 3], t[(k + 2) % 3]);
-                let (a, b) = if key(a) <= key(b) { (a, b) } else { (b, a) };
-                let (fa, fb) = (flat(a), flat(b));
-                let turn = (fb - fa).perp_dot(flat(c) - fa).signum();
-                edges.push(([key(a), key(b)], turn, fa, fb));
-            }
-        }
-        edges.sort_by(|x, y| x.0.cmp(&y.0).then(x.1.total_cmp(&y.1)));
-        let mut i = 0;
-        while i < edges.len() {
-            let mut j = i + 1;
-            while j < edges.len() && edges[j].0 == edges[i].0 {
-                j += 1;
-            }
-            let shared = j - i == 2 && edges[i].1 * edges[i + 1].1 < 0.0;
-            if !shared
-                && edges[i..j]
-                    .iter()
-                    .any(|e| segment_meets_polygon(e.2, e.3, &polygon, reach))
-            {
-                return false;
-            }
-            i = j;
-        }
-        true
+        i = j;
     }
+    true
 }
 
 /// Distance (BVH units) within which a triangle's corners count as lying on a plane.
