@@ -1,4 +1,4 @@
-//! The radiosity solve: restarted GMRES on (I − ρ·G)·B = b.
+//! The linear solver of the solve stage (`bake/solve.rs`): restarted GMRES on (I − ρ·G)·B = b.
 //!
 //! Input: the operator x ↦ x − ρ·G(x) as a closure over per-patch RGB vectors, the right-hand
 //! side b (first reflected exitance, ρ·E_direct), per-patch weights (areas: the inner product is

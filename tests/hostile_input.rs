@@ -733,3 +733,48 @@ fn devices_and_fifos_are_refused_as_inputs() {
         assert_refused(&run, &out, &[&name, "not a regular file"]);
     }
 }
+
+/// The later subcommands never write over a file they read (issue 59): `view -o` naming the
+/// bake's own lightmap EXR and `report -o` naming its targets file are refused (exit 1), a
+/// report named like the EXR is refused by its extension (exit 2), and the files keep their
+/// bytes.
+#[test]
+fn report_and_view_refuse_to_overwrite_the_files_they_read() {
+    let (input, out) = folders("overwrite-read");
+    let office = Path::new(env!("CARGO_MANIFEST_DIR")).join("samples/office/office.gltf");
+    let lit = out.join("lit.gltf");
+    let run = bake([
+        office.to_str().unwrap(),
+        "-o",
+        lit.to_str().unwrap(),
+        "-q",
+        "--quality",
+        "draft",
+        "--lightmaps",
+        "--texel-size",
+        "0.1",
+    ]);
+    assert!(run.ok(), "{}", run.stderr);
+    let exr = (std::fs::read_dir(&out).unwrap())
+        .map(|e| e.unwrap().path())
+        .find(|p| p.extension().is_some_and(|x| x == "exr"))
+        .expect("a lightmap EXR");
+    let targets = input.join("targets.json");
+    std::fs::write(&targets, r#"{"floor": 100}"#).unwrap();
+    let before = (std::fs::read(&exr).unwrap(), std::fs::read(&targets).unwrap());
+    let (l, e, t) = (lit.to_str().unwrap(), exr.to_str().unwrap(), targets.to_str().unwrap());
+    let cases: [Vec<&str>; 2] = [
+        vec!["view", l, "--camera", "camera_interior", "-o", e],
+        vec!["report", l, "--targets", t, "-o", t],
+    ];
+    for args in cases {
+        let run = bake(&args);
+        assert_eq!(run.code, Some(1), "{args:?}: {run:?}");
+        assert_error_line(&run, &["refusing to overwrite an input file"]);
+    }
+    // A report is never an .exr: refused by its extension (a usage error) before anything.
+    let run = bake(["report", l, "--format", "html", "-o", e]);
+    assert_eq!(run.code, Some(2), "{run:?}");
+    let after = (std::fs::read(&exr).unwrap(), std::fs::read(&targets).unwrap());
+    assert!(before == after, "an input was overwritten");
+}

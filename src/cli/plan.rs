@@ -8,7 +8,7 @@ use anyhow::Result;
 use clap::{Args, ValueEnum};
 use luxbake::Error;
 use luxbake::plan::{self, Options, Quantity, Source};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Draw a false-colour plan with isolux contours of the working plane or of a planar node.
 #[derive(Args, Debug)]
@@ -83,6 +83,10 @@ pub fn run(a: &PlanArgs) -> Result<()> {
     luxbake::export::check_files(&[&a.file], &[&a.output])?;
     let ext = super::formats::extension(&a.output, "-o", &["svg", "png"], "a plan")?;
     let input = luxbake::readback::read(&a.file)?;
+    let read: Vec<&Path> = std::iter::once(a.file.as_path())
+        .chain(input.resources.iter().map(PathBuf::as_path))
+        .collect();
+    luxbake::export::check_files(&read, &[&a.output])?;
     let plan = plan::build(&input, &options)?;
     let bytes = if ext == "svg" {
         plan.svg().into_bytes()

@@ -108,11 +108,20 @@ pub fn run(args: &ReportArgs) -> Result<()> {
         ))
         .into());
     }
+    // The report file against every file read: the bake, its targets and, once read, the
+    // bake's buffers and lightmap EXR files.
+    let mut read: Vec<&Path> = std::iter::once(args.file.as_path())
+        .chain(args.targets.as_deref())
+        .collect();
     if let Some(out) = &args.output {
-        luxbake::export::check_files(&[&args.file], &[out])?;
+        luxbake::export::check_files(&read, &[out])?;
     }
     let format = format_of(args.format, args.output.as_deref())?;
     let input = luxbake::readback::read(&args.file)?;
+    read.extend(input.resources.iter().map(PathBuf::as_path));
+    if let Some(out) = &args.output {
+        luxbake::export::check_files(&read, &[out])?;
+    }
     let text = match format {
         ReportFormat::Table => render(&input, &options, FormatArg::Table)?,
         ReportFormat::Markdown => render(&input, &options, FormatArg::Markdown)?,

@@ -236,7 +236,10 @@ pub fn run(args: &ViewArgs) -> Result<()> {
     }
     let camera = camera_of(args, &baked)?;
     let scene = import::load(&args.file, &ImportOptions::default())?;
-    let inputs: Vec<&Path> = scene.input_files.iter().map(PathBuf::as_path).collect();
+    let inputs: Vec<&Path> = (scene.input_files.iter())
+        .chain(&baked.resources)
+        .map(PathBuf::as_path)
+        .collect();
     export::check_files(&inputs, &outputs)?;
 
     let threads = args.threads.unwrap_or(0);

@@ -39,6 +39,9 @@ pub struct BakedOutput {
     pub summary: Option<Value>,
     /// The file it was read from (or the name of the output not yet written).
     pub file: PathBuf,
+    /// The files read besides it (buffers, images, lightmap EXR files; canonical paths): a
+    /// subcommand writing beside a bake checks its outputs against these.
+    pub resources: Vec<PathBuf>,
 }
 
 #[derive(Debug, Clone, PartialEq)]

@@ -173,6 +173,7 @@ fn from_file(file: &mut GltfFile, memory: Option<&Lightmaps>) -> Result<BakedOut
             .map(|e| e["luxbake"].clone())
             .filter(|s| !s.is_null()),
         file: file.path().to_path_buf(),
+        resources: file.resources_read().to_vec(),
     })
 }
 

@@ -16,7 +16,7 @@ use crate::{Error, Result};
 use ::gltf::mesh::{Mode, Semantic};
 use glam::DVec3;
 use serde_json::Value;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 pub struct GltfFile {
     ctx: Ctx,
@@ -68,6 +68,11 @@ impl GltfFile {
 
     pub(crate) fn path(&self) -> &Path {
         &self.ctx.file
+    }
+
+    /// The files read so far besides this one (canonical paths, each once).
+    pub(crate) fn resources_read(&self) -> &[PathBuf] {
+        &self.ctx.input_files
     }
 
     /// The bytes a `uri` of the element at `at` refers to (`data:` or a file inside the file's
