@@ -20,7 +20,7 @@ use rayon::prelude::*;
 
 /// Direct illuminance (lx, RGB) at every vertex of `mesh`: the vertices are receivers like any
 /// other, read before the solve.
-pub fn at_vertices(
+pub(crate) fn at_vertices(
     lights: &DirectLight,
     mesh: &PatchMesh,
     occ: &Occluder,
@@ -33,7 +33,7 @@ pub fn at_vertices(
 /// [`at_vertices`] at the vertices `subset` (indices into the mesh's receivers), in its order:
 /// each value is the one `at_vertices` gives that vertex (a vertex's light depends on it alone),
 /// so a distributed bake's tasks can each light their own.
-pub fn at_some_vertices(
+pub(crate) fn at_some_vertices(
     lights: &DirectLight,
     mesh: &PatchMesh,
     occ: &Occluder,
@@ -74,7 +74,7 @@ pub struct PatchFlux {
 /// hidden whole (chair legs: ±5·10⁻³ per source on the open plan). The factor puts the lost or
 /// surplus per mille back in proportion to what each patch received; the summary reports it
 /// (`closure`) beside what was integrated (`reachedSurfacesLm`).
-pub fn closure(sources: &[DirectSource], received: &[f64], escaped: &[f64]) -> Vec<f64> {
+pub(crate) fn closure(sources: &[DirectSource], received: &[f64], escaped: &[f64]) -> Vec<f64> {
     (sources.iter().zip(received).zip(escaped))
         .map(
             |((source, &received), &escaped)| match source.emitted_flux() {
@@ -102,7 +102,7 @@ const MAX_CLOSURE: f64 = 0.02;
 
 /// Direct flux into every patch of `mesh` from the scene's lights and luminaires, onto back
 /// faces and covered parts, and per source (see [`PatchFlux`]).
-pub fn into_patches(
+pub(crate) fn into_patches(
     scene: &Scene,
     lights: &DirectLight,
     mesh: &PatchMesh,

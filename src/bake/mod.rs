@@ -148,7 +148,7 @@ pub struct Meshing<'a> {
 }
 
 impl Meshing<'_> {
-    pub fn mesh(&self) -> &crate::patches::PatchMesh {
+    pub(crate) fn mesh(&self) -> &crate::patches::PatchMesh {
         &self.meshed.mesh
     }
 }
@@ -160,7 +160,7 @@ pub struct Direct {
 }
 
 /// Validate the settings, check the budget, mesh the scene (stage 1).
-pub fn mesh<'a>(
+pub(crate) fn mesh<'a>(
     scene: &'a Scene,
     settings: &Settings,
     progress: &dyn Progress,
@@ -177,7 +177,7 @@ pub fn mesh<'a>(
 
 /// [`mesh`]'s result from a mesh it made before for `scene` and `settings` (the caller's to
 /// check: `shard` compares fingerprints), counting the `rays` that meshing traced then.
-pub fn restore<'a>(
+pub(crate) fn restore<'a>(
     scene: &'a Scene,
     settings: &Settings,
     saved: SavedMesh,
@@ -238,7 +238,7 @@ fn occluder(scene: &Scene, settings: &Settings) -> Occluder {
 }
 
 /// Direct light at the vertices and into the patches (stage 2).
-pub fn light(scene: &Scene, m: &mut Meshing, progress: &dyn Progress) -> Direct {
+pub(crate) fn light(scene: &Scene, m: &mut Meshing, progress: &dyn Progress) -> Direct {
     let n = m.meshed.mesh.receivers.len() as u64;
     progress.stage("direct light", n);
     let (meshed, occluder) = (&m.meshed, &m.occluder);
@@ -252,7 +252,7 @@ pub fn light(scene: &Scene, m: &mut Meshing, progress: &dyn Progress) -> Direct 
 
 /// The direct light into the patches alone (stage 2 of a distributed bake's plan: its tasks
 /// light their own vertices).
-pub fn light_patches(scene: &Scene, m: &mut Meshing) -> direct::PatchFlux {
+pub(crate) fn light_patches(scene: &Scene, m: &mut Meshing) -> direct::PatchFlux {
     let (meshed, occluder) = (&m.meshed, &m.occluder);
     let flux = m.run.time(Stage::Direct, || {
         direct::into_patches(scene, &meshed.lights, &meshed.mesh, occluder)

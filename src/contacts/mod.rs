@@ -61,7 +61,7 @@ pub struct Cover {
 
 impl Cover {
     /// Signed distance of `x` inside edge `k`'s half-plane (m).
-    pub fn inside(&self, k: usize, x: DVec3) -> f64 {
+    pub(crate) fn inside(&self, k: usize, x: DVec3) -> f64 {
         self.edges[k].0.dot(x) - self.edges[k].1
     }
 }
@@ -103,7 +103,7 @@ pub struct Contacts {
 
 impl Contacts {
     /// No contacts (every surface whole).
-    pub fn none() -> Self {
+    pub(crate) fn none() -> Self {
         Contacts::default()
     }
 
@@ -113,7 +113,7 @@ impl Contacts {
     }
 
     /// Total number of covers and seams.
-    pub fn count(&self) -> usize {
+    pub(crate) fn count(&self) -> usize {
         self.covers.iter().map(|c| c.len()).sum::<usize>()
             + self.seams.iter().map(|c| c.len()).sum::<usize>()
     }

@@ -72,7 +72,7 @@ const RELATIVE: f64 = 3e-3;
 /// the source), `intensity` the distribution, `bound(enough)` an upper bound of the intensity
 /// over the piece (used when the piece is larger than [`ANGULAR_RESOLUTION`]; it may stop
 /// refining once it is below `enough`).
-pub fn sampled_spread(
+pub(crate) fn sampled_spread(
     dirs: &[DVec3; 3],
     at: Option<&[f64; 3]>,
     intensity: impl Fn(DVec3) -> f64,
@@ -129,7 +129,7 @@ pub fn sampled_spread(
 
 /// `(front, back)` flux into the triangle `corners` (unit normal `normal`); `facing` says whether
 /// the source is in front of the patch.
-pub fn patch_flux(
+pub(crate) fn patch_flux(
     r: &dyn Radiator,
     occ: &Occluder,
     corners: &[DVec3; 3],

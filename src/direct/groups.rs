@@ -67,7 +67,7 @@ pub struct Groups {
 impl Groups {
     /// Groups over sources given by their place: `Some((position, lo, hi))` for a luminaire (its
     /// opening within the box `[lo, hi]`), `None` for a source that is always traced.
-    pub fn from_places(places: impl Iterator<Item = Option<(DVec3, DVec3, DVec3)>>) -> Self {
+    pub(crate) fn from_places(places: impl Iterator<Item = Option<(DVec3, DVec3, DVec3)>>) -> Self {
         let mut order = Vec::new();
         let mut others = Vec::new();
         let mut place = Vec::new();
@@ -135,7 +135,7 @@ impl Groups {
 
     /// Node `i`'s box of openings `(lo, hi)`, its members (source indices, a contiguous run of
     /// [`Groups::order`]) and its children (`None` for a single luminaire).
-    pub fn node(&self, i: u32) -> (DVec3, DVec3, &[u32], Option<[u32; 2]>) {
+    pub(crate) fn node(&self, i: u32) -> (DVec3, DVec3, &[u32], Option<[u32; 2]>) {
         let n = &self.nodes[i as usize];
         let children = (n.children[0] != LEAF).then_some(n.children);
         (
@@ -148,12 +148,12 @@ impl Groups {
 
     /// Where node `i`'s members start in the tree's order (so a child's members sit at
     /// `start(child) - start(parent)` within its parent's).
-    pub fn start(&self, i: u32) -> usize {
+    pub(crate) fn start(&self, i: u32) -> usize {
         self.nodes[i as usize].start as usize
     }
 
     /// Number of nodes (node 0 is the root).
-    pub fn len(&self) -> usize {
+    pub(crate) fn len(&self) -> usize {
         self.nodes.len()
     }
 
@@ -180,7 +180,7 @@ impl Groups {
     /// [`Groups::visit`], offering each group proved seen to `cluster(node, n)` first (`n`: the
     /// normal of the plane its box lies in front of): when that takes it (the light cut,
     /// [`super::cut`]), its members are not visited.
-    pub fn visit_with(
+    pub(crate) fn visit_with(
         &self,
         p: DVec3,
         normals: &[DVec3],
@@ -199,7 +199,7 @@ impl Groups {
     /// groups set aside in turn). So the estimate can weigh a group against the light of
     /// everything nearer, and a group it answers for costs no proof. With `estimate` `None`,
     /// exactly `visit_with`.
-    pub fn visit_estimated(
+    pub(crate) fn visit_estimated(
         &self,
         p: DVec3,
         normals: &[DVec3],

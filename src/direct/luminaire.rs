@@ -121,14 +121,14 @@ impl<'a> Source<'a> {
     }
 
     /// The corners of the opening (world, m): every sub-source lies in this rectangle.
-    pub fn opening_corners(&self) -> [DVec3; 4] {
+    pub(crate) fn opening_corners(&self) -> [DVec3; 4] {
         let [x, y] = self.half;
         [(-x, -y), (x, -y), (x, y), (-x, y)]
             .map(|(a, b)| self.position + self.world_from_photometric * DVec3::new(a, b, 0.0))
     }
 
     /// The sub-sources seen from `p`: world position and share of the output.
-    pub fn split(&self, p: DVec3) -> Vec<(DVec3, f64)> {
+    pub(crate) fn split(&self, p: DVec3) -> Vec<(DVec3, f64)> {
         let mut out = Vec::new();
         self.each_sub(p, (NEAR_FIELD_RATIO, MAX_SPLITS), &mut |q, share| {
             out.push((q, share))
@@ -211,7 +211,7 @@ impl<'a> Source<'a> {
     /// down to [`PENUMBRA_REFINE`] times finer where the shadow edge crosses it, so the penumbra
     /// is not a staircase of a few steps. Without, one ray per sub-source (an estimate: meshing's
     /// judgement of where light changes).
-    pub fn illuminance_faces(
+    pub(crate) fn illuminance_faces(
         &self,
         occ: &Occluder,
         p: DVec3,
@@ -317,7 +317,7 @@ impl<'a> Source<'a> {
 
     /// Whether `other` emits the same distribution the same way (profile, frame, colour): then a
     /// group of both has one intensity range per direction ([`super::cut`]).
-    pub fn same_kind(&self, other: &Source) -> bool {
+    pub(crate) fn same_kind(&self, other: &Source) -> bool {
         self.profile == other.profile
             && std::ptr::eq(self.photometry, other.photometry)
             && self.world_from_photometric == other.world_from_photometric
@@ -326,7 +326,7 @@ impl<'a> Source<'a> {
 
     /// Lower and upper bounds of the unscaled distribution over the world directions within
     /// `radius` (rad) of the unit `dir` (away from the luminaire).
-    pub fn profile_range(&self, dir: DVec3, radius: f64) -> (f64, f64) {
+    pub(crate) fn profile_range(&self, dir: DVec3, radius: f64) -> (f64, f64) {
         self.bounds
             .range_over_cone(&self.world_from_photometric, dir, radius)
     }
@@ -334,7 +334,7 @@ impl<'a> Source<'a> {
     /// What [`Source::illuminance_faces`] multiplies the unscaled intensity by, summed over the
     /// same sub-sources, for a luminaire known seen: scale × share × cos / d² per plane, added to
     /// `out`. The illuminance lies between it times the least and the greatest intensity toward `p`.
-    pub fn geometry_faces(&self, p: DVec3, normals: &[DVec3], out: &mut [f64]) {
+    pub(crate) fn geometry_faces(&self, p: DVec3, normals: &[DVec3], out: &mut [f64]) {
         self.each_sub(p, (NEAR_FIELD_RATIO, MAX_SPLITS), &mut |q, share| {
             let d = q - p;
             let dist2 = d.length_squared();
@@ -353,7 +353,7 @@ impl<'a> Source<'a> {
 
     /// What [`Source::patch_flux`] multiplies the unscaled intensity by for a patch known to see
     /// it: scale × share × the patch's solid angle from each sub-source (sr), summed.
-    pub fn geometry_patch(&self, corners: &[DVec3; 3]) -> f64 {
+    pub(crate) fn geometry_patch(&self, corners: &[DVec3; 3]) -> f64 {
         let c = (corners[0] + corners[1] + corners[2]) / 3.0;
         let mut g = 0.0;
         self.each_sub(c, (PATCH_RATIO, PATCH_MAX_SPLITS), &mut |q, share| {
@@ -363,7 +363,7 @@ impl<'a> Source<'a> {
     }
 
     /// `(front, back)` flux (lm) into a triangle patch, split as seen from its centroid.
-    pub fn patch_flux(
+    pub(crate) fn patch_flux(
         &self,
         occ: &Occluder,
         corners: &[DVec3; 3],
@@ -408,7 +408,7 @@ impl<'a> Source<'a> {
     }
 
     /// The flux below which patch-flux integration stops refining (lm).
-    pub fn budget(&self) -> f64 {
+    pub(crate) fn budget(&self) -> f64 {
         1e-6 * self.flux
     }
 }

@@ -27,7 +27,7 @@ use std::collections::{BTreeMap, HashMap};
 /// Where vertex `v` of surface `surface` is on a contact's outline: the step the solve took off
 /// it (longer than a hundredth of a texel), else `None`. `origins`: each vertex's receiver in
 /// its mesh group.
-pub fn outline_step(
+pub(crate) fn outline_step(
     s: &Solution,
     surface: usize,
     origins: &[u32],
@@ -205,7 +205,7 @@ fn by_triangle(at: &[At]) -> BTreeMap<(u32, u32), Vec<Local>> {
 /// The inter-reflected illuminance at each texel `at` (lx, RGB) and the number of gathers made:
 /// interpolated over pieces of triangles and refined where a check misses (see the module's
 /// doc). `direct`: each texel's direct illuminance, which scales the tolerance.
-pub fn at_texels(r: &Reading, at: &[At], direct: &[DVec3]) -> (Vec<DVec3>, usize) {
+pub(crate) fn at_texels(r: &Reading, at: &[At], direct: &[DVec3]) -> (Vec<DVec3>, usize) {
     let out = vec![DVec3::ZERO; at.len()];
     if r.o.tolerance <= 0.0 {
         let pts: Vec<_> = at.iter().map(|a| (a.point, a.normal)).collect();

@@ -47,7 +47,7 @@ pub struct Patch {
 }
 
 impl Patch {
-    pub fn corners(&self, receivers: &[Vertex]) -> [DVec3; 3] {
+    pub(crate) fn corners(&self, receivers: &[Vertex]) -> [DVec3; 3] {
         self.v.map(|i| receivers[i as usize].position)
     }
 }
@@ -117,7 +117,7 @@ impl CoveredPart {
     }
 
     /// Area (m²).
-    pub fn area(&self) -> f64 {
+    pub(crate) fn area(&self) -> f64 {
         self.triangles
             .iter()
             .map(|t| {
@@ -147,7 +147,7 @@ pub fn build(scene: &Scene, h: f64, adapt: Option<&adapt::Adapt>) -> PatchMesh {
 
 /// [`build`], with each surface first cut along the outlines of what covers it; covered parts
 /// become the groups' [`CoveredPart`]s, not patches.
-pub fn build_cut(
+pub(crate) fn build_cut(
     scene: &Scene,
     h: f64,
     adapt: Option<&adapt::Adapt>,

@@ -145,7 +145,7 @@ pub const CLOSED: f64 = 0.999;
 /// 5 %) sees the few millimetres next to the mouth, lit like the room, and its value stands for
 /// a whole patch beside the crack: counting that as absorbed loses 0.6 % of a ρ = 0.9 room's
 /// light (Sumpner, `tests/contacts.rs`).
-pub fn absorbed_share(covered: f64) -> f64 {
+pub(crate) fn absorbed_share(covered: f64) -> f64 {
     ((covered - MOUTH) / (INSIDE - MOUTH)).clamp(0.0, 1.0)
 }
 
@@ -160,12 +160,12 @@ impl Gatherer<'_> {
     }
 
     /// Append the links seen from `p` (normal `n`) to `out`; return the covered fractions.
-    pub fn links(&self, p: DVec3, n: DVec3, out: &mut Vec<Link>) -> Coverage {
+    pub(crate) fn links(&self, p: DVec3, n: DVec3, out: &mut Vec<Link>) -> Coverage {
         self.links_shared(p, n, out, None)
     }
 
     /// [`Gatherer::links`], reading and recording shadow-ray answers in `shared` when given.
-    pub fn links_shared(
+    pub(crate) fn links_shared(
         &self,
         p: DVec3,
         n: DVec3,

@@ -64,7 +64,7 @@ pub struct BalanceStats {
 }
 
 impl<'a> PatchOperator<'a> {
-    pub fn new(mesh: &'a PatchMesh, tree: &'a Skeleton, links: &'a ReceiverLinks) -> Self {
+    pub(crate) fn new(mesh: &'a PatchMesh, tree: &'a Skeleton, links: &'a ReceiverLinks) -> Self {
         let n = mesh.patches.len();
         PatchOperator {
             mesh,
@@ -76,7 +76,7 @@ impl<'a> PatchOperator<'a> {
     }
 
     /// Irradiance per receiver from per-patch exitance (unscaled: what users see).
-    pub fn gather_receivers(&self, b: &[DVec3]) -> Vec<DVec3> {
+    pub(crate) fn gather_receivers(&self, b: &[DVec3]) -> Vec<DVec3> {
         self.gather_scaled(|p| b[p])
     }
 
@@ -89,14 +89,14 @@ impl<'a> PatchOperator<'a> {
     }
 
     /// Irradiance per patch from per-patch exitance, with the balancing scalings.
-    pub fn apply(&self, b: &[DVec3]) -> Vec<DVec3> {
+    pub(crate) fn apply(&self, b: &[DVec3]) -> Vec<DVec3> {
         let mut out = vec![DVec3::ZERO; b.len()];
         self.apply_fn(|p| b[p], &mut out);
         out
     }
 
     /// [`PatchOperator::apply`] of the exitance `b(patch)`, into `out`.
-    pub fn apply_fn(&self, b: impl Fn(usize) -> DVec3, out: &mut [DVec3]) {
+    pub(crate) fn apply_fn(&self, b: impl Fn(usize) -> DVec3, out: &mut [DVec3]) {
         let at = self.gather_scaled(|p| b(p) * self.col[p]);
         self.mesh
             .patches
@@ -292,7 +292,7 @@ impl<'a> PatchOperator<'a> {
     /// scaled to one minus its back faces and that share, so what it sends is neither lost nor
     /// made by the links' quadrature (the Cornell box's light sent 0.35 % too little into the box
     /// at default quality); its row is left as computed.
-    pub fn balance(
+    pub(crate) fn balance(
         &mut self,
         max_iterations: usize,
         tolerance: f64,
