@@ -778,3 +778,41 @@ fn report_and_view_refuse_to_overwrite_the_files_they_read() {
     let after = (std::fs::read(&exr).unwrap(), std::fs::read(&targets).unwrap());
     assert!(before == after, "an input was overwritten");
 }
+
+/// Numbers that would overflow or exhaust memory are refused up front (issue 59): a design row
+/// whose products overflow (exit 1, naming the line), `view --steps 10⁸` (its legend would take
+/// 255 GB) and `view --near -1` (exit 2, naming the option); a glTF starting with a UTF-8
+/// byte-order mark is read, with a warning.
+#[test]
+fn overflowing_design_rows_huge_steps_and_negative_near_are_refused_and_a_bom_is_read() {
+    let (input, out) = folders("numbers-59");
+    let csv = input.join("d.csv");
+    std::fs::write(&csv, "name,area_m2,reflectance,illuminance_lx\nFloor,1e308,0.9,1e300\n")
+        .unwrap();
+    let run = bake(["design", csv.to_str().unwrap()]);
+    assert_refused(&run, &out, &["d.csv", "line 2", "area_m2"]);
+    std::fs::write(&csv, "name,area_m2,reflectance,illuminance_lx\nFloor,10,0.5,1e300\n").unwrap();
+    let run = bake(["design", csv.to_str().unwrap()]);
+    assert_refused(&run, &out, &["d.csv", "line 2", "illuminance_lx"]);
+    let view = |extra: &[&str]| {
+        let mut a = vec!["view", "lit.gltf", "--camera", "c", "-o", "v.exr"];
+        a.extend_from_slice(extra);
+        bake(a)
+    };
+    let run = view(&["--false-colour", "f.png", "--steps", "100000000"]);
+    assert_eq!(run.code, Some(2), "{run:?}");
+    assert_error_line(&run, &["--steps", "0..=64"]);
+    let run = view(&["--near", "-1"]);
+    assert_eq!(run.code, Some(2), "{run:?}");
+    assert_error_line(&run, &["--near -1", "≥ 0"]);
+
+    let plain = Mini::new().write_gltf(&input, "plain.gltf", None);
+    let mut bytes = b"\xEF\xBB\xBF".to_vec();
+    bytes.extend(std::fs::read(&plain).unwrap());
+    let bom = input.join("bom.gltf");
+    std::fs::write(&bom, bytes).unwrap();
+    let lit = out.join("lit.glb");
+    let run = bake([bom.to_str().unwrap(), "-o", lit.to_str().unwrap(), "--quality", "draft"]);
+    assert_warned(&run, &["byte-order mark"]);
+    assert!(lit.exists());
+}

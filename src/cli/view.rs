@@ -41,13 +41,13 @@ pub struct ViewArgs {
     #[arg(long, value_name = "X,Y,Z")]
     up: Option<String>,
     /// Vertical field of view (degrees) [default: 60].
-    #[arg(long, value_name = "DEG")]
+    #[arg(long, value_name = "DEG", allow_negative_numbers = true)]
     fov: Option<f64>,
     /// Image size in pixels [default: 1280x720, or 1280 wide at a camera's aspect ratio].
     #[arg(long, value_name = "WxH")]
     size: Option<String>,
     /// Rays start this far in front of the eye (m) [default: the camera's znear, or 0].
-    #[arg(long, value_name = "M")]
+    #[arg(long, value_name = "M", allow_negative_numbers = true)]
     near: Option<f64>,
     /// Antialiasing rays per pixel: 1 (the centre only), 4 (rotated grid) or a square (9, 16, …
     /// 256: a regular grid).
@@ -78,8 +78,9 @@ pub struct ViewArgs {
     /// Logarithmic false-colour scale.
     #[arg(long)]
     log: bool,
-    /// False colours in this many bands (0: smooth).
-    #[arg(long, value_name = "N", default_value_t = 0)]
+    /// False colours in this many bands (0: smooth; at most 64).
+    #[arg(long, value_name = "N", default_value_t = 0,
+          value_parser = clap::value_parser!(u32).range(0..=64))]
     steps: u32,
     /// Draw contour lines between the bands.
     #[arg(long)]
@@ -192,6 +193,11 @@ fn camera_text(c: &Camera, samples: u32) -> String {
 
 pub fn run(args: &ViewArgs) -> Result<()> {
     view::check_samples(args.samples)?;
+    if let Some(near) = args.near
+        && !(near.is_finite() && near >= 0.0)
+    {
+        return Err(Error::Settings(format!("--near {near}: a distance ≥ 0 m is expected")).into());
+    }
     if let Some(s) = &args.size {
         size(s)?;
     }

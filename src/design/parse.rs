@@ -18,6 +18,11 @@ use std::path::Path;
 
 /// The header's column names, in the order the seed's table has them.
 pub const COLUMNS: [&str; 4] = ["name", "area_m2", "reflectance", "illuminance_lx"];
+/// Largest area a row may give (m²): a face within the scenes' ±10⁷ m coordinates.
+const MAX_AREA: f64 = 4e14;
+/// Largest illuminance a row may ask (lx): the photometric limit of every input (10¹²). With
+/// these, every product and sum of the table stays finite.
+const MAX_ILLUMINANCE: f64 = 1e12;
 
 /// Columns a header may add: `surface`, what the row names in a bake (`bake design --scene`,
 /// `bake fit`): a node path, `material:NAME`, either with a face (`desk_dark/top[+y]`), or
@@ -73,11 +78,11 @@ pub fn parse(file: &Path, text: &str) -> Result<Vec<DesignRow>> {
         // An empty area is taken from a bake (`--scene`).
         let area = match value[1] {
             "" => None,
-            a => Some(number(a).filter(|a| *a > 0.0).ok_or_else(|| {
+            a => Some(number(a).filter(|a| *a > 0.0 && *a <= MAX_AREA).ok_or_else(|| {
                 err(
                     line,
                     format!(
-                        "area_m2 must be a number of m² > 0 (or empty: from --scene), got '{a}'"
+                        "area_m2 must be a number of m² in (0, {MAX_AREA:e}] (or empty: from --scene), got '{a}'"
                     ),
                 )
             })?),
@@ -90,15 +95,17 @@ pub fn parse(file: &Path, text: &str) -> Result<Vec<DesignRow>> {
                     format!("reflectance must be a number in [0, 1), got '{}'", value[2]),
                 )
             })?;
-        let illuminance = number(value[3]).filter(|e| *e >= 0.0).ok_or_else(|| {
-            err(
-                line,
-                format!(
-                    "illuminance_lx must be a number of lx ≥ 0, got '{}'",
-                    value[3]
-                ),
-            )
-        })?;
+        let illuminance = (number(value[3]))
+            .filter(|e| (0.0..=MAX_ILLUMINANCE).contains(e))
+            .ok_or_else(|| {
+                err(
+                    line,
+                    format!(
+                        "illuminance_lx must be a number of lx in [0, {MAX_ILLUMINANCE:e}], got '{}'",
+                        value[3]
+                    ),
+                )
+            })?;
         if let Some(first) = names.insert(name.clone(), line) {
             return Err(err(
                 line,

@@ -52,6 +52,14 @@ pub(super) fn parse(ctx: &mut Ctx, bytes: &[u8]) -> Result<Parsed> {
     } else {
         (bytes, None)
     };
+    // glTF forbids a byte-order mark before the JSON; some editors write one: read past it.
+    let json = match json.strip_prefix(b"\xEF\xBB\xBF") {
+        Some(rest) => {
+            ctx.warn("the glTF JSON starts with a UTF-8 byte-order mark (glTF allows none); read past it");
+            rest
+        }
+        None => json,
+    };
     let raw: Value =
         serde_json::from_slice(json).map_err(|e| ctx.err("", format!("not valid JSON: {e}")))?;
     if !raw.is_object() {
