@@ -171,6 +171,20 @@ fn a_missing_or_foreign_task_fails_the_merge_with_no_output() {
         run.stderr
     );
     assert!(!out.exists());
+    // 64 bytes flipped anywhere (issue 59: this panicked, or merged wrong values): damaged.
+    for at in [100, 1000, bytes.len() / 3, bytes.len() / 2] {
+        let mut bad = bytes.clone();
+        bad[at..at + 64].iter_mut().for_each(|b| *b ^= 0xff);
+        std::fs::write(state.join("task-0.bin"), &bad).unwrap();
+        let run = bake(&merge);
+        assert_eq!(run.code, Some(1), "flipped at {at}: {}", run.stderr);
+        assert!(
+            run.stderr.contains("task-0.bin") && run.stderr.contains("damaged"),
+            "{}",
+            run.stderr
+        );
+        assert!(!out.exists());
+    }
     // Whole again, but task 1's file is task 0's result.
     std::fs::write(state.join("task-0.bin"), &bytes).unwrap();
     let run = bake(&merge);

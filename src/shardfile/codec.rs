@@ -1,8 +1,10 @@
-//! Little-endian bytes: a writer and a reader that checks every count against the bytes left.
+//! Little-endian bytes: a writer and a reader that checks every count against the bytes left;
+//! a file ends with a checksum of everything before it, so a changed byte is an error, never a
+//! wrong value read on.
 
 use glam::DVec3;
 
-pub(super) const VERSION: u32 = 6;
+pub(super) const VERSION: u32 = 7;
 
 pub(super) struct Writer(pub(super) Vec<u8>);
 
@@ -107,5 +109,62 @@ impl Reader<'_> {
     pub(super) fn json<T: serde::de::DeserializeOwned>(&mut self) -> Result<T, String> {
         let n = self.len(1)?;
         serde_json::from_slice(self.take(n)?).map_err(|e| e.to_string())
+    }
+}
+
+/// A 64-bit checksum of `bytes`: word by word, each step a bijection of the running value, so
+/// any one changed word (or byte of the tail) changes it.
+fn checksum(bytes: &[u8]) -> u64 {
+    const PRIME: u64 = 0x0000_0100_0000_01b3;
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    let mut words = bytes.chunks_exact(8);
+    for w in &mut words {
+        let w = u64::from_le_bytes(w.try_into().unwrap());
+        h = (h ^ w).wrapping_mul(PRIME).rotate_left(29);
+    }
+    for &b in words.remainder() {
+        h = (h ^ b as u64).wrapping_mul(PRIME);
+    }
+    h
+}
+
+/// `bytes` with their checksum appended (the file as written).
+pub(super) fn seal(mut bytes: Vec<u8>) -> Vec<u8> {
+    let sum = checksum(&bytes);
+    bytes.extend_from_slice(&sum.to_le_bytes());
+    bytes
+}
+
+/// The bytes before the checksum, when it matches them.
+pub(super) fn unseal(bytes: &[u8]) -> Result<&[u8], String> {
+    let Some(at) = bytes.len().checked_sub(8) else {
+        return Err(format!("truncated: {} bytes", bytes.len()));
+    };
+    let (body, sum) = bytes.split_at(at);
+    match checksum(body) == u64::from_le_bytes(sum.try_into().unwrap()) {
+        true => Ok(body),
+        false => Err("damaged: its checksum does not match its bytes (changed or cut since it was written)".into()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn any_changed_byte_or_cut_breaks_the_seal() {
+        let body: Vec<u8> = (0..203u32).map(|i| (i * 37 % 251) as u8).collect();
+        let sealed = seal(body.clone());
+        assert_eq!(unseal(&sealed).unwrap(), &body[..]);
+        for i in 0..sealed.len() {
+            for bit in [0x01, 0x80] {
+                let mut bad = sealed.clone();
+                bad[i] ^= bit;
+                assert!(unseal(&bad).is_err(), "byte {i} bit {bit:#x}");
+            }
+        }
+        for n in 0..sealed.len() {
+            assert!(unseal(&sealed[..n]).is_err(), "cut to {n}");
+        }
     }
 }

@@ -11,7 +11,7 @@ use crate::transport::link::{Leaf, Link};
 use crate::transport::links::{ReceiverLinks, RowRef, RowStats};
 use crate::transport::packed::PackedRows;
 use crate::transport::sharing::Part;
-use codec::{Reader, VERSION, Writer};
+use codec::{Reader, VERSION, Writer, seal, unseal};
 
 const STATE_MAGIC: &[u8; 8] = b"LUXSTATE";
 const TASK_MAGIC: &[u8; 8] = b"LUXTASKR";
@@ -38,11 +38,12 @@ pub fn state_bytes(s: &State) -> Vec<u8> {
         w.u32(a);
         w.u32(b);
     }
-    w.0
+    seal(w.0)
 }
 
 /// A state from its bytes (an error saying what is wrong when they are not one).
 pub fn read_state(bytes: &[u8]) -> Result<State, String> {
+    let bytes = unseal(bytes)?;
     let mut r = Reader { bytes, at: 0 };
     r.header(STATE_MAGIC, "a luxbake state (state.bin)")?;
     let len = r.len(1)?;
@@ -132,11 +133,12 @@ pub fn task_bytes(t: &TaskResult) -> Vec<u8> {
         w.u32(g);
         w.f32(x);
     }
-    w.0
+    seal(w.0)
 }
 
 /// A task result from its bytes.
 pub fn read_task(bytes: &[u8]) -> Result<TaskResult, String> {
+    let bytes = unseal(bytes)?;
     let mut r = Reader { bytes, at: 0 };
     r.header(TASK_MAGIC, "a luxbake task result (task-K.bin)")?;
     let task = r.u32()?;
@@ -285,12 +287,17 @@ mod tests {
         assert_eq!(bad[at..at + 4], s.mesh.mesh.patches[0].v[0].to_le_bytes());
         bad[at..at + 4].copy_from_slice(&(nr as u32 + 7).to_le_bytes());
         let e = read_state(&bad).err().unwrap();
+        assert!(e.contains("checksum"), "{e}");
+        // Sealed again (as a writer with a bug would), the structure is still checked.
+        let bad = seal(bad[..bad.len() - 8].to_vec());
+        let e = read_state(&bad).err().unwrap();
         assert!(e.contains("do not fit together"), "{e}");
         // A flipped bit in the first receiver's point (its position and normal come first):
         // the mesh's fingerprint no longer matches the one written.
         let first = at - 8 - 76 * nr;
         let mut bad = bytes.clone();
         bad[first + 48] ^= 1;
+        let bad = seal(bad[..bad.len() - 8].to_vec());
         let e = read_state(&bad).err().unwrap();
         assert!(e.contains("do not fit together"), "{e}");
     }
