@@ -761,8 +761,15 @@ fn report_and_view_refuse_to_overwrite_the_files_they_read() {
         .expect("a lightmap EXR");
     let targets = input.join("targets.json");
     std::fs::write(&targets, r#"{"floor": 100}"#).unwrap();
-    let before = (std::fs::read(&exr).unwrap(), std::fs::read(&targets).unwrap());
-    let (l, e, t) = (lit.to_str().unwrap(), exr.to_str().unwrap(), targets.to_str().unwrap());
+    let before = (
+        std::fs::read(&exr).unwrap(),
+        std::fs::read(&targets).unwrap(),
+    );
+    let (l, e, t) = (
+        lit.to_str().unwrap(),
+        exr.to_str().unwrap(),
+        targets.to_str().unwrap(),
+    );
     let cases: [Vec<&str>; 2] = [
         vec!["view", l, "--camera", "camera_interior", "-o", e],
         vec!["report", l, "--targets", t, "-o", t],
@@ -775,7 +782,10 @@ fn report_and_view_refuse_to_overwrite_the_files_they_read() {
     // A report is never an .exr: refused by its extension (a usage error) before anything.
     let run = bake(["report", l, "--format", "html", "-o", e]);
     assert_eq!(run.code, Some(2), "{run:?}");
-    let after = (std::fs::read(&exr).unwrap(), std::fs::read(&targets).unwrap());
+    let after = (
+        std::fs::read(&exr).unwrap(),
+        std::fs::read(&targets).unwrap(),
+    );
     assert!(before == after, "an input was overwritten");
 }
 
@@ -787,11 +797,18 @@ fn report_and_view_refuse_to_overwrite_the_files_they_read() {
 fn overflowing_design_rows_huge_steps_and_negative_near_are_refused_and_a_bom_is_read() {
     let (input, out) = folders("numbers-59");
     let csv = input.join("d.csv");
-    std::fs::write(&csv, "name,area_m2,reflectance,illuminance_lx\nFloor,1e308,0.9,1e300\n")
-        .unwrap();
+    std::fs::write(
+        &csv,
+        "name,area_m2,reflectance,illuminance_lx\nFloor,1e308,0.9,1e300\n",
+    )
+    .unwrap();
     let run = bake(["design", csv.to_str().unwrap()]);
     assert_refused(&run, &out, &["d.csv", "line 2", "area_m2"]);
-    std::fs::write(&csv, "name,area_m2,reflectance,illuminance_lx\nFloor,10,0.5,1e300\n").unwrap();
+    std::fs::write(
+        &csv,
+        "name,area_m2,reflectance,illuminance_lx\nFloor,10,0.5,1e300\n",
+    )
+    .unwrap();
     let run = bake(["design", csv.to_str().unwrap()]);
     assert_refused(&run, &out, &["d.csv", "line 2", "illuminance_lx"]);
     let view = |extra: &[&str]| {
@@ -812,7 +829,13 @@ fn overflowing_design_rows_huge_steps_and_negative_near_are_refused_and_a_bom_is
     let bom = input.join("bom.gltf");
     std::fs::write(&bom, bytes).unwrap();
     let lit = out.join("lit.glb");
-    let run = bake([bom.to_str().unwrap(), "-o", lit.to_str().unwrap(), "--quality", "draft"]);
+    let run = bake([
+        bom.to_str().unwrap(),
+        "-o",
+        lit.to_str().unwrap(),
+        "--quality",
+        "draft",
+    ]);
     assert_warned(&run, &["byte-order mark"]);
     assert!(lit.exists());
 }

@@ -25,7 +25,12 @@ use glam::DVec3;
 use rayon::prelude::*;
 
 /// Light every sampled texel; returns how many were gathered rather than interpolated.
-pub(crate) fn light(r: &Reading, samples: &[Sampled], atlases: &mut [Atlas], display: &Display) -> usize {
+pub(crate) fn light(
+    r: &Reading,
+    samples: &[Sampled],
+    atlases: &mut [Atlas],
+    display: &Display,
+) -> usize {
     let Reading { s, progress, .. } = *r;
     let mesh = s.mesh();
     let lit: Vec<usize> = (0..samples.len())

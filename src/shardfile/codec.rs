@@ -143,7 +143,10 @@ pub(super) fn unseal(bytes: &[u8]) -> Result<&[u8], String> {
     let (body, sum) = bytes.split_at(at);
     match checksum(body) == u64::from_le_bytes(sum.try_into().unwrap()) {
         true => Ok(body),
-        false => Err("damaged: its checksum does not match its bytes (changed or cut since it was written)".into()),
+        false => Err(
+            "damaged: its checksum does not match its bytes (changed or cut since it was written)"
+                .into(),
+        ),
     }
 }
 

@@ -129,6 +129,21 @@ mod tests {
     use crate::visibility::OccluderOptions;
     use glam::DVec3;
 
+    /// `scene` meshed at h = 0.5 m with its contacts cut (h/4), its tree, and its covered parts
+    /// (`what`: the ones expected).
+    fn with_covers(
+        scene: &crate::scene::Scene,
+        what: &str,
+    ) -> (Occluder, PatchMesh, PatchTree, CoveredField) {
+        let occluder = Occluder::build(scene, OccluderOptions::default());
+        let h = 0.5;
+        let contacts = crate::contacts::find(scene, h / 4.0, &occluder);
+        let mesh = crate::patches::build_cut(scene, h, None, &contacts);
+        let tree = PatchTree::build(&mesh, (0..mesh.patches.len() as u32).collect());
+        let field = CoveredField::of(&mesh).expect(what);
+        (occluder, mesh, tree, field)
+    }
+
     #[test]
     fn a_slot_between_two_blocks_counts_as_absorbed_not_as_more_of_the_room() {
         // A closed 4 × 3 × 4 m room; two 0.2 m blocks on its floor, 4 cm apart: at h = 0.5 m the
@@ -153,12 +168,8 @@ mod tests {
             grey,
         );
         let scene = b.build();
-        let occluder = Occluder::build(&scene, OccluderOptions::default());
-        let h = 0.5;
-        let contacts = crate::contacts::find(&scene, h / 4.0, &occluder);
-        let mesh = crate::patches::build_cut(&scene, h, None, &contacts);
-        let tree = PatchTree::build(&mesh, (0..mesh.patches.len() as u32).collect());
-        let field = CoveredField::of(&mesh).expect("the slot's faces and the blocks' feet");
+        let (occluder, mesh, tree, field) =
+            with_covers(&scene, "the slot's faces and the blocks' feet");
         let wall = |x: f64| {
             [(0.0, 1.0), (0.0, 3.0), (0.2, 3.0), (0.2, 1.0)].map(|(y, z)| DVec3::new(x, y, z))
         };
@@ -209,12 +220,8 @@ mod tests {
         let (lo, hi) = (DVec3::new(1.5, 1e-3, 1.5), DVec3::new(2.5, 1.0, 2.5));
         b.axis_box("cube", lo, hi, false, grey);
         let scene = b.build();
-        let occluder = Occluder::build(&scene, OccluderOptions::default());
-        let h = 0.5;
-        let contacts = crate::contacts::find(&scene, h / 4.0, &occluder);
-        let mesh = crate::patches::build_cut(&scene, h, None, &contacts);
-        let tree = PatchTree::build(&mesh, (0..mesh.patches.len() as u32).collect());
-        let field = CoveredField::of(&mesh).expect("the cube's underside and its footprint");
+        let (occluder, mesh, tree, field) =
+            with_covers(&scene, "the cube's underside and its footprint");
         let (p, n) = (DVec3::new(2.502, 1e-4, 2.0), DVec3::Y);
         let underside = [(lo.x, lo.z), (hi.x, lo.z), (hi.x, hi.z), (lo.x, hi.z)]
             .map(|(x, z)| DVec3::new(x, lo.y, z));
